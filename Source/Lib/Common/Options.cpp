@@ -1,0 +1,181 @@
+#include "Common/Options.h"
+
+namespace vs {
+
+namespace {
+
+OptionSpec intOption(const char* key, long long defaultValue, double lo, double hi, const char* vsrsDefault,
+                     const char* help) {
+  OptionSpec s;
+  s.key = key;
+  s.type = OptionType::Int;
+  s.defaultValue = std::to_string(defaultValue);
+  s.minValue = lo;
+  s.maxValue = hi;
+  s.vsrsDefault = vsrsDefault;
+  s.help = help;
+  return s;
+}
+
+OptionSpec depthValueOption(const char* key, bool farthest, const char* help) {
+  OptionSpec s;
+  s.key = key;
+  s.type = OptionType::Double;
+  s.required = true;
+  s.allowInfinity = farthest;
+  s.vsrsDefault = "0.0";
+  s.help = help;
+  return s;
+}
+
+OptionSpec textOption(const char* key, OptionType type, bool required, const char* vsrsDefault, const char* help) {
+  OptionSpec s;
+  s.key = key;
+  s.type = type;
+  s.required = required;
+  s.vsrsDefault = vsrsDefault;
+  s.help = help;
+  return s;
+}
+
+OptionSpec choiceOption(const char* key, std::vector<std::string> choices, const char* defaultValue,
+                        const char* vsrsDefault, const char* help) {
+  OptionSpec s;
+  s.key = key;
+  s.type = OptionType::Choice;
+  s.choices = std::move(choices);
+  s.defaultValue = defaultValue;
+  s.vsrsDefault = vsrsDefault;
+  s.help = help;
+  return s;
+}
+
+void addAll(OptionTable& table, const char* section, std::vector<OptionSpec> specs) {
+  for (OptionSpec& spec : specs) {
+    spec.section = section;
+    table.add(std::move(spec));
+  }
+}
+
+}  // namespace
+
+void addSynthesisOptions(OptionTable& table) {
+  constexpr double kMaxSize = 16384;  // per side; larger frames are refused before anything is allocated
+  constexpr double kMaxFrames = 1e9;
+  addAll(table, "Input sequences",
+         {
+             intOption("DepthType", 0, 0, 1, "0",
+                       "0: depth values are the z coordinate in each camera's own frame; 1: depth values are "
+                       "the world z coordinate of the point"),
+             intOption("SourceWidth", 1280, 1, kMaxSize, "1280", "Width of every input and output frame in luma samples"),
+             intOption("SourceHeight", 960, 1, kMaxSize, "960", "Height of every input and output frame in luma samples"),
+             intOption("StartFrame", 0, 0, kMaxFrames, "0", "First frame of the input sequences to synthesize (0-based)"),
+             intOption("TotalNumberOfFrames", 300, 1, kMaxFrames, "300",
+                       "Number of frames to synthesize from StartFrame on"),
+             depthValueOption("LeftNearestDepthValue", false, "Znear of the left depth map: the depth of level 2^bits-1"),
+             depthValueOption("LeftFarthestDepthValue", true, "Zfar of the left depth map: the depth of level 0 (inf allowed)"),
+             depthValueOption("RightNearestDepthValue", false, "Znear of the right depth map: the depth of level 2^bits-1"),
+             depthValueOption("RightFarthestDepthValue", true, "Zfar of the right depth map: the depth of level 0 (inf allowed)"),
+         });
+  addAll(table, "Cameras",
+         {
+             textOption("CameraParameterFile", OptionType::Path, true, "cam_param.txt",
+                        "Camera parameter file (VSRS format: name, K, 2 distortion values, R|t) holding the three cameras"),
+             textOption("LeftCameraName", OptionType::String, true, "param_dog38", "Name of the left reference camera in the camera file"),
+             textOption("VirtualCameraName", OptionType::String, true, "param_dog39", "Name of the virtual camera to synthesize"),
+             textOption("RightCameraName", OptionType::String, true, "param_dog41", "Name of the right reference camera in the camera file"),
+             intOption("CameraRotationConvention", 0, 0, 1, "-",
+                       "0: R in the camera file rotates world to camera (VSRS 4.x); 1: R rotates camera to world "
+                       "(VSRS 3.5 data), so it is transposed on reading"),
+         });
+  addAll(table, "Files",
+         {
+             textOption("LeftViewImageName", OptionType::Path, true, "dog038.yuv", "Texture sequence of the left camera (planar YUV)"),
+             textOption("RightViewImageName", OptionType::Path, true, "dog041.yuv", "Texture sequence of the right camera (planar YUV)"),
+             textOption("LeftDepthMapName", OptionType::Path, true, "depth_dog038.yuv", "Depth sequence of the left camera (YUV; luma is the depth level)"),
+             textOption("RightDepthMapName", OptionType::Path, true, "depth_dog041.yuv", "Depth sequence of the right camera (YUV; luma is the depth level)"),
+             textOption("OutputVirtualViewImageName", OptionType::Path, true, "dog_virtual039.yuv",
+                        "Output sequence of the virtual view; never an input file"),
+             textOption("ReferenceVirtualViewImageName", OptionType::Path, false, "-",
+                        "Optional ground-truth sequence of the virtual camera: PSNR is reported against it per frame"),
+         });
+  addAll(table, "Formats",
+         {
+             intOption("ColorSpace", 0, 0, 1, "0", "0: process in YUV; 1: convert to RGB (BT.601), process, convert back"),
+             choiceOption("ChromaFormat", {"420", "400", "444"}, "420", "-", "Chroma format of the texture sequences and the output"),
+             intOption("TextureBitDepth", 8, 8, 16, "-",
+                       "Bits per texture sample; above 8, samples are little-endian 16-bit words"),
+             intOption("DepthBitDepth", 8, 8, 16, "-",
+                       "Bits per depth sample; above 8, samples are little-endian 16-bit words"),
+             choiceOption("DepthChromaFormat", {"420", "400", "444"}, "420", "-",
+                          "Chroma format of the depth files (only their luma is read)"),
+         });
+  addAll(table, "Synthesis",
+         {
+             choiceOption("SynthesisMode", {"0", "1", "auto"}, "0", "0",
+                          "0: general 3D warping; 1: 1D parallel (rectified rig); auto: 1D when the rig is rectified"),
+             choiceOption("Precision", {"1", "2", "4"}, "2", "2", "Sub-pixel precision of texture look-ups: 1 integer, 2 half, 4 quarter pel"),
+             choiceOption("Filter", {"0", "1", "2"}, "1", "1", "Interpolation filter: 0 (bi)linear, 1 (bi)cubic, 2 MPEG-4 AVC 6-tap"),
+             intOption("BoundaryNoiseRemoval", 0, 0, 1, "0",
+                       "1: remove foreground colour bled onto background along depth edges before blending"),
+             intOption("ViewBlending", 0, 0, 1, "0", "0: blend left and right views with baseline weights; 1: take mainly the nearer view"),
+             intOption("DepthBlendDifference", 5, 0, 65535, "5",
+                       "Two warped depths closer than this (in depth levels) are blended; otherwise the nearer wins"),
+             intOption("IvsrsInpaint", 1, 0, 1, "1",
+                       "1: fill remaining holes from the background side, then inpaint (iVSRS); 0: plain OpenCV inpainting"),
+             intOption("MissingDepthLevel", -1, -1, 65535, "-",
+                       "Depth level meaning 'no depth' (MPEG-I uses 0); such samples are not warped. -1: off, as in VSRS"),
+         });
+  addAll(table, "1D mode",
+         {
+             intOption("SplattingOption", 2, 0, 2, "2", "0: no splatting; 1: splat every pixel; 2: splat only near depth boundaries"),
+             intOption("BoundaryGrowth", 40, 0, 1000, "40", "Width in pixels by which boundary areas grow (SplattingOption 2)"),
+             intOption("MergingOption", 2, 0, 2, "2", "0: z-buffer only; 1: averaging only; 2: adaptive z-buffer and averaging"),
+             intOption("DepthThreshold", 75, 0, 255, "75", "Depth difference (8-bit levels) that separates layers (MergingOption 2)"),
+             intOption("HoleCountThreshold", 30, 0, 49, "30", "Hole count that decides between views (MergingOption 2)"),
+             intOption("TemporalImprovementOption", 1, 0, 1, "1", "1: keep static background stable over time"),
+             intOption("WarpEnhancementOption", 1, 0, 1, "1", "1: use depth edges to correct warping along boundaries"),
+             intOption("CleanNoiseOption", 1, 0, 1, "1", "1: remove isolated noise pixels after merging"),
+         });
+  addAll(table, "Run",
+         {
+             intOption("Threads", 0, 0, 256, "-", "Worker threads; 0: all cores"),
+             textOption("ReportFile", OptionType::Path, false, "-",
+                        "Optional machine-readable report (CSV: one row per frame with PSNR and per-stage seconds)"),
+         });
+}
+
+void addMeshOptions(OptionTable& table) {
+  OptionSpec threshold;
+  threshold.key = "MeshDiscontinuityThreshold";
+  threshold.type = OptionType::Double;
+  threshold.defaultValue = "0.05";
+  threshold.minValue = 0.0;
+  threshold.maxValue = 1.0;
+  threshold.vsrsDefault = "-";
+  threshold.help =
+      "A triangle is dropped when its depths differ by more than this fraction of the nearest (depth "
+      "discontinuity); 1 keeps every triangle";
+  addAll(table, "Mesh",
+         {
+             threshold,
+             choiceOption("MeshGridStep", {"1", "2", "4", "8"}, "1", "-", "Vertex spacing in pixels: 1 is one vertex per pixel"),
+             textOption("MeshPlyOutput", OptionType::Path, false, "-",
+                        "Optional PLY file of the first frame's meshes (vertices with colour)"),
+         });
+}
+
+OptionTable viewSynOptionTable() {
+  OptionTable table("ViewSyn");
+  addSynthesisOptions(table);
+  return table;
+}
+
+OptionTable meshRenderOptionTable() {
+  OptionTable table("MeshRender");
+  addSynthesisOptions(table);
+  addMeshOptions(table);
+  return table;
+}
+
+}  // namespace vs
