@@ -1,0 +1,492 @@
+// YuvReader / YuvWriter: round trips, the byte layout on disk, seeking, short files and refusals.
+#include <cstdint>
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "Common/Error.h"
+#include "Common/Frame.h"
+#include "Common/Yuv.h"
+#include "TestPaths.h"
+
+#if defined(__unix__)
+#include <csignal>
+#include <sys/resource.h>
+#include <unistd.h>
+#endif
+
+namespace fs = std::filesystem;
+
+namespace {
+
+vs::FrameFormat makeFormat(int width, int height, int bitDepth, vs::ChromaFormat chroma) {
+  vs::FrameFormat format;
+  format.width = width;
+  format.height = height;
+  format.bitDepth = bitDepth;
+  format.chroma = chroma;
+  return format;
+}
+
+// Frame bytes computed here from the layout rules, not with FrameFormat::frameBytes().
+uint64_t expectedFrameBytes(int width, int height, int bitDepth, vs::ChromaFormat chroma) {
+  uint64_t chromaSamples = 0;
+  if (chroma == vs::ChromaFormat::Yuv420) chromaSamples = uint64_t((width + 1) / 2) * uint64_t((height + 1) / 2);
+  if (chroma == vs::ChromaFormat::Yuv444) chromaSamples = uint64_t(width) * uint64_t(height);
+  return (uint64_t(width) * uint64_t(height) + 2 * chromaSamples) * (bitDepth > 8 ? 2 : 1);
+}
+
+// Random samples over the whole range of the bit depth, different for every seed.
+vs::Frame randomFrame(const vs::FrameFormat& format, unsigned seed) {
+  vs::Frame frame(format);
+  std::mt19937 random(seed);
+  std::uniform_int_distribution<int> sample(0, format.maxValue());
+  for (vs::Plane& plane : frame.planes)
+    for (uint16_t& s : plane.samples) s = uint16_t(sample(random));
+  return frame;
+}
+
+void writeBytes(const fs::path& path, const std::vector<uint8_t>& bytes) {
+  std::ofstream file(path, std::ios::binary | std::ios::trunc);
+  file.write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
+  ASSERT_TRUE(file.good()) << path;
+}
+
+std::vector<uint8_t> readBytes(const fs::path& path) {
+  std::ifstream file(path, std::ios::binary);
+  return std::vector<uint8_t>(std::istreambuf_iterator<char>(file), std::istreambuf_iterator<char>());
+}
+
+// The message of the InputError that `action` throws, or "" (and a test failure) when it throws none.
+template <typename Action>
+std::string inputErrorOf(Action action) {
+  try {
+    action();
+  } catch (const vs::InputError& error) {
+    return error.what();
+  }
+  ADD_FAILURE() << "no vs::InputError thrown";
+  return "";
+}
+
+const vs::ChromaFormat kAllChroma[] = {vs::ChromaFormat::Yuv400, vs::ChromaFormat::Yuv420, vs::ChromaFormat::Yuv444};
+
+}  // namespace
+
+TEST(YuvTest, RoundTripEveryChromaFormatBitDepthAndOddSize) {
+  const fs::path dir = vs::test::scratchDir("yuv_roundtrip");
+  const int sizes[][2] = {{7, 5}, {6, 4}, {13, 3}, {1, 1}, {2, 9}};
+  for (vs::ChromaFormat chroma : kAllChroma) {
+    for (int bitDepth : {8, 10, 16}) {
+      for (const auto& size : sizes) {
+        const vs::FrameFormat format = makeFormat(size[0], size[1], bitDepth, chroma);
+        SCOPED_TRACE(std::string(vs::chromaFormatName(chroma)) + " " + std::to_string(bitDepth) + "-bit " +
+                     std::to_string(size[0]) + "x" + std::to_string(size[1]));
+        const fs::path path = dir / "roundtrip.yuv";
+        std::vector<vs::Frame> frames;
+        for (unsigned i = 0; i < 3; ++i) frames.push_back(randomFrame(format, 100 * i + unsigned(bitDepth)));
+        {
+          vs::YuvWriter writer(path.string(), format);
+          for (const vs::Frame& frame : frames) writer.append(frame);
+          EXPECT_EQ(writer.framesWritten(), 3);
+        }
+        const uint64_t frameBytes = expectedFrameBytes(size[0], size[1], bitDepth, chroma);
+        EXPECT_EQ(fs::file_size(path), 3 * frameBytes);
+
+        vs::YuvReader reader(path.string(), format);
+        EXPECT_EQ(reader.frameCount(), 3);
+        EXPECT_EQ(reader.trailingBytes(), 0u);
+        vs::Frame frame;
+        for (int i = 0; i < 3; ++i) {
+          reader.read(i, frame);
+          EXPECT_EQ(frame.format, format);
+          EXPECT_TRUE(frame == frames[size_t(i)]) << "frame " << i;
+        }
+        if (chroma == vs::ChromaFormat::Yuv420) {
+          EXPECT_EQ(frame.planes[1].width, (size[0] + 1) / 2);
+          EXPECT_EQ(frame.planes[1].height, (size[1] + 1) / 2);
+        }
+      }
+    }
+  }
+}
+
+TEST(YuvTest, EightBitLayoutIsPlanarYThenUThenV) {
+  const fs::path dir = vs::test::scratchDir("yuv_layout8");
+  const vs::FrameFormat format = makeFormat(3, 3, 8, vs::ChromaFormat::Yuv420);  // chroma 2x2
+  vs::Frame frame(format);
+  for (size_t i = 0; i < 9; ++i) frame.planes[0].samples[i] = uint16_t(10 + i);
+  for (size_t i = 0; i < 4; ++i) frame.planes[1].samples[i] = uint16_t(100 + i);
+  for (size_t i = 0; i < 4; ++i) frame.planes[2].samples[i] = uint16_t(200 + i);
+  const fs::path path = dir / "layout.yuv";
+  {
+    vs::YuvWriter writer(path.string(), format);
+    writer.append(frame);
+  }
+  const std::vector<uint8_t> expected = {10, 11, 12, 13, 14, 15, 16, 17, 18, 100, 101, 102, 103, 200, 201, 202, 203};
+  EXPECT_EQ(readBytes(path), expected);
+}
+
+TEST(YuvTest, SixteenBitLayoutIsLittleEndianByteByByte) {
+  const fs::path dir = vs::test::scratchDir("yuv_layout16");
+  const vs::FrameFormat format = makeFormat(2, 1, 10, vs::ChromaFormat::Yuv444);
+  // Hand-made file: Y = 0x0301, 0x0002; U = 0x03ff, 0x0100; V = 0x0000, 0x0210.
+  const std::vector<uint8_t> bytes = {0x01, 0x03, 0x02, 0x00, 0xff, 0x03, 0x00, 0x01, 0x00, 0x00, 0x10, 0x02};
+  const fs::path handMade = dir / "hand.yuv";
+  writeBytes(handMade, bytes);
+
+  vs::YuvReader reader(handMade.string(), format);
+  ASSERT_EQ(reader.frameCount(), 1);
+  vs::Frame frame;
+  reader.read(0, frame);
+  EXPECT_EQ(frame.planes[0].samples, (std::vector<uint16_t>{0x0301, 0x0002}));
+  EXPECT_EQ(frame.planes[1].samples, (std::vector<uint16_t>{0x03ff, 0x0100}));
+  EXPECT_EQ(frame.planes[2].samples, (std::vector<uint16_t>{0x0000, 0x0210}));
+
+  const fs::path written = dir / "written.yuv";
+  {
+    vs::YuvWriter writer(written.string(), format, {handMade.string()});
+    writer.append(frame);
+  }
+  const std::vector<uint8_t> writtenBytes = readBytes(written);
+  ASSERT_EQ(writtenBytes.size(), bytes.size());
+  for (size_t i = 0; i < bytes.size(); ++i) EXPECT_EQ(writtenBytes[i], bytes[i]) << "byte " << i;
+
+  // 16-bit: the full range, high byte second.
+  const vs::FrameFormat format16 = makeFormat(1, 1, 16, vs::ChromaFormat::Yuv400);
+  vs::Frame frame16(format16);
+  frame16.planes[0].samples[0] = 0xfe12;
+  const fs::path path16 = dir / "sixteen.yuv";
+  {
+    vs::YuvWriter writer(path16.string(), format16);
+    writer.append(frame16);
+  }
+  EXPECT_EQ(readBytes(path16), (std::vector<uint8_t>{0x12, 0xfe}));
+}
+
+TEST(YuvTest, ReadSeeksToAnyFrame) {
+  const fs::path dir = vs::test::scratchDir("yuv_seek");
+  const vs::FrameFormat format = makeFormat(5, 3, 10, vs::ChromaFormat::Yuv420);
+  const fs::path path = dir / "seek.yuv";
+  std::vector<vs::Frame> frames;
+  {
+    vs::YuvWriter writer(path.string(), format);
+    for (unsigned i = 0; i < 6; ++i) {
+      frames.push_back(randomFrame(format, 7 + i));
+      frames.back().planes[0].at(0, 0) = uint16_t(i);  // frames differ even where random samples agree
+      writer.append(frames.back());
+    }
+  }
+  vs::YuvReader reader(path.string(), format);
+  ASSERT_EQ(reader.frameCount(), 6);
+  vs::Frame frame;
+  vs::Plane luma;
+  for (int64_t index : {4, 0, 5, 2, 2, 1, 3}) {
+    reader.read(index, frame);
+    EXPECT_TRUE(frame == frames[size_t(index)]) << "frame " << index;
+    reader.readLuma(index, luma);
+    EXPECT_TRUE(luma == frames[size_t(index)].planes[0]) << "luma of frame " << index;
+  }
+}
+
+TEST(YuvTest, ReadsFramesPastFourGibibytes) {
+  // A sparse file: frame n sits at n * frameBytes > 2^32, which needs 64-bit offsets all the way.
+  const fs::path dir = vs::test::scratchDir("yuv_large");
+  const vs::FrameFormat format = makeFormat(64, 48, 8, vs::ChromaFormat::Yuv420);
+  const uint64_t frameBytes = format.frameBytes();
+  const int64_t index = int64_t((uint64_t(1) << 32) / frameBytes) + 3;
+  const fs::path path = dir / "large.yuv";
+  const vs::Frame expected = randomFrame(format, 42);
+  {
+    vs::YuvWriter writer(path.string(), format);
+    writer.append(expected);
+  }
+  const std::vector<uint8_t> bytes = readBytes(path);
+  std::error_code ec;
+  fs::resize_file(path, uint64_t(index + 1) * frameBytes, ec);
+  if (ec) GTEST_SKIP() << "cannot make a sparse file here: " << ec.message();
+  {
+    std::fstream file(path, std::ios::in | std::ios::out | std::ios::binary);
+    file.seekp(std::streamoff(uint64_t(index) * frameBytes));
+    file.write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
+    ASSERT_TRUE(file.good());
+  }
+  vs::YuvReader reader(path.string(), format);
+  EXPECT_EQ(reader.frameCount(), index + 1);
+  vs::Frame frame;
+  reader.read(index, frame);
+  EXPECT_TRUE(frame == expected);
+  reader.read(index - 1, frame);  // a hole: zeros
+  EXPECT_EQ(frame.planes[0].at(10, 10), 0);
+  fs::remove(path);
+}
+
+TEST(YuvTest, FrameCountIgnoresTrailingPartialFrameAndReadingItFails) {
+  const fs::path dir = vs::test::scratchDir("yuv_partial");
+  const vs::FrameFormat format = makeFormat(7, 5, 8, vs::ChromaFormat::Yuv420);
+  const uint64_t frameBytes = expectedFrameBytes(7, 5, 8, vs::ChromaFormat::Yuv420);  // 35 + 2 * 12 = 59
+  ASSERT_EQ(frameBytes, 59u);
+  const fs::path path = dir / "view1.yuv";
+  writeBytes(path, std::vector<uint8_t>(3 * frameBytes + 40, 77));  // frame 3: all of Y, part of U
+
+  vs::YuvReader reader(path.string(), format);
+  EXPECT_EQ(reader.frameCount(), 3);
+  EXPECT_EQ(reader.trailingBytes(), 40u);
+  vs::Frame frame;
+  reader.read(2, frame);  // the last whole frame reads fine
+  EXPECT_EQ(frame.planes[2].at(3, 2), 77);
+
+  const std::string message = inputErrorOf([&] { reader.read(3, frame); });
+  EXPECT_NE(message.find(path.string()), std::string::npos) << message;
+  EXPECT_NE(message.find("frame 3 is incomplete: 19 of 59 bytes missing (file holds 3 whole frames)"),
+            std::string::npos)
+      << message;
+
+  // The 35 luma bytes of frame 3 are there, but a partial frame is refused for luma too.
+  vs::Plane luma;
+  const std::string lumaMessage = inputErrorOf([&] { reader.readLuma(3, luma); });
+  EXPECT_NE(lumaMessage.find("frame 3 is incomplete: 19 of 59 bytes missing"), std::string::npos) << lumaMessage;
+
+  const std::string pastEnd = inputErrorOf([&] { reader.read(7, frame); });
+  EXPECT_NE(pastEnd.find("frame 7"), std::string::npos) << pastEnd;
+  EXPECT_NE(pastEnd.find("59 of 59 bytes missing"), std::string::npos) << pastEnd;
+
+  // The reader still works after an error.
+  reader.read(0, frame);
+  EXPECT_EQ(frame.planes[0].at(6, 4), 77);
+}
+
+TEST(YuvTest, ShortFileErrorNamesFileFrameAndMissingBytes) {
+  const fs::path dir = vs::test::scratchDir("yuv_short");
+  const vs::FrameFormat format = makeFormat(6, 4, 10, vs::ChromaFormat::Yuv444);
+  const uint64_t frameBytes = expectedFrameBytes(6, 4, 10, vs::ChromaFormat::Yuv444);  // 144
+  const fs::path path = dir / "short.yuv";
+  writeBytes(path, std::vector<uint8_t>(frameBytes - 1, 0));
+  vs::YuvReader reader(path.string(), format);
+  EXPECT_EQ(reader.frameCount(), 0);
+  vs::Frame frame;
+  const std::string message = inputErrorOf([&] { reader.read(0, frame); });
+  EXPECT_EQ(message, path.string() + ": frame 0 is incomplete: 1 of " + std::to_string(frameBytes) +
+                         " bytes missing (file holds 0 whole frames)");
+}
+
+TEST(YuvTest, MissingFileAndFolderAreInputErrors) {
+  const fs::path dir = vs::test::scratchDir("yuv_missing");
+  const vs::FrameFormat format = makeFormat(8, 8, 8, vs::ChromaFormat::Yuv420);
+  const std::string missing = (dir / "nothere.yuv").string();
+  const std::string message = inputErrorOf([&] { vs::YuvReader reader(missing, format); });
+  EXPECT_NE(message.find(missing), std::string::npos) << message;
+  EXPECT_NE(message.find("No such file or directory"), std::string::npos) << message;
+
+  const std::string folderMessage = inputErrorOf([&] { vs::YuvReader reader(dir.string(), format); });
+  EXPECT_NE(folderMessage.find("folder"), std::string::npos) << folderMessage;
+
+  const std::string badFormat = inputErrorOf([&] { vs::YuvReader reader(missing, makeFormat(0, 8, 8, format.chroma)); });
+  EXPECT_NE(badFormat.find("0x8"), std::string::npos) << badFormat;
+  const std::string badDepth = inputErrorOf([&] { vs::YuvReader reader(missing, makeFormat(8, 8, 17, format.chroma)); });
+  EXPECT_NE(badDepth.find("17"), std::string::npos) << badDepth;
+}
+
+TEST(YuvTest, SampleAboveBitDepthMaximumIsAnInputError) {
+  const fs::path dir = vs::test::scratchDir("yuv_overflow");
+  const vs::FrameFormat format = makeFormat(4, 2, 10, vs::ChromaFormat::Yuv420);  // chroma 2x1
+  const fs::path path = dir / "bad.yuv";
+  {
+    vs::YuvWriter writer(path.string(), format);
+    writer.append(randomFrame(format, 1));
+    writer.append(randomFrame(format, 2));
+  }
+  // Frame 1, plane U, sample (1, 0) := 1024, one above the 10-bit maximum.
+  std::vector<uint8_t> bytes = readBytes(path);
+  const size_t offset = size_t(format.frameBytes()) + 2 * (8 + 1);
+  bytes[offset] = 0x00;
+  bytes[offset + 1] = 0x04;
+  writeBytes(path, bytes);
+
+  vs::YuvReader reader(path.string(), format);
+  vs::Frame frame;
+  reader.read(0, frame);
+  const std::string message = inputErrorOf([&] { reader.read(1, frame); });
+  EXPECT_NE(message.find(path.string()), std::string::npos) << message;
+  EXPECT_NE(message.find("frame 1, plane U"), std::string::npos) << message;
+  EXPECT_NE(message.find("1024"), std::string::npos) << message;
+  EXPECT_NE(message.find("(x 1, y 0)"), std::string::npos) << message;
+  // Only luma read: the bad chroma sample is never looked at.
+  vs::Plane luma;
+  EXPECT_NO_THROW(reader.readLuma(1, luma));
+}
+
+TEST(YuvTest, ReadLumaSkipsChroma) {
+  const fs::path dir = vs::test::scratchDir("yuv_luma");
+  const vs::FrameFormat format = makeFormat(7, 5, 16, vs::ChromaFormat::Yuv420);
+  const fs::path path = dir / "depth.yuv";
+  std::vector<vs::Frame> frames = {randomFrame(format, 5), randomFrame(format, 6)};
+  {
+    vs::YuvWriter writer(path.string(), format);
+    for (const vs::Frame& frame : frames) writer.append(frame);
+  }
+  vs::YuvReader reader(path.string(), format);
+  vs::Plane luma(1, 1);
+  reader.readLuma(1, luma);
+  EXPECT_EQ(luma.width, 7);
+  EXPECT_EQ(luma.height, 5);
+  EXPECT_TRUE(luma == frames[1].planes[0]);
+  reader.readLuma(0, luma);
+  EXPECT_TRUE(luma == frames[0].planes[0]);
+}
+
+TEST(YuvTest, WriterRefusesOutputThatIsAnInput) {
+  const fs::path dir = vs::test::scratchDir("yuv_same");
+  const vs::FrameFormat format = makeFormat(4, 4, 8, vs::ChromaFormat::Yuv420);
+  const fs::path input = dir / "input.yuv";
+  const std::vector<uint8_t> content(2 * format.frameBytes(), 33);
+  writeBytes(input, content);
+  fs::create_directory(dir / "sub");
+  fs::create_symlink(input, dir / "link.yuv");
+
+  const std::vector<std::string> spellings = {
+      input.string(), (dir / "." / "input.yuv").string(), (dir / "sub" / ".." / "input.yuv").string(),
+      (dir / "link.yuv").string()};
+  for (const std::string& output : spellings) {
+    const std::string message = inputErrorOf([&] {
+      vs::YuvWriter writer(output, format, {"other.yuv", input.string()});
+    });
+    EXPECT_NE(message.find("same file as input"), std::string::npos) << output << ": " << message;
+  }
+  // The other way round: the input named through a different spelling.
+  const std::string reverse = inputErrorOf([&] {
+    vs::YuvWriter writer(input.string(), format, {(dir / "." / "sub" / ".." / "input.yuv").string()});
+  });
+  EXPECT_NE(reverse.find("same file as input"), std::string::npos) << reverse;
+  EXPECT_EQ(readBytes(input), content) << "a refused output must leave the input untouched";
+
+  // Neither file exists yet: the canonical spellings still match.
+  const std::string planned = inputErrorOf([&] {
+    vs::YuvWriter writer((dir / "new.yuv").string(), format, {(dir / "nosuch" / ".." / "new.yuv").string()});
+  });
+  EXPECT_NE(planned.find("same file as input"), std::string::npos) << planned;
+
+  // A different file is fine.
+  EXPECT_NO_THROW(vs::YuvWriter((dir / "output.yuv").string(), format, {input.string()}));
+}
+
+TEST(YuvTest, WriterRefusesMissingFolderAndFolderOutput) {
+  const fs::path dir = vs::test::scratchDir("yuv_folder");
+  const vs::FrameFormat format = makeFormat(4, 4, 8, vs::ChromaFormat::Yuv420);
+  const fs::path missingFolder = dir / "nosuchfolder";
+  const std::string message = inputErrorOf([&] {
+    vs::YuvWriter writer((missingFolder / "out.yuv").string(), format);
+  });
+  EXPECT_NE(message.find("output folder"), std::string::npos) << message;
+  EXPECT_NE(message.find(missingFolder.string()), std::string::npos) << message;
+  EXPECT_NE(message.find("does not exist"), std::string::npos) << message;
+  EXPECT_FALSE(fs::exists(missingFolder));
+
+  const std::string folderOutput = inputErrorOf([&] { vs::YuvWriter writer(dir.string(), format); });
+  EXPECT_NE(folderOutput.find("is a folder"), std::string::npos) << folderOutput;
+
+  writeBytes(dir / "plainfile", {1});
+  const std::string fileAsFolder = inputErrorOf([&] {
+    vs::YuvWriter writer((dir / "plainfile" / "out.yuv").string(), format);
+  });
+  EXPECT_NE(fileAsFolder.find("is not a folder"), std::string::npos) << fileAsFolder;
+}
+
+TEST(YuvTest, WriterRefusesReadOnlyFolder) {
+#if defined(__unix__)
+  if (geteuid() == 0) GTEST_SKIP() << "root writes into read-only folders";
+#endif
+  const fs::path dir = vs::test::scratchDir("yuv_readonly");
+  fs::create_directory(dir / "locked");
+  fs::permissions(dir / "locked", fs::perms::owner_read | fs::perms::owner_exec);
+  const vs::FrameFormat format = makeFormat(4, 4, 8, vs::ChromaFormat::Yuv420);
+  const std::string message = inputErrorOf([&] {
+    vs::YuvWriter writer((dir / "locked" / "out.yuv").string(), format);
+  });
+  fs::permissions(dir / "locked", fs::perms::owner_all);
+  EXPECT_NE(message.find("Permission denied"), std::string::npos) << message;
+}
+
+TEST(YuvTest, WriterTruncatesExistingOutput) {
+  const fs::path dir = vs::test::scratchDir("yuv_truncate");
+  const vs::FrameFormat format = makeFormat(4, 4, 8, vs::ChromaFormat::Yuv400);
+  const fs::path path = dir / "out.yuv";
+  writeBytes(path, std::vector<uint8_t>(1000, 9));
+  vs::YuvWriter writer(path.string(), format);
+  EXPECT_EQ(fs::file_size(path), 0u);
+  writer.append(randomFrame(format, 3));
+  EXPECT_EQ(fs::file_size(path), 16u) << "append flushes each frame";
+}
+
+#if defined(__unix__)
+TEST(YuvTest, FailedWriteLeavesWholeFramesOnly) {
+  // Limit the file size to 2.5 frames: the third frame's write stops half way (EFBIG), and the writer
+  // must cut the file back to two whole frames.
+  const fs::path dir = vs::test::scratchDir("yuv_writefail");
+  const vs::FrameFormat format = makeFormat(8, 6, 10, vs::ChromaFormat::Yuv420);
+  const uint64_t frameBytes = format.frameBytes();
+  const fs::path path = dir / "out.yuv";
+  vs::YuvWriter writer(path.string(), format);
+  std::string message;
+  {
+    rlimit saved{};
+    ASSERT_EQ(getrlimit(RLIMIT_FSIZE, &saved), 0);
+    if (saved.rlim_max != RLIM_INFINITY && saved.rlim_max < 5 * frameBytes) GTEST_SKIP() << "file size limit";
+    const auto previousHandler = std::signal(SIGXFSZ, SIG_IGN);
+    rlimit limited = saved;
+    limited.rlim_cur = rlim_t(2 * frameBytes + frameBytes / 2);
+    ASSERT_EQ(setrlimit(RLIMIT_FSIZE, &limited), 0);
+    writer.append(randomFrame(format, 1));
+    writer.append(randomFrame(format, 2));
+    try {
+      writer.append(randomFrame(format, 3));
+    } catch (const vs::InputError& error) {
+      message = error.what();
+    }
+    setrlimit(RLIMIT_FSIZE, &saved);
+    std::signal(SIGXFSZ, previousHandler);
+  }
+  EXPECT_NE(message.find("writing frame 2 failed"), std::string::npos) << message;
+  EXPECT_NE(message.find("keeps its 2 whole frames"), std::string::npos) << message;
+  EXPECT_EQ(fs::file_size(path), 2 * frameBytes);
+  EXPECT_EQ(writer.framesWritten(), 2);
+  // No further frames after a failure.
+  const std::string again = inputErrorOf([&] { writer.append(randomFrame(format, 4)); });
+  EXPECT_NE(again.find("earlier write failed"), std::string::npos) << again;
+  EXPECT_EQ(fs::file_size(path), 2 * frameBytes);
+}
+
+TEST(YuvTest, WriteToFullDeviceIsAnInputError) {
+  if (!fs::exists("/dev/full")) GTEST_SKIP() << "no /dev/full";
+  const vs::FrameFormat format = makeFormat(4, 4, 8, vs::ChromaFormat::Yuv420);
+  vs::YuvWriter writer("/dev/full", format);
+  const std::string message = inputErrorOf([&] { writer.append(randomFrame(format, 1)); });
+  EXPECT_NE(message.find("/dev/full: writing frame 0 failed: No space left on device"), std::string::npos)
+      << message;
+}
+#endif
+
+TEST(YuvDeathTest, WriterChecksFormatAndSampleRange) {
+  const fs::path dir = vs::test::scratchDir("yuv_death");
+  const vs::FrameFormat format = makeFormat(4, 4, 10, vs::ChromaFormat::Yuv420);
+  const std::string path = (dir / "out.yuv").string();
+  EXPECT_DEATH(
+      {
+        vs::YuvWriter writer(path, format);
+        writer.append(vs::Frame(makeFormat(4, 4, 8, vs::ChromaFormat::Yuv420)));
+      },
+      "format differs");
+  EXPECT_DEATH(
+      {
+        vs::YuvWriter writer(path, format);
+        vs::Frame frame(format);
+        frame.fill(0);
+        frame.planes[2].at(1, 1) = 1024;
+        writer.append(frame);
+      },
+      "exceeds the bit depth's maximum");
+}
