@@ -1,0 +1,86 @@
+#pragma once
+// The scene a synthesizer works on, read from a Config: typed settings, the cameras from the camera
+// file, the reference views and the virtual view. Everything ViewSyn and MeshRender share up to the
+// frame loop (../shared/DESIGN.md, "Data flow").
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "Common/Camera.h"
+#include "Common/Config.h"
+#include "Common/Depth.h"
+#include "Common/Frame.h"
+
+namespace vs {
+
+enum class SynthesisMode { General, Parallel1D, Auto };
+const char* synthesisModeName(SynthesisMode mode);
+
+// VSRS's 1D-mode options, with VSRS's meaning (doc/manual.md).
+struct OneDOptions {
+  int splatting = 2;            // 0 off, 1 every pixel, 2 near depth boundaries only
+  int boundaryGrowth = 40;      // pixels a boundary area grows by (splatting 2)
+  int merging = 2;              // 0 z-buffer, 1 averaging, 2 adaptive
+  int depthThreshold = 75;      // 8-bit depth levels separating layers (merging 2)
+  int holeCountThreshold = 30;  // (merging 2)
+  bool temporalImprovement = true;
+  bool warpEnhancement = true;
+  bool cleanNoise = true;
+};
+
+struct ReferenceView {
+  std::string label;          // "Left", "Right": the key prefix, for messages
+  std::string cameraName;
+  std::string texturePath;
+  std::string depthPath;
+  DepthRange depthRange;      // Znear, Zfar and bit depth of this view's depth maps
+  Camera camera;              // filled by loadScene()
+};
+
+struct SynthesisSettings {
+  int depthType = 0;                         // 0 camera z, 1 world z
+  FrameFormat textureFormat;                 // inputs and output
+  FrameFormat depthFormat;                   // depth files (luma only is used)
+  int64_t startFrame = 0;
+  int64_t frameCount = 1;
+  std::string cameraFile;
+  RotationConvention rotationConvention = RotationConvention::WorldToCamera;
+  std::string virtualCameraName;
+  std::vector<ReferenceView> references;     // left then right
+  std::string outputPath;
+  std::string referenceViewPath;             // ground truth of the virtual view; empty: none
+  int colorSpace = 0;                        // 0 YUV, 1 RGB
+  int precision = 2;                         // 1, 2, 4
+  int filter = 1;                            // 0 bilinear, 1 bicubic, 2 AVC 6-tap
+  SynthesisMode mode = SynthesisMode::General;
+  bool boundaryNoiseRemoval = false;
+  int viewBlending = 0;                      // 0 blend by baseline weights, 1 mainly the nearer view
+  int depthBlendDifference = 5;              // depth levels
+  bool ivsrsInpaint = true;
+  int missingDepthLevel = -1;                // -1 off
+  OneDOptions oneD;
+  int threads = 0;                           // 0 all cores
+  std::string reportPath;                    // CSV report; empty: none
+
+  // Every file the run reads; the output must be none of them.
+  std::vector<std::string> inputPaths() const;
+};
+
+// Reads and checks the settings; throws InputError listing every problem (missing keys, values that
+// do not fit together, sizes too large to allocate).
+SynthesisSettings readSynthesisSettings(const Config& config);
+
+struct Scene {
+  SynthesisSettings settings;
+  Camera virtualCamera;
+  std::vector<std::string> warnings;  // from the camera file
+};
+
+// Settings plus cameras from the camera file; throws InputError (missing cameras list the names the
+// file has). Opens no YUV file.
+Scene loadScene(const Config& config);
+
+// Human-readable summary of the three cameras (name, K, R, centre), for --check and the log.
+std::string describeCameras(const Scene& scene);
+
+}  // namespace vs

@@ -1,0 +1,110 @@
+#include <algorithm>
+#include <cmath>
+
+#include "Common/Error.h"
+#include "Synth/Layer.h"
+
+namespace vs {
+
+void WarpedLayer::reset(int w, int h, int c) {
+  width = w;
+  height = h;
+  channels = c;
+  const size_t n = size_t(w) * size_t(h);
+  inverseDepth.assign(n, kNoDepth);
+  for (int k = 0; k < 3; ++k) colour[k].assign(k < c ? n : 0, 0.0f);
+  edge.assign(n, 0);
+}
+
+void BlendedLayer::reset(int w, int h, int c) {
+  width = w;
+  height = h;
+  channels = c;
+  const size_t n = size_t(w) * size_t(h);
+  inverseDepth.assign(n, kNoDepth);
+  for (int k = 0; k < 3; ++k) colour[k].assign(k < c ? n : 0, 0.0f);
+  hole.assign(n, 1);
+}
+
+size_t BlendedLayer::holeCount() const { return size_t(std::count(hole.begin(), hole.end(), uint8_t(1))); }
+
+std::vector<double> baselineWeights(const std::vector<double>& distances) {
+  std::vector<double> weights(distances.size(), 0.0);
+  if (distances.empty()) return weights;
+  for (size_t k = 0; k < distances.size(); ++k)
+    if (distances[k] == 0.0) {
+      weights[k] = 1.0;  // the virtual camera sits on this view: it alone decides where it is valid
+      return weights;
+    }
+  double sum = 0;
+  for (size_t k = 0; k < distances.size(); ++k) {
+    weights[k] = std::isfinite(distances[k]) ? 1.0 / distances[k] : 0.0;
+    sum += weights[k];
+  }
+  if (!(sum > 0.0) || !std::isfinite(sum)) {
+    std::fill(weights.begin(), weights.end(), 1.0 / double(distances.size()));
+    return weights;
+  }
+  for (double& w : weights) w /= sum;
+  return weights;
+}
+
+void blendLayers(const std::vector<const WarpedLayer*>& views, const BlendOptions& options, BlendedLayer& out) {
+  VS_CHECK(!views.empty() && views.size() == options.weights.size());
+  const int width = views[0]->width, height = views[0]->height, channels = views[0]->channels;
+  for (const WarpedLayer* view : views) VS_CHECK(view->width == width && view->height == height && view->channels == channels);
+  out.reset(width, height, channels);
+  const size_t n = size_t(width) * size_t(height), viewCount = views.size();
+  int dominant = -1;
+  for (size_t k = 0; k < viewCount; ++k)
+    if (options.weights[k] >= 1.0) dominant = int(k);
+
+  for (size_t i = 0; i < n; ++i) {
+    if (dominant >= 0 && views[size_t(dominant)]->valid(i)) {
+      const WarpedLayer& view = *views[size_t(dominant)];
+      for (int c = 0; c < channels; ++c) out.colour[c][i] = view.colour[c][i];
+      out.inverseDepth[i] = view.inverseDepth[i];
+      out.hole[i] = 0;
+      continue;
+    }
+    // The nearest surface among the valid views.
+    double nearest = kNoDepth;
+    for (size_t k = 0; k < viewCount; ++k)
+      if (views[k]->valid(i)) nearest = std::max(nearest, views[k]->inverseDepth[i]);
+    if (nearest < 0.0) continue;  // a hole in every view
+    // Views on that surface; clean samples (not on a reference depth edge) are preferred.
+    bool anyClean = false;
+    for (size_t k = 0; k < viewCount; ++k)
+      if (views[k]->valid(i) && nearest - views[k]->inverseDepth[i] <= options.depthTolerance && !views[k]->edge[i])
+        anyClean = true;
+    double weightSum = 0, depthSum = 0, best = -1;
+    float colourSum[3] = {0, 0, 0};
+    int bestView = -1;
+    for (size_t k = 0; k < viewCount; ++k) {
+      const WarpedLayer& view = *views[k];
+      if (!view.valid(i) || nearest - view.inverseDepth[i] > options.depthTolerance) continue;
+      if (anyClean && view.edge[i]) continue;
+      // A tiny floor keeps a view with weight 0 usable where it is the only one on the surface.
+      const double w = std::max(options.weights[k], 1e-9);
+      if (w > best) {
+        best = w;
+        bestView = int(k);
+      }
+      weightSum += w;
+      depthSum += w * view.inverseDepth[i];
+      for (int c = 0; c < channels; ++c) colourSum[c] += float(w) * view.colour[c][i];
+    }
+    VS_CHECK(bestView >= 0);
+    if (options.nearestViewOnly) {
+      const WarpedLayer& view = *views[size_t(bestView)];
+      for (int c = 0; c < channels; ++c) out.colour[c][i] = view.colour[c][i];
+      out.inverseDepth[i] = view.inverseDepth[i];
+    } else {
+      for (int c = 0; c < channels; ++c) out.colour[c][i] = float(colourSum[c] / weightSum);
+      out.inverseDepth[i] = depthSum / weightSum;
+    }
+    out.hole[i] = 0;
+  }
+}
+
+}  // namespace vs

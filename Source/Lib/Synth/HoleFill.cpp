@@ -1,0 +1,128 @@
+#include "Synth/HoleFill.h"
+
+#include <algorithm>
+#include <cmath>
+#include <opencv2/photo.hpp>
+
+#include "Common/Error.h"
+
+namespace vs {
+
+namespace {
+
+// Directional background estimate for every hole sample; `found` is 0 where no direction reached a
+// valid sample. `background` receives the farthest inverse depth found.
+void directionalFill(const BlendedLayer& layer, const HoleFillOptions& options, std::vector<float> estimate[3],
+                     std::vector<double>& background, std::vector<uint8_t>& found) {
+  static const int directions[8][2] = {{1, 0}, {-1, 0}, {0, 1}, {0, -1}, {1, 1}, {-1, -1}, {1, -1}, {-1, 1}};
+  const int w = layer.width, h = layer.height;
+  const size_t n = layer.hole.size();
+  for (int k = 0; k < layer.channels; ++k) estimate[k].assign(n, 0.0f);
+  background.assign(n, HUGE_VAL);
+  found.assign(n, 0);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const size_t i = size_t(y) * w + x;
+      if (!layer.hole[i]) continue;
+      size_t hit[8];
+      double distance[8];
+      int count = 0;
+      double farthest = HUGE_VAL;
+      for (const auto& d : directions) {
+        int px = x, py = y;
+        for (int step = 1; step <= options.maxReach; ++step) {
+          px += d[0];
+          py += d[1];
+          if (px < 0 || py < 0 || px >= w || py >= h) break;
+          const size_t k = size_t(py) * w + px;
+          if (layer.hole[k]) continue;
+          hit[count] = k;
+          distance[count] = step * ((d[0] && d[1]) ? std::sqrt(2.0) : 1.0);
+          farthest = std::min(farthest, layer.inverseDepth[k]);
+          ++count;
+          break;
+        }
+      }
+      if (count == 0) continue;
+      double weightSum = 0;
+      double sum[3] = {0, 0, 0};
+      for (int c = 0; c < count; ++c) {
+        if (layer.inverseDepth[hit[c]] > farthest + options.depthTolerance) continue;
+        const double weight = 1.0 / distance[c];
+        weightSum += weight;
+        for (int k = 0; k < layer.channels; ++k) sum[k] += weight * layer.colour[k][hit[c]];
+      }
+      for (int k = 0; k < layer.channels; ++k) estimate[k][i] = float(sum[k] / weightSum);
+      background[i] = farthest;
+      found[i] = 1;
+    }
+}
+
+// The inpainting mask: the holes, plus valid samples of a nearer surface than the hole's background
+// within `band` samples of it, so that inpainting continues the background and not the occluder.
+void backgroundOnlyMask(const BlendedLayer& layer, const std::vector<double>& background, double tolerance, int band,
+                        std::vector<uint8_t>& mask) {
+  const int w = layer.width, h = layer.height;
+  mask = layer.hole;
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const size_t i = size_t(y) * w + x;
+      if (!layer.hole[i] || background[i] == HUGE_VAL) continue;
+      for (int dy = -band; dy <= band; ++dy)
+        for (int dx = -band; dx <= band; ++dx) {
+          const int nx = x + dx, ny = y + dy;
+          if (nx < 0 || ny < 0 || nx >= w || ny >= h) continue;
+          const size_t k = size_t(ny) * w + nx;
+          if (!layer.hole[k] && layer.inverseDepth[k] > background[i] + tolerance) mask[k] = 1;
+        }
+    }
+}
+
+void inpaint(BlendedLayer& layer, std::vector<uint8_t>& mask, int radius, std::vector<float> result[3]) {
+  cv::Mat maskMat(layer.height, layer.width, CV_8UC1, mask.data());
+  cv::Mat inpainted;
+  for (int k = 0; k < layer.channels; ++k) {
+    cv::Mat channel(layer.height, layer.width, CV_32FC1, layer.colour[k].data());
+    cv::inpaint(channel, maskMat, inpainted, radius, cv::INPAINT_TELEA);
+    VS_CHECK(inpainted.isContinuous() && inpainted.type() == CV_32FC1);
+    result[k].assign(inpainted.ptr<float>(), inpainted.ptr<float>() + layer.hole.size());
+  }
+}
+
+}  // namespace
+
+size_t fillHoles(BlendedLayer& layer, const HoleFillOptions& options) {
+  const size_t holes = layer.holeCount();
+  if (holes == 0) return 0;
+  const size_t n = layer.hole.size();
+  if (holes == n) {  // nothing to fill from
+    for (int k = 0; k < layer.channels; ++k) std::fill(layer.colour[k].begin(), layer.colour[k].end(), options.emptyValue[k]);
+    std::fill(layer.hole.begin(), layer.hole.end(), uint8_t(0));
+    return holes;
+  }
+  std::vector<float> inpainted[3];
+  if (!options.backgroundFirst) {
+    std::vector<uint8_t> mask = layer.hole;
+    inpaint(layer, mask, options.inpaintRadius, inpainted);
+    for (int k = 0; k < layer.channels; ++k)
+      for (size_t i = 0; i < n; ++i)
+        if (layer.hole[i]) layer.colour[k][i] = inpainted[k][i];
+  } else {
+    std::vector<float> directional[3];
+    std::vector<double> background;
+    std::vector<uint8_t> found, mask;
+    directionalFill(layer, options, directional, background, found);
+    backgroundOnlyMask(layer, background, options.depthTolerance, options.inpaintRadius + 1, mask);
+    inpaint(layer, mask, options.inpaintRadius, inpainted);
+    for (size_t i = 0; i < n; ++i) {
+      if (!layer.hole[i]) continue;
+      for (int k = 0; k < layer.channels; ++k)
+        layer.colour[k][i] = found[i] ? 0.5f * (directional[k][i] + inpainted[k][i]) : inpainted[k][i];
+      if (found[i]) layer.inverseDepth[i] = background[i];
+    }
+  }
+  std::fill(layer.hole.begin(), layer.hole.end(), uint8_t(0));
+  return holes;
+}
+
+}  // namespace vs

@@ -1,0 +1,31 @@
+#pragma once
+// Filling what no reference view sees (doc/algorithms.md, "Hole filling").
+//
+// Holes are disoccluded background. With IvsrsInpaint 1 two background-only estimates are averaged:
+//   - directional: each hole sample looks in eight directions for the nearest sample with colour,
+//     keeps those on the farthest surface found (within the depth tolerance) and mixes them by
+//     inverse distance; it keeps texture but copies it in streaks;
+//   - inpainting: OpenCV's Telea inpainting, with the nearer surface around each hole masked too so
+//     that only background propagates; it is smooth but blurs.
+// Their mean has a lower error than either on the Middlebury scenes (doc/results.md). Samples no
+// direction reaches take the inpainted value. IvsrsInpaint 0: OpenCV Telea inpainting of the holes
+// alone, as VSRS does. A layer without any valid sample is filled with `emptyValue`.
+#include <cstddef>
+
+#include "Synth/Layer.h"
+
+namespace vs {
+
+struct HoleFillOptions {
+  bool backgroundFirst = true;  // IvsrsInpaint 1
+  double depthTolerance = 0;    // inverse depths closer than this are one surface
+  float emptyValue[3] = {0, 0, 0};
+  int inpaintRadius = 3;
+  int maxReach = 256;           // samples a directional search looks along
+};
+
+// Fills every hole of `layer` (hole mask cleared, inverse depth set to the background's where
+// known). Returns the number of samples that were holes.
+size_t fillHoles(BlendedLayer& layer, const HoleFillOptions& options);
+
+}  // namespace vs

@@ -1,0 +1,92 @@
+#include "Synth/Interpolation.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "Common/Error.h"
+
+namespace vs {
+
+namespace {
+
+double cubic(double x) {  // Keys, a = -0.5
+  const double a = -0.5;
+  x = std::fabs(x);
+  if (x <= 1) return (a + 2) * x * x * x - (a + 3) * x * x + 1;
+  if (x < 2) return a * x * x * x - 5 * a * x * x + 8 * a * x - 4 * a;
+  return 0;
+}
+
+}  // namespace
+
+SubPixelSampler::SubPixelSampler(int precision, int filter) : precision_(precision) {
+  VS_CHECK(precision == 1 || precision == 2 || precision == 4);
+  VS_CHECK(filter >= 0 && filter <= 2);
+  if (filter == 0) {
+    taps_ = 2;
+    first_ = 0;
+  } else if (filter == 1) {
+    taps_ = 4;
+    first_ = -1;
+  } else {
+    taps_ = 6;
+    first_ = -2;
+  }
+  kernels_.assign(size_t(precision) * size_t(taps_), 0.0f);
+  for (int phase = 0; phase < precision; ++phase) {
+    const double f = double(phase) / precision;
+    float* k = &kernels_[size_t(phase) * size_t(taps_)];
+    if (filter == 0) {
+      k[0] = float(1 - f);
+      k[1] = float(f);
+    } else if (filter == 1) {
+      for (int t = 0; t < 4; ++t) k[t] = float(cubic(f - (t + first_)));
+    } else {
+      static const double half[6] = {1 / 32.0, -5 / 32.0, 20 / 32.0, 20 / 32.0, -5 / 32.0, 1 / 32.0};
+      double w[6] = {0, 0, 0, 0, 0, 0};
+      if (phase * 4 == 0) {
+        w[2] = 1;
+      } else if (phase * 4 == precision * 2) {
+        for (int t = 0; t < 6; ++t) w[t] = half[t];
+      } else if (phase * 4 == precision) {  // quarter: mean of integer and half pel
+        for (int t = 0; t < 6; ++t) w[t] = 0.5 * half[t];
+        w[2] += 0.5;
+      } else {  // three quarters: mean of half pel and the next integer
+        for (int t = 0; t < 6; ++t) w[t] = 0.5 * half[t];
+        w[3] += 0.5;
+      }
+      for (int t = 0; t < 6; ++t) k[t] = float(w[t]);
+    }
+  }
+}
+
+float SubPixelSampler::sample(const Plane& plane, double x, double y) const {
+  // Round to the 1/precision grid. floor() of the scaled position keeps negative positions right
+  // (truncation towards zero would move them the wrong way).
+  const double gx = std::floor(x * precision_ + 0.5), gy = std::floor(y * precision_ + 0.5);
+  const long long ix = (long long)std::floor(gx / precision_), iy = (long long)std::floor(gy / precision_);
+  const int px = int(gx - double(ix) * precision_), py = int(gy - double(iy) * precision_);
+  const float* kx = kernel(px);
+  const float* ky = kernel(py);
+  const long long maxX = plane.width - 1, maxY = plane.height - 1;
+  if (px == 0 && py == 0) {
+    const long long cx = std::clamp(ix, 0LL, maxX), cy = std::clamp(iy, 0LL, maxY);
+    return float(plane.at(int(cx), int(cy)));
+  }
+  float sum = 0.0f;
+  for (int ty = 0; ty < taps_; ++ty) {
+    if (ky[ty] == 0.0f) continue;
+    const long long sy = std::clamp(iy + first_ + ty, 0LL, maxY);
+    const uint16_t* row = plane.row(int(sy));
+    float rowSum = 0.0f;
+    for (int tx = 0; tx < taps_; ++tx) {
+      if (kx[tx] == 0.0f) continue;
+      const long long sx = std::clamp(ix + first_ + tx, 0LL, maxX);
+      rowSum += kx[tx] * float(row[sx]);
+    }
+    sum += ky[ty] * rowSum;
+  }
+  return sum;
+}
+
+}  // namespace vs

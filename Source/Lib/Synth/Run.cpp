@@ -1,0 +1,178 @@
+#include "Synth/Run.h"
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <memory>
+
+#include "Common/Error.h"
+#include "Common/Metrics.h"
+#include "Common/Yuv.h"
+
+namespace vs {
+
+namespace {
+
+double seconds(std::chrono::steady_clock::time_point since) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - since).count();
+}
+
+class GeneralRenderer : public FrameRenderer {
+public:
+  explicit GeneralRenderer(const Scene& scene) : scene_(scene), synthesizer_(scene) {}
+  void render(const std::vector<ReferenceFrame>& references, Frame& output, StageTimes& times) override {
+    synthesizer_.synthesize(references, output, times);
+  }
+  std::vector<std::string> plan() const override {
+    const SynthesisSettings& s = scene_.settings;
+    std::vector<std::string> lines;
+    if (s.mode != SynthesisMode::General)
+      lines.push_back(std::string("SynthesisMode ") + (s.mode == SynthesisMode::Auto ? "auto" : "1") +
+                      ": the 1D parallel path is not built yet; running the general path, which handles any rig");
+    lines.push_back("mode: general 3D warping (depth warp by triangles and points, backward texture warp)");
+    char line[256];
+    std::snprintf(line, sizeof line, "blend weights: left %.4f, right %.4f (%s)", synthesizer_.blendWeights()[0],
+                  synthesizer_.blendWeights()[1], s.viewBlending ? "nearer view only" : "weighted blending");
+    lines.push_back(line);
+    lines.push_back(std::string("texture: Precision ") + std::to_string(s.precision) + ", Filter " + std::to_string(s.filter) +
+                    (s.colorSpace ? ", processed in RGB" : ", processed in YUV"));
+    lines.push_back(std::string("holes: ") + (s.ivsrsInpaint ? "background-side fill, then OpenCV inpainting" : "OpenCV inpainting"));
+    if (s.missingDepthLevel >= 0) lines.push_back("depth level " + std::to_string(s.missingDepthLevel) + " is missing depth: not warped");
+    if (s.boundaryNoiseRemoval) lines.push_back("boundary noise removal: on");
+    return lines;
+  }
+
+private:
+  const Scene& scene_;
+  Synthesizer synthesizer_;
+};
+
+std::string describeTimes(const StageTimes& t, double frames) {
+  char line[512];
+  std::snprintf(line, sizeof line,
+                "read %.4f, depth warp %.4f, texture warp %.4f, blend %.4f, hole fill %.4f, write %.4f, total %.4f",
+                t.read / frames, t.depthWarp / frames, t.textureWarp / frames, t.blend / frames, t.holeFill / frames,
+                t.write / frames, t.total() / frames);
+  return line;
+}
+
+}  // namespace
+
+RunSummary runSequence(const std::string& toolName, const Config& config, const Scene& scene, FrameRenderer& renderer) {
+  const SynthesisSettings& s = scene.settings;
+  std::printf("%s %s\n\n%s\n%s", toolName.c_str(), VS_VERSION, config.effectiveText().c_str(), describeCameras(scene).c_str());
+  for (const std::string& warning : scene.warnings) std::printf("warning: %s\n", warning.c_str());
+  std::printf("\nplan:\n");
+  for (const std::string& line : renderer.plan()) std::printf("  %s\n", line.c_str());
+
+  // Open every input and find how many frames all of them hold from StartFrame on.
+  std::vector<std::unique_ptr<YuvReader>> textures, depths;
+  for (const ReferenceView& view : s.references) {
+    textures.push_back(std::make_unique<YuvReader>(view.texturePath, s.textureFormat));
+    depths.push_back(std::make_unique<YuvReader>(view.depthPath, s.depthFormat));
+  }
+  std::unique_ptr<YuvReader> truth;
+  if (!s.referenceViewPath.empty()) truth = std::make_unique<YuvReader>(s.referenceViewPath, s.textureFormat);
+  int64_t available = s.frameCount;
+  std::string shortest;
+  auto limit = [&](const YuvReader& reader) {
+    const int64_t count = reader.frameCount();
+    if (s.startFrame >= count)
+      throw InputError(reader.path() + ": StartFrame " + std::to_string(s.startFrame) + " is beyond the end of the file (" +
+                       std::to_string(count) + " whole frames of " + std::to_string(reader.format().frameBytes()) + " bytes)");
+    if (count - s.startFrame < available) {
+      available = count - s.startFrame;
+      shortest = reader.path();
+    }
+  };
+  for (size_t k = 0; k < textures.size(); ++k) {
+    limit(*textures[k]);
+    limit(*depths[k]);
+  }
+  if (truth) limit(*truth);
+
+  std::vector<std::string> inputs = s.inputPaths();
+  YuvWriter writer(s.outputPath, s.textureFormat, inputs);
+  std::FILE* report = nullptr;
+  if (!s.reportPath.empty()) {
+    report = std::fopen(s.reportPath.c_str(), "w");
+    if (!report) throw InputError(s.reportPath + ": cannot create the report file");
+    std::fprintf(report, "frame,psnr_y,psnr_u,psnr_v,psnr_yuv,read_s,depth_warp_s,texture_warp_s,blend_s,hole_fill_s,write_s,total_s\n");
+  }
+  struct ReportCloser {
+    std::FILE* f;
+    ~ReportCloser() {
+      if (f) std::fclose(f);
+    }
+  } closer{report};
+
+  std::vector<Frame> textureFrames(textures.size());
+  std::vector<Plane> depthPlanes(depths.size());
+  Frame output, truthFrame;
+  PsnrAccumulator accumulator(s.textureFormat.bitDepth, s.textureFormat.chroma != ChromaFormat::Yuv400);
+  RunSummary summary;
+  std::printf("\n");
+  for (int64_t f = 0; f < available; ++f) {
+    const int64_t frameIndex = s.startFrame + f;
+    StageTimes times;
+    auto start = std::chrono::steady_clock::now();
+    std::vector<ReferenceFrame> references(textures.size());
+    for (size_t k = 0; k < textures.size(); ++k) {
+      textures[k]->read(frameIndex, textureFrames[k]);
+      depths[k]->readLuma(frameIndex, depthPlanes[k]);
+      references[k] = ReferenceFrame{&textureFrames[k], &depthPlanes[k]};
+    }
+    if (truth) truth->read(frameIndex, truthFrame);
+    times.read = seconds(start);
+    renderer.render(references, output, times);
+    start = std::chrono::steady_clock::now();
+    writer.append(output);
+    times.write = seconds(start);
+    summary.times += times;
+    ++summary.framesWritten;
+    std::printf("frame %lld: %.4f s", (long long)frameIndex, times.total());
+    FramePsnr psnr;
+    if (truth) {
+      psnr = framePsnr(truthFrame, output);
+      accumulator.add(psnr);
+      std::printf("  PSNR Y %s U %s V %s dB", formatPsnr(psnr.y).c_str(), formatPsnr(psnr.u).c_str(), formatPsnr(psnr.v).c_str());
+    }
+    std::printf("\n");
+    std::fflush(stdout);
+    if (report)
+      std::fprintf(report, "%lld,%s,%s,%s,%s,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f\n", (long long)frameIndex,
+                   truth ? formatPsnr(psnr.y).c_str() : "", truth ? formatPsnr(psnr.u).c_str() : "",
+                   truth ? formatPsnr(psnr.v).c_str() : "", truth ? formatPsnr(psnr.yuv).c_str() : "", times.read,
+                   times.depthWarp, times.textureWarp, times.blend, times.holeFill, times.write, times.total());
+  }
+
+  const double frames = double(summary.framesWritten);
+  std::printf("\n%lld frames written to %s\n", (long long)summary.framesWritten, s.outputPath.c_str());
+  std::printf("seconds per frame: %s\n", describeTimes(summary.times, frames).c_str());
+  if (truth && accumulator.frames() > 0) {
+    summary.meanPsnrY = accumulator.y().frameMean;
+    if (accumulator.hasChroma()) {
+      summary.meanPsnrU = accumulator.u().frameMean;
+      summary.meanPsnrV = accumulator.v().frameMean;
+    }
+    std::printf("mean PSNR: Y %s U %s V %s YUV %s dB\n", formatPsnr(accumulator.y().frameMean).c_str(),
+                accumulator.hasChroma() ? formatPsnr(accumulator.u().frameMean).c_str() : "-",
+                accumulator.hasChroma() ? formatPsnr(accumulator.v().frameMean).c_str() : "-",
+                formatPsnr(accumulator.yuv().frameMean).c_str());
+  }
+  if (available < s.frameCount)
+    throw InputError(shortest + " holds only " + std::to_string(available) + " frames from StartFrame " +
+                     std::to_string(s.startFrame) + ", but TotalNumberOfFrames is " + std::to_string(s.frameCount) + "; " +
+                     std::to_string(summary.framesWritten) + " whole frames were written to " + s.outputPath);
+  return summary;
+}
+
+int runViewSyn(const Config& config) {
+  const Scene scene = loadScene(config);
+  GeneralRenderer renderer(scene);
+  runSequence("ViewSyn", config, scene, renderer);
+  return 0;
+}
+
+}  // namespace vs

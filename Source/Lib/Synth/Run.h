@@ -1,0 +1,36 @@
+#pragma once
+// The frame loop shared by ViewSyn and MeshRender (../shared/DESIGN.md, "Data flow"): open the
+// inputs, check how many frames they hold, then for each frame read, render, append to the output,
+// score against the reference view when one is configured; print VSRS-style progress and a summary.
+#include <string>
+#include <vector>
+
+#include "Common/Config.h"
+#include "Common/Scene.h"
+#include "Synth/Synthesizer.h"
+
+namespace vs {
+
+class FrameRenderer {
+public:
+  virtual ~FrameRenderer() = default;
+  // Renders the virtual view of one frame; adds its stage times to `times`.
+  virtual void render(const std::vector<ReferenceFrame>& references, Frame& output, StageTimes& times) = 0;
+  // Lines describing what this renderer will do (the plan), printed before the first frame.
+  virtual std::vector<std::string> plan() const = 0;
+};
+
+struct RunSummary {
+  int64_t framesWritten = 0;
+  double meanPsnrY = 0, meanPsnrU = 0, meanPsnrV = 0;  // frame means; 0 without a reference view
+  StageTimes times;                                      // sums over all frames
+};
+
+// Runs the whole sequence. Throws InputError for bad input; when the inputs hold fewer frames than
+// asked for, the frames they do hold are written and then InputError says how many.
+RunSummary runSequence(const std::string& toolName, const Config& config, const Scene& scene, FrameRenderer& renderer);
+
+// ViewSyn's run(): loads the scene, builds the synthesizer and runs the sequence. Returns the exit code.
+int runViewSyn(const Config& config);
+
+}  // namespace vs

@@ -1,0 +1,400 @@
+#include "Synth/Synthesizer.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstddef>
+
+#include "Common/Depth.h"
+#include "Common/Error.h"
+#include "Synth/Colour.h"
+
+namespace vs {
+
+namespace {
+
+// A depth step of this many 8-bit levels (scaled to the map's bit depth) separates two surfaces.
+constexpr double kDiscontinuityLevels8 = 8.0;
+// A sample seen by one view only is dropped when it lies this many discontinuity steps behind every
+// surface the other view shows around that spot (rejectOccludedInOtherViews).
+constexpr double kBehindHoleSteps = 3.0;
+// Triangles larger than this (in virtual pixels) are not rasterised: only extreme magnification makes
+// them, and their points are still splatted.
+constexpr double kMaxTriangleArea = 4096.0;
+
+double seconds(std::chrono::steady_clock::time_point since) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - since).count();
+}
+
+uint16_t toSample(float value, int maxValue) {
+  if (!(value > 0.0f)) return 0;  // also NaN
+  const float rounded = std::floor(value + 0.5f);
+  return rounded >= float(maxValue) ? uint16_t(maxValue) : uint16_t(rounded);
+}
+
+// Z-buffer write: the nearest (largest inverse depth) wins.
+inline void depthTest(std::vector<double>& zbuffer, size_t i, double w) {
+  if (w > zbuffer[i]) zbuffer[i] = w;
+}
+
+void rasteriseTriangle(std::vector<double>& zbuffer, int width, int height, const double* x, const double* y,
+                       const double* w) {
+  const double minX = std::min({x[0], x[1], x[2]}), maxX = std::max({x[0], x[1], x[2]});
+  const double minY = std::min({y[0], y[1], y[2]}), maxY = std::max({y[0], y[1], y[2]});
+  if ((maxX - minX) * (maxY - minY) > kMaxTriangleArea) return;
+  const int x0 = std::max(0, int(std::ceil(minX - 1e-9))), x1 = std::min(width - 1, int(std::floor(maxX + 1e-9)));
+  const int y0 = std::max(0, int(std::ceil(minY - 1e-9))), y1 = std::min(height - 1, int(std::floor(maxY + 1e-9)));
+  if (x0 > x1 || y0 > y1) return;
+  const double area = (x[1] - x[0]) * (y[2] - y[0]) - (x[2] - x[0]) * (y[1] - y[0]);
+  if (std::fabs(area) < 1e-12) return;
+  const double inv = 1.0 / area;
+  for (int py = y0; py <= y1; ++py)
+    for (int px = x0; px <= x1; ++px) {
+      // Barycentric coordinates of the pixel centre.
+      const double b1 = ((px - x[0]) * (y[2] - y[0]) - (x[2] - x[0]) * (py - y[0])) * inv;
+      const double b2 = ((x[1] - x[0]) * (py - y[0]) - (px - x[0]) * (y[1] - y[0])) * inv;
+      const double b0 = 1.0 - b1 - b2;
+      if (b0 < -1e-9 || b1 < -1e-9 || b2 < -1e-9) continue;
+      depthTest(zbuffer, size_t(py) * width + px, b0 * w[0] + b1 * w[1] + b2 * w[2]);
+    }
+}
+
+// Closes one- and two-sample gaps between two samples of one surface, along rows and columns, with
+// the farther of the two sides: a crack is never filled with foreground.
+void closeCracks(std::vector<double>& zbuffer, int width, int height, double tolerance) {
+  auto close = [&](size_t a, size_t gap1, size_t gap2, size_t b, bool two) {
+    const double wa = zbuffer[a], wb = zbuffer[b];
+    if (wa < 0 || wb < 0 || std::fabs(wa - wb) > tolerance) return;
+    const double fill = std::min(wa, wb);
+    zbuffer[gap1] = fill;
+    if (two) zbuffer[gap2] = fill;
+  };
+  for (int y = 0; y < height; ++y)
+    for (int x = 1; x + 1 < width; ++x) {
+      const size_t i = size_t(y) * width + x;
+      if (zbuffer[i] >= 0) continue;
+      if (zbuffer[i + 1] >= 0) close(i - 1, i, i, i + 1, false);
+      else if (x + 2 < width) close(i - 1, i, i + 1, i + 2, true);
+    }
+  for (int y = 1; y + 1 < height; ++y)
+    for (int x = 0; x < width; ++x) {
+      const size_t i = size_t(y) * width + x, up = i - width, down = i + width;
+      if (zbuffer[i] >= 0) continue;
+      if (zbuffer[down] >= 0) close(up, i, i, down, false);
+      else if (y + 2 < height) close(up, i, down, down + width, true);
+    }
+}
+
+}  // namespace
+
+Synthesizer::Synthesizer(const Scene& scene)
+    : scene_(scene),
+      outputFormat_(scene.settings.textureFormat),
+      rgb_(scene.settings.colorSpace == 1),
+      hasChroma_(scene.settings.textureFormat.chroma != ChromaFormat::Yuv400),
+      sampler_(scene.settings.precision, scene.settings.filter) {
+  const SynthesisSettings& s = scene.settings;
+  double inverseRange = 0;
+  std::vector<double> distances;
+  for (const ReferenceView& reference : s.references) {
+    ViewState view{ViewProjection(reference.camera, scene.virtualCamera, s.depthType), {}, {}, {}, {}, {}, {}, {}};
+    view.levelToInverseDepth = inverseZTable(reference.depthRange);
+    if (s.missingDepthLevel >= 0) view.levelToInverseDepth[size_t(s.missingDepthLevel)] = std::nan("");
+    const double farInverse = std::isinf(reference.depthRange.zfar) ? 0.0 : 1.0 / reference.depthRange.zfar;
+    inverseRange += std::fabs(1.0 / reference.depthRange.znear - farInverse);
+    distances.push_back(norm(reference.camera.centre() - scene.virtualCamera.centre()));
+    views_.push_back(std::move(view));
+  }
+  inverseRange /= double(s.references.size());
+  discontinuity_ = kDiscontinuityLevels8 / 255.0 * inverseRange;
+  edgeLevelStep_ = std::max(1, int(std::lround(kDiscontinuityLevels8 / 255.0 * s.depthFormat.maxValue())));
+  blendOptions_.weights = baselineWeights(distances);
+  blendOptions_.depthTolerance = double(s.depthBlendDifference) / 255.0 * inverseRange;
+  blendOptions_.nearestViewOnly = s.viewBlending == 1;
+  fillOptions_.backgroundFirst = s.ivsrsInpaint;
+  fillOptions_.depthTolerance = blendOptions_.depthTolerance;
+  const float mid = float(1 << (outputFormat_.bitDepth - 1));
+  fillOptions_.emptyValue[0] = rgb_ ? mid : float(16 << (outputFormat_.bitDepth - 8));
+  fillOptions_.emptyValue[1] = fillOptions_.emptyValue[2] = mid;
+  if (rgb_) fillOptions_.emptyValue[0] = fillOptions_.emptyValue[1] = fillOptions_.emptyValue[2] = mid;
+}
+
+void Synthesizer::markReferenceEdges(ViewState& view, const Plane& depth) {
+  const int w = depth.width, h = depth.height;
+  std::vector<uint8_t> step(size_t(w) * h, 0);
+  const int missing = scene_.settings.missingDepthLevel;
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const int level = depth.at(x, y);
+      bool edge = level == missing;
+      if (x + 1 < w) edge = edge || std::abs(level - int(depth.at(x + 1, y))) >= edgeLevelStep_ || depth.at(x + 1, y) == missing;
+      if (x > 0) edge = edge || std::abs(level - int(depth.at(x - 1, y))) >= edgeLevelStep_ || depth.at(x - 1, y) == missing;
+      if (y + 1 < h) edge = edge || std::abs(level - int(depth.at(x, y + 1))) >= edgeLevelStep_ || depth.at(x, y + 1) == missing;
+      if (y > 0) edge = edge || std::abs(level - int(depth.at(x, y - 1))) >= edgeLevelStep_ || depth.at(x, y - 1) == missing;
+      step[size_t(y) * w + x] = edge;
+    }
+  // Dilate by one sample: the colours on both sides of an edge are mixed by the camera's optics.
+  view.referenceEdge.assign(size_t(w) * h, 0);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      if (!step[size_t(y) * w + x]) continue;
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) {
+          const int nx = x + dx, ny = y + dy;
+          if (nx >= 0 && ny >= 0 && nx < w && ny < h) view.referenceEdge[size_t(ny) * w + nx] = 1;
+        }
+    }
+}
+
+void Synthesizer::warpDepth(ViewState& view, const Plane& depth) {
+  const int w = depth.width, h = depth.height;
+  const size_t n = size_t(w) * size_t(h);
+  view.warpedX.resize(n);
+  view.warpedY.resize(n);
+  view.warpedW.assign(n, kNoDepth);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const size_t i = size_t(y) * w + x;
+      const double inverseDepth = view.levelToInverseDepth[depth.at(x, y)];
+      if (std::isnan(inverseDepth)) continue;  // declared missing: not warped
+      double vx, vy, vw;
+      if (view.projection.forward(x, y, inverseDepth, vx, vy, vw)) {
+        view.warpedX[i] = vx;
+        view.warpedY[i] = vy;
+        view.warpedW[i] = vw;
+      }
+    }
+  const int outW = outputFormat_.width, outH = outputFormat_.height;
+  view.luma.reset(outW, outH, rgb_ ? 3 : 1);
+  std::vector<double>& zbuffer = view.luma.inverseDepth;
+  // Triangles of each quad of neighbouring samples, when all three lie on one surface.
+  static const int corners[2][3] = {{0, 1, 3}, {0, 3, 2}};
+  for (int y = 0; y + 1 < h; ++y)
+    for (int x = 0; x + 1 < w; ++x) {
+      const size_t quad[4] = {size_t(y) * w + x, size_t(y) * w + x + 1, size_t(y + 1) * w + x, size_t(y + 1) * w + x + 1};
+      for (const auto& triangle : corners) {
+        double tx[3], ty[3], tw[3];
+        bool ok = true;
+        double lo = HUGE_VAL, hi = -HUGE_VAL;
+        for (int k = 0; k < 3 && ok; ++k) {
+          const size_t i = quad[triangle[k]];
+          ok = view.warpedW[i] >= 0;
+          tx[k] = view.warpedX[i];
+          ty[k] = view.warpedY[i];
+          tw[k] = view.warpedW[i];
+          lo = std::min(lo, tw[k]);
+          hi = std::max(hi, tw[k]);
+        }
+        if (ok && hi - lo <= discontinuity_) rasteriseTriangle(zbuffer, outW, outH, tx, ty, tw);
+      }
+    }
+  // Every sample also lands as a point, so thin foreground keeps its width.
+  for (size_t i = 0; i < n; ++i) {
+    if (view.warpedW[i] < 0) continue;
+    const double px = std::floor(view.warpedX[i] + 0.5), py = std::floor(view.warpedY[i] + 0.5);
+    if (px < 0 || py < 0 || px >= outW || py >= outH) continue;
+    depthTest(zbuffer, size_t(py) * outW + size_t(px), view.warpedW[i]);
+  }
+  closeCracks(zbuffer, outW, outH, discontinuity_);
+}
+
+void Synthesizer::warpTexture(ViewState& view, const std::vector<const Plane*>& planes) {
+  WarpedLayer& layer = view.luma;
+  const int refW = planes[0]->width, refH = planes[0]->height;
+  for (int y = 0; y < layer.height; ++y)
+    for (int x = 0; x < layer.width; ++x) {
+      const size_t i = size_t(y) * layer.width + x;
+      if (layer.inverseDepth[i] < 0) continue;
+      double u, v;
+      if (!view.projection.backward(x, y, layer.inverseDepth[i], u, v) || u < -0.5 || v < -0.5 || u > refW - 0.5 ||
+          v > refH - 0.5) {
+        layer.inverseDepth[i] = kNoDepth;
+        continue;
+      }
+      for (int c = 0; c < layer.channels; ++c) layer.colour[c][i] = sampler_.sample(*planes[size_t(c)], u, v);
+      const int eu = std::clamp(int(std::floor(u + 0.5)), 0, refW - 1), ev = std::clamp(int(std::floor(v + 0.5)), 0, refH - 1);
+      layer.edge[i] = view.referenceEdge[size_t(ev) * refW + eu];
+    }
+}
+
+void Synthesizer::removeBoundaryNoise(WarpedLayer& layer) {
+  // Samples on a reference depth edge within two samples of this view's own hole carry foreground
+  // colour bled onto background: drop them, so the other view or the hole filler supplies them.
+  const int w = layer.width, h = layer.height;
+  std::vector<uint8_t> nearHole(size_t(w) * h, 0);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      if (layer.inverseDepth[size_t(y) * w + x] >= 0) continue;
+      for (int dy = -2; dy <= 2; ++dy)
+        for (int dx = -2; dx <= 2; ++dx) {
+          const int nx = x + dx, ny = y + dy;
+          if (nx >= 0 && ny >= 0 && nx < w && ny < h) nearHole[size_t(ny) * w + nx] = 1;
+        }
+    }
+  for (size_t i = 0; i < nearHole.size(); ++i)
+    if (nearHole[i] && layer.edge[i]) layer.inverseDepth[i] = kNoDepth;
+}
+
+// For every sample, the inverse depth of the farthest of the nearest valid samples left, right, above
+// and below it (HUGE_VAL where there is none).
+static void farthestNeighbourDepth(const WarpedLayer& layer, std::vector<double>& farthest) {
+  const int w = layer.width, h = layer.height;
+  farthest.assign(size_t(w) * h, HUGE_VAL);
+  auto scan = [&](size_t first, ptrdiff_t stride, int count) {
+    double last = kNoDepth;
+    for (int k = 0; k < count; ++k) {
+      const size_t i = size_t(ptrdiff_t(first) + stride * k);
+      if (layer.valid(i)) last = layer.inverseDepth[i];
+      else if (last >= 0) farthest[i] = std::min(farthest[i], last);
+    }
+  };
+  for (int y = 0; y < h; ++y) {
+    scan(size_t(y) * w, 1, w);
+    scan(size_t(y) * w + w - 1, -1, w);
+  }
+  for (int x = 0; x < w; ++x) {
+    scan(size_t(x), w, h);
+    scan(size_t(h - 1) * w + x, -ptrdiff_t(w), h);
+  }
+}
+
+void Synthesizer::rejectOccludedInOtherViews() {
+  // A sample only one view shows fills a hole of the other views. A disocclusion reveals surfaces
+  // behind the foreground but not far behind everything around the hole: a sample farther (by
+  // kBehindHoleSteps discontinuity steps) than every surface the other view shows next to the hole
+  // is a misplaced one, typically a sample of unknown depth coded as the far plane. Drop it and let
+  // the hole filler continue the surrounding background instead. A view the virtual camera sits on
+  // (weight 1) shows exactly what the virtual camera sees and is never second-guessed.
+  const size_t n = size_t(outputFormat_.width) * size_t(outputFormat_.height);
+  std::vector<double> farthest;
+  std::vector<std::vector<uint8_t>> reject(views_.size(), std::vector<uint8_t>(n, 0));
+  for (size_t o = 0; o < views_.size(); ++o) {
+    const WarpedLayer& other = views_[o].luma;
+    farthestNeighbourDepth(other, farthest);
+    for (size_t k = 0; k < views_.size(); ++k) {
+      if (k == o || blendOptions_.weights[k] >= 1.0) continue;
+      const WarpedLayer& self = views_[k].luma;
+      for (size_t i = 0; i < n; ++i)
+        if (self.valid(i) && !other.valid(i) && farthest[i] != HUGE_VAL &&
+            self.inverseDepth[i] < farthest[i] - kBehindHoleSteps * discontinuity_)
+          reject[k][i] = 1;
+    }
+  }
+  for (size_t k = 0; k < views_.size(); ++k)
+    for (size_t i = 0; i < n; ++i)
+      if (reject[k][i]) views_[k].luma.inverseDepth[i] = kNoDepth;
+}
+
+void Synthesizer::warpChroma(ViewState& view, const Frame& texture) {
+  const int scale = outputFormat_.chroma == ChromaFormat::Yuv420 ? 2 : 1;
+  const int cw = chromaWidth(outputFormat_.width, outputFormat_.chroma);
+  const int ch = chromaHeight(outputFormat_.height, outputFormat_.chroma);
+  const WarpedLayer& luma = view.luma;
+  WarpedLayer& layer = view.chroma;
+  layer.reset(cw, ch, 2);
+  const double tolerance = blendOptions_.depthTolerance;
+  for (int j = 0; j < ch; ++j)
+    for (int i = 0; i < cw; ++i) {
+      // The chroma sample covers a scale x scale block of luma samples; it takes the depth of the
+      // front-most surface there (the mean inverse depth of the block's samples on it).
+      double front = kNoDepth;
+      for (int dy = 0; dy < scale; ++dy)
+        for (int dx = 0; dx < scale; ++dx) {
+          const int x = i * scale + dx, y = j * scale + dy;
+          if (x < luma.width && y < luma.height) front = std::max(front, luma.inverseDepth[size_t(y) * luma.width + x]);
+        }
+      if (front < 0) continue;
+      double sum = 0;
+      int count = 0;
+      uint8_t edge = 0;
+      for (int dy = 0; dy < scale; ++dy)
+        for (int dx = 0; dx < scale; ++dx) {
+          const int x = i * scale + dx, y = j * scale + dy;
+          if (x >= luma.width || y >= luma.height) continue;
+          const size_t k = size_t(y) * luma.width + x;
+          if (luma.inverseDepth[k] >= 0 && front - luma.inverseDepth[k] <= tolerance) {
+            sum += luma.inverseDepth[k];
+            ++count;
+            edge |= luma.edge[k];
+          }
+        }
+      const double inverseDepth = sum / count;
+      // Chroma sample centres sit in the middle of their luma block (doc/formats-yuv.md).
+      const double offset = 0.5 * (scale - 1);
+      double u, v;
+      if (!view.projection.backward(i * scale + offset, j * scale + offset, inverseDepth, u, v)) continue;
+      const double cu = (u - offset) / scale, cv = (v - offset) / scale;
+      if (cu < -1.0 || cv < -1.0 || cu > cw || cv > ch) continue;
+      const size_t c = size_t(j) * cw + i;
+      layer.inverseDepth[c] = inverseDepth;
+      layer.edge[c] = edge;
+      layer.colour[0][c] = sampler_.sample(texture.planes[1], cu, cv);
+      layer.colour[1][c] = sampler_.sample(texture.planes[2], cu, cv);
+    }
+}
+
+void Synthesizer::synthesize(const std::vector<ReferenceFrame>& references, Frame& output, StageTimes& times) {
+  VS_CHECK(references.size() == views_.size());
+  output.reset(outputFormat_);
+  auto start = std::chrono::steady_clock::now();
+  for (size_t k = 0; k < views_.size(); ++k) {
+    markReferenceEdges(views_[k], *references[k].depth);
+    warpDepth(views_[k], *references[k].depth);
+  }
+  times.depthWarp += seconds(start);
+
+  start = std::chrono::steady_clock::now();
+  if (rgb_) rgbReferences_.resize(views_.size());
+  for (size_t k = 0; k < views_.size(); ++k) {
+    ViewState& view = views_[k];
+    const Frame& texture = *references[k].texture;
+    if (rgb_) {
+      yuvToRgb(texture, rgbReferences_[k]);
+      warpTexture(view, {&rgbReferences_[k].planes[0], &rgbReferences_[k].planes[1], &rgbReferences_[k].planes[2]});
+    } else {
+      warpTexture(view, {&texture.planes[0]});
+    }
+    if (scene_.settings.boundaryNoiseRemoval) removeBoundaryNoise(view.luma);
+    if (!rgb_ && hasChroma_) warpChroma(view, texture);
+  }
+  times.textureWarp += seconds(start);
+
+  if (views_.size() > 1) rejectOccludedInOtherViews();
+  start = std::chrono::steady_clock::now();
+  std::vector<const WarpedLayer*> lumaLayers, chromaLayers;
+  for (const ViewState& view : views_) {
+    lumaLayers.push_back(&view.luma);
+    chromaLayers.push_back(&view.chroma);
+  }
+  blendLayers(lumaLayers, blendOptions_, blendedLuma_);
+  if (!rgb_ && hasChroma_) blendLayers(chromaLayers, blendOptions_, blendedChroma_);
+  stats_.holesAfterBlend = blendedLuma_.holeCount();
+  times.blend += seconds(start);
+
+  start = std::chrono::steady_clock::now();
+  fillHoles(blendedLuma_, fillOptions_);
+  if (!rgb_ && hasChroma_) {
+    HoleFillOptions chromaFill = fillOptions_;
+    chromaFill.emptyValue[0] = chromaFill.emptyValue[1] = fillOptions_.emptyValue[1];
+    fillHoles(blendedChroma_, chromaFill);
+  }
+  times.holeFill += seconds(start);
+
+  const int maxValue = outputFormat_.maxValue();
+  if (rgb_) {
+    Frame rgb(FrameFormat{outputFormat_.width, outputFormat_.height, outputFormat_.bitDepth, ChromaFormat::Yuv444});
+    for (int c = 0; c < 3; ++c)
+      for (size_t i = 0; i < rgb.planes[c].samples.size(); ++i)
+        rgb.planes[c].samples[i] = toSample(blendedLuma_.colour[c][i], maxValue);
+    rgbToYuv(rgb, output);
+    return;
+  }
+  for (size_t i = 0; i < output.planes[0].samples.size(); ++i)
+    output.planes[0].samples[i] = toSample(blendedLuma_.colour[0][i], maxValue);
+  if (hasChroma_)
+    for (int c = 0; c < 2; ++c)
+      for (size_t i = 0; i < output.planes[c + 1].samples.size(); ++i)
+        output.planes[c + 1].samples[i] = toSample(blendedChroma_.colour[c][i], maxValue);
+}
+
+}  // namespace vs

@@ -1,0 +1,93 @@
+#pragma once
+// ViewSyn's per-frame pipeline, general mode (doc/algorithms.md):
+//   1. depth warp: every reference pixel is projected into the virtual camera; the depth grid is
+//      rasterised as triangles (those spanning a depth discontinuity are dropped) and as points into
+//      a floating-point z-buffer of inverse depth; one- and two-pixel cracks between samples of one
+//      surface are closed with the farther of their two sides
+//   2. texture warp: every virtual sample with depth looks its colour up in the reference at the
+//      sub-pixel position its depth gives (Precision, Filter), luma at luma positions and chroma at
+//      chroma positions (no sample replication)
+//   3. blend the views (Layer.h), 4. fill the holes (HoleFill.h), 5. round into the output frame
+#include <memory>
+#include <vector>
+
+#include "Common/Frame.h"
+#include "Common/Scene.h"
+#include "Synth/HoleFill.h"
+#include "Synth/Interpolation.h"
+#include "Synth/Layer.h"
+#include "Synth/Warp.h"
+
+namespace vs {
+
+struct StageTimes {
+  double read = 0, depthWarp = 0, textureWarp = 0, blend = 0, holeFill = 0, write = 0;
+  double total() const { return read + depthWarp + textureWarp + blend + holeFill + write; }
+  StageTimes& operator+=(const StageTimes& o) {
+    read += o.read;
+    depthWarp += o.depthWarp;
+    textureWarp += o.textureWarp;
+    blend += o.blend;
+    holeFill += o.holeFill;
+    write += o.write;
+    return *this;
+  }
+};
+
+// One reference view's frame: texture and depth levels (the luma of the depth file).
+struct ReferenceFrame {
+  const Frame* texture = nullptr;
+  const Plane* depth = nullptr;
+};
+
+// Statistics of the last frame, for the log and tests.
+struct FrameStats {
+  size_t holesAfterBlend = 0;  // luma samples no view covered, filled by the hole filler
+};
+
+class Synthesizer {
+public:
+  explicit Synthesizer(const Scene& scene);
+
+  // Synthesizes the virtual view of one frame into `output` (reset to the texture format).
+  void synthesize(const std::vector<ReferenceFrame>& references, Frame& output, StageTimes& times);
+  const FrameStats& lastStats() const { return stats_; }
+  const std::vector<double>& blendWeights() const { return blendOptions_.weights; }
+
+  // Inverse-depth tolerance that makes two samples one surface (DepthBlendDifference, in 8-bit levels
+  // of the reference depth ranges).
+  double depthTolerance() const { return blendOptions_.depthTolerance; }
+
+private:
+  struct ViewState {
+    ViewProjection projection;
+    std::vector<double> levelToInverseDepth;  // per depth level; NaN for the missing level
+    WarpedLayer luma;                         // or RGB in ColorSpace 1
+    WarpedLayer chroma;                       // U, V at chroma resolution (ColorSpace 0 with colour)
+    std::vector<double> warpedX, warpedY, warpedW;  // forward-projected reference samples
+    std::vector<uint8_t> referenceEdge;             // reference samples next to a depth discontinuity
+  };
+
+  void warpDepth(ViewState& view, const Plane& depth);
+  void markReferenceEdges(ViewState& view, const Plane& depth);
+  void warpTexture(ViewState& view, const std::vector<const Plane*>& planes);
+  void warpChroma(ViewState& view, const Frame& texture);
+  void removeBoundaryNoise(WarpedLayer& layer);
+  void rejectOccludedInOtherViews();
+
+  const Scene& scene_;
+  FrameFormat outputFormat_;
+  bool rgb_;
+  bool hasChroma_;
+  SubPixelSampler sampler_;
+  double discontinuity_;   // inverse-depth step that separates surfaces in the z-buffer
+  int edgeLevelStep_;      // depth-level step that marks a reference depth edge
+  BlendOptions blendOptions_;
+  HoleFillOptions fillOptions_;
+  std::vector<ViewState> views_;
+  BlendedLayer blendedLuma_, blendedChroma_;
+  std::vector<Frame> rgbReferences_;
+  FrameStats stats_;
+};
+
+}  // namespace vs

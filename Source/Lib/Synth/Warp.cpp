@@ -1,0 +1,54 @@
+#include "Synth/Warp.h"
+
+#include <cmath>
+
+namespace vs {
+
+ViewProjection::ViewProjection(const Camera& reference, const Camera& target, int depthType) : depthType_(depthType) {
+  const RelativePose pose = relativePose(reference, target);
+  const Mat3 referenceKInverse = inverse(reference.K);
+  const Mat3 targetKInverse = inverse(target.K);
+  const Mat3 rotationInverse = inverse(pose.R);
+  forwardMatrix_ = target.K * pose.R * referenceKInverse;
+  forwardOffset_ = target.K * pose.t;
+  backwardMatrix_ = reference.K * rotationInverse * targetKInverse;
+  backwardOffset_ = -(reference.K * (rotationInverse * pose.t));
+  worldRayZ_ = (inverse(reference.R) * referenceKInverse).row(2);
+  centreZ_ = reference.t.z;
+}
+
+bool ViewProjection::forward(double u, double v, double inverseDepth, double& x, double& y, double& wv) const {
+  double a = 1.0, w = inverseDepth;
+  if (depthType_ == 1) {
+    const double rayZ = worldRayZ_.x * u + worldRayZ_.y * v + worldRayZ_.z;
+    if (rayZ == 0.0) return false;
+    a = (1.0 - w * centreZ_) / rayZ;
+  }
+  if (w < 0.0) {
+    a = -a;
+    w = -w;
+  }
+  if (!(a > 0.0)) return false;  // behind the reference camera (or NaN)
+  const Mat3& m = forwardMatrix_;
+  const double px = a * (m[0][0] * u + m[0][1] * v + m[0][2]) + forwardOffset_.x * w;
+  const double py = a * (m[1][0] * u + m[1][1] * v + m[1][2]) + forwardOffset_.y * w;
+  const double pz = a * (m[2][0] * u + m[2][1] * v + m[2][2]) + forwardOffset_.z * w;
+  if (!(pz > 0.0)) return false;  // behind the target camera: never wraps around to the front
+  x = px / pz;
+  y = py / pz;
+  wv = w / pz;
+  return std::isfinite(x) && std::isfinite(y) && std::isfinite(wv);
+}
+
+bool ViewProjection::backward(double x, double y, double wv, double& u, double& v) const {
+  const Mat3& m = backwardMatrix_;
+  const double qx = m[0][0] * x + m[0][1] * y + m[0][2] + backwardOffset_.x * wv;
+  const double qy = m[1][0] * x + m[1][1] * y + m[1][2] + backwardOffset_.y * wv;
+  const double qz = m[2][0] * x + m[2][1] * y + m[2][2] + backwardOffset_.z * wv;
+  if (!(qz > 0.0)) return false;
+  u = qx / qz;
+  v = qy / qz;
+  return std::isfinite(u) && std::isfinite(v);
+}
+
+}  // namespace vs

@@ -1,0 +1,40 @@
+#pragma once
+// Geometry of warping one reference view into the virtual camera (doc/algorithms.md, "Warping").
+//
+// Points are handled in homogeneous form so that infinite depth (Zfar = inf, or a DepthType 1 range
+// whose 1/Z crosses zero) needs no special case: a reference pixel (u, v) with inverse depth value w
+// is the camera-frame point (a d, w) ~ a d / w, where d = K_ref^-1 (u, v, 1) and a = 1 for DepthType 0
+// (Z is the camera z) or a = (1 - w C_z) / D_z for DepthType 1 (Z is the world z; C the camera centre,
+// D = R_ref^-1 d the world ray). The sign is normalised so that w >= 0; the point is in front of the
+// reference camera iff a > 0.
+//
+// Depth is carried as the inverse virtual-camera depth wv = 1 / z_virtual: larger is nearer, 0 is
+// infinitely far, and it interpolates linearly across a planar triangle in screen space.
+#include "Common/Camera.h"
+#include "Common/Geometry.h"
+
+namespace vs {
+
+class ViewProjection {
+public:
+  ViewProjection(const Camera& reference, const Camera& target, int depthType);
+
+  // Reference pixel (u, v) with depth value Z given as inverseDepth = 1/Z (DepthType's Z) -> target
+  // pixel (x, y) and inverse target depth wv. False when the point is behind (or on the plane of)
+  // either camera, or its ray is parallel to the DepthType 1 plane.
+  bool forward(double u, double v, double inverseDepth, double& x, double& y, double& wv) const;
+  // Target pixel (x, y) with inverse target depth wv >= 0 -> reference pixel (u, v). False when the
+  // point is not in front of the reference camera.
+  bool backward(double x, double y, double wv, double& u, double& v) const;
+
+private:
+  int depthType_;
+  Mat3 forwardMatrix_;   // K_tgt R K_ref^-1
+  Vec3 forwardOffset_;   // K_tgt t
+  Mat3 backwardMatrix_;  // K_ref R^-1 K_tgt^-1
+  Vec3 backwardOffset_;  // -K_ref R^-1 t
+  Vec3 worldRayZ_;       // row 2 of R_ref^-1 K_ref^-1: D_z = worldRayZ . (u, v, 1)
+  double centreZ_;       // C_z of the reference camera
+};
+
+}  // namespace vs

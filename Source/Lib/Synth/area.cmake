@@ -1,0 +1,2 @@
+target_link_libraries(vssynth PUBLIC ${OpenCV_LIBS})
+target_include_directories(vssynth SYSTEM PUBLIC ${OpenCV_INCLUDE_DIRS})
