@@ -210,7 +210,8 @@ TEST(Options, ViewSynTableHoldsEveryVsrs42Key) {
 }
 
 TEST(Options, DefaultsSatisfyTheirOwnRanges) {
-  for (const OptionTable& table : {viewSynOptionTable(), meshRenderOptionTable()}) {
+  const std::vector<OptionTable> tables = {viewSynOptionTable(), meshRenderOptionTable()};
+  for (const OptionTable& table : tables) {
     std::vector<std::string> overrides;
     for (const OptionSpec& spec : table.options())
       if (!spec.defaultValue.empty()) overrides.push_back(spec.key + "=" + spec.defaultValue);

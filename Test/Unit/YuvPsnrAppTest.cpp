@@ -14,6 +14,7 @@
 
 #include <gtest/gtest.h>
 
+#include "Process.h"
 #include "TestPaths.h"
 
 #if defined(__unix__)
@@ -26,36 +27,13 @@ namespace {
 
 const double kInf = std::numeric_limits<double>::infinity();
 
-struct ToolResult {
-  int exitCode = -1;
-  std::string out;
-  std::string err;
-};
+using vs::test::quoted;
+using vs::test::ToolResult;
 
 fs::path toolPath() { return vs::test::binDir() / "YuvPsnr"; }
 
-std::string quoted(const std::string& text) { return "'" + text + "'"; }
-
 ToolResult runTool(const std::string& arguments, const fs::path& scratch) {
-  ToolResult result;
-  const fs::path errPath = scratch / "stderr.txt";
-  const std::string command = quoted(toolPath().string()) + " " + arguments + " 2>" + quoted(errPath.string());
-  FILE* pipe = popen(command.c_str(), "r");
-  if (!pipe) return result;
-  char chunk[4096];
-  size_t got = 0;
-  while ((got = std::fread(chunk, 1, sizeof chunk, pipe)) > 0) result.out.append(chunk, got);
-  const int status = pclose(pipe);
-#if defined(__unix__)
-  result.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-#else
-  result.exitCode = status;
-#endif
-  std::ifstream errFile(errPath);
-  std::stringstream err;
-  err << errFile.rdbuf();
-  result.err = err.str();
-  return result;
+  return vs::test::runTool("YuvPsnr", arguments, scratch);
 }
 
 // A clip held as plain sample vectors: clip[frame][plane][i].

@@ -20,7 +20,8 @@ void printUsage(const vs::OptionTable& table) {
       "  ViewSyn FILE.cfg [Key=Value ...]          synthesize every frame; Key=Value overrides the file\n"
       "  ViewSyn --check FILE.cfg [Key=Value ...]  check the config and camera file, print the effective\n"
       "                                            configuration and the cameras, open no YUV file\n"
-      "  ViewSyn --help                            this text\n\n"
+      "  ViewSyn --help                            this text\n"
+      "  ViewSyn --help-markdown                   the keys as Markdown tables (the manual's source)\n\n"
       "Exit codes: 0 success, 1 bad input (the message says which file, line or key), 2 bad usage.\n"
       "The manual: doc/manual.md. Keys (type and range; default; meaning):\n",
       VS_VERSION);
@@ -38,6 +39,10 @@ int main(int argc, char** argv) {
   }
   if (args[0] == "--help" || args[0] == "-h") {
     printUsage(table);
+    return 0;
+  }
+  if (args[0] == "--help-markdown") {
+    std::fputs(table.markdownTable().c_str(), stdout);
     return 0;
   }
   bool checkOnly = false;

@@ -77,7 +77,9 @@ std::string typeDescription(const OptionSpec& spec) {
     case OptionType::Int:
       return "integer in [" + formatNumber(spec.minValue) + ", " + formatNumber(spec.maxValue) + "]";
     case OptionType::Double: {
-      std::string text = "number in [" + formatNumber(spec.minValue) + ", " + formatNumber(spec.maxValue) + "]";
+      std::string text = spec.minValue <= -1e300 && spec.maxValue >= 1e300
+                             ? std::string("finite number")
+                             : "number in [" + formatNumber(spec.minValue) + ", " + formatNumber(spec.maxValue) + "]";
       if (spec.allowInfinity) text += " or inf";
       return text;
     }
@@ -195,6 +197,22 @@ std::string OptionTable::helpText() const {
     else out << (spec.defaultValue.empty() ? "empty" : spec.defaultValue);
     if (!spec.vsrsDefault.empty() && spec.vsrsDefault != "-") out << "; VSRS 4.2: " << spec.vsrsDefault;
     out << ")\n      " << spec.help << "\n";
+  }
+  return out.str();
+}
+
+std::string OptionTable::markdownTable() const {
+  std::ostringstream out;
+  std::string section;
+  for (const OptionSpec& spec : options_) {
+    if (spec.section != section) {
+      section = spec.section;
+      out << "\n### " << section << "\n\n| key | values | default | VSRS 4.2 | meaning |\n|---|---|---|---|---|\n";
+    }
+    std::string defaultText = spec.required && spec.defaultValue.empty() ? "required" : spec.defaultValue;
+    if (defaultText.empty()) defaultText = "(none)";
+    out << "| `" << spec.key << "` | " << typeDescription(spec) << " | " << defaultText << " | "
+        << (spec.vsrsDefault.empty() ? "-" : spec.vsrsDefault) << " | " << spec.help << " |\n";
   }
   return out.str();
 }

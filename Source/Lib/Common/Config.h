@@ -57,6 +57,9 @@ public:
   std::string nearestKey(const std::string& key) const;
   // One block per key: name, type and range, default, meaning; for --help.
   std::string helpText() const;
+  // The same as a Markdown table per section (| key | values | default | VSRS 4.2 | meaning |), for
+  // the user manual; a test keeps doc/ equal to it.
+  std::string markdownTable() const;
 
 private:
   std::string toolName_;

@@ -80,7 +80,7 @@ void addSynthesisOptions(OptionTable& table) {
   addAll(table, "Cameras",
          {
              textOption("CameraParameterFile", OptionType::Path, true, "cam_param.txt",
-                        "Camera parameter file (VSRS format: name, K, 2 distortion values, R|t) holding the three cameras"),
+                        "Camera parameter file (VSRS format: a name, K, two distortion values, then R and t) holding the three cameras"),
              textOption("LeftCameraName", OptionType::String, true, "param_dog38", "Name of the left reference camera in the camera file"),
              textOption("VirtualCameraName", OptionType::String, true, "param_dog39", "Name of the virtual camera to synthesize"),
              textOption("RightCameraName", OptionType::String, true, "param_dog41", "Name of the right reference camera in the camera file"),

@@ -86,7 +86,11 @@ SynthesisSettings readSynthesisSettings(const Config& config) {
       try {
         validateDepthRange(view.depthRange, s.depthType, prefix);
       } catch (const InputError& e) {
-        problems.add(where + ": " + e.what());
+        std::string hint;
+        if (s.depthType == 0 && view.depthRange.znear < 0 && view.depthRange.zfar < 0)
+          hint = " (both are negative: if they are world z coordinates, as in VSRS 3.5 data whose cameras look "
+                 "along -z, set DepthType 1)";
+        problems.add(where + ": " + e.what() + hint);
       }
     }
     s.references.push_back(view);

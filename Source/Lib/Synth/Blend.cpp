@@ -31,11 +31,12 @@ size_t BlendedLayer::holeCount() const { return size_t(std::count(hole.begin(), 
 std::vector<double> baselineWeights(const std::vector<double>& distances) {
   std::vector<double> weights(distances.size(), 0.0);
   if (distances.empty()) return weights;
-  for (size_t k = 0; k < distances.size(); ++k)
-    if (distances[k] == 0.0) {
-      weights[k] = 1.0;  // the virtual camera sits on this view: it alone decides where it is valid
-      return weights;
-    }
+  // Views the virtual camera sits on share all the weight: they alone decide where they are valid.
+  const size_t onCamera = size_t(std::count(distances.begin(), distances.end(), 0.0));
+  if (onCamera > 0) {
+    for (size_t k = 0; k < distances.size(); ++k) weights[k] = distances[k] == 0.0 ? 1.0 / double(onCamera) : 0.0;
+    return weights;
+  }
   double sum = 0;
   for (size_t k = 0; k < distances.size(); ++k) {
     weights[k] = std::isfinite(distances[k]) ? 1.0 / distances[k] : 0.0;

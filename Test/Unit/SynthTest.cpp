@@ -1,0 +1,272 @@
+// Synthesis against analytic truth (Test/SynthTestScene.h) and the VSRS 4.2 defects that must not
+// exist here, one test each.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numeric>
+
+#include "Common/Metrics.h"
+#include "Synth/HoleFill.h"
+#include "Synth/Interpolation.h"
+#include "Synth/Layer.h"
+#include "Synth/Warp.h"
+#include "SynthTestScene.h"
+
+namespace vs {
+namespace {
+
+using test::AnalyticScene;
+
+Frame truthOf(const AnalyticScene& analytic, const Camera& camera) {
+  Frame texture;
+  Plane depth;
+  analytic.render(camera, texture, depth);
+  return texture;
+}
+
+double psnrY(const Frame& a, const Frame& b) { return framePsnr(a, b).y; }
+
+TEST(Synth, PlaneBetweenTwoViewsMatchesTheAnalyticView) {
+  AnalyticScene analytic;
+  const Camera left = analytic.camera("left", -4), virtualCamera = analytic.camera("virtual", 0), right = analytic.camera("right", 4);
+  const Scene scene = analytic.scene(left, virtualCamera, right);
+  const Frame output = test::synthesizeOnce(analytic, scene);
+  const Frame truth = truthOf(analytic, virtualCamera);
+  EXPECT_GT(psnrY(truth, output), 40.0);
+  EXPECT_GT(framePsnr(truth, output).u, 40.0);
+  EXPECT_GT(framePsnr(truth, output).v, 40.0);
+}
+
+TEST(Synth, OccludingSquareIsPlacedAndItsDisocclusionFilledFromTheOtherView) {
+  AnalyticScene analytic;
+  analytic.square = true;
+  const Camera left = analytic.camera("left", -6), virtualCamera = analytic.camera("virtual", 1), right = analytic.camera("right", 6);
+  const Scene scene = analytic.scene(left, virtualCamera, right);
+  const Frame output = test::synthesizeOnce(analytic, scene);
+  const Frame truth = truthOf(analytic, virtualCamera);
+  EXPECT_GT(psnrY(truth, output), 32.0);
+  // The square's centre projects to u = cx + f * (0 - 1) / 60 in the virtual view.
+  const int u = int(std::lround((analytic.width - 1) / 2.0 - analytic.focal / 60.0)), v = (analytic.height - 1) / 2;
+  EXPECT_NEAR(output.planes[0].at(u, v), truth.planes[0].at(u, v), 2);
+}
+
+// VSRS 4.2: "the virtual camera equal to the left camera" must give back the left view exactly.
+TEST(Synth, VirtualCameraOnAReferenceReproducesItBitExactlyForEveryPrecisionAndFilter) {
+  AnalyticScene analytic;
+  analytic.square = true;
+  analytic.width = 34;  // not a multiple of 4 (VSRS 4.2 corrupts such frames)
+  analytic.height = 26;
+  const Camera left = analytic.camera("left", -5), right = analytic.camera("right", 5);
+  for (int precision : {1, 2, 4})
+    for (int filter : {0, 1, 2}) {
+      for (const Camera* target : {&left, &right}) {
+        Scene scene = analytic.scene(left, *target, right);
+        scene.settings.precision = precision;
+        scene.settings.filter = filter;
+        const Frame output = test::synthesizeOnce(analytic, scene);
+        EXPECT_TRUE(output == truthOf(analytic, *target))
+            << "Precision " << precision << " Filter " << filter << " camera " << target->name;
+      }
+    }
+}
+
+// VSRS 4.2: general mode with Precision 1 writes a black picture.
+TEST(Synth, IntegerPelGeneralModeIsAPicture) {
+  AnalyticScene analytic;
+  const Camera left = analytic.camera("left", -4), virtualCamera = analytic.camera("virtual", 1.3), right = analytic.camera("right", 4);
+  Scene scene = analytic.scene(left, virtualCamera, right);
+  scene.settings.precision = 1;
+  EXPECT_GT(psnrY(truthOf(analytic, virtualCamera), test::synthesizeOnce(analytic, scene)), 30.0);
+}
+
+// VSRS 4.2 re-quantises the virtual depth to 8 bits, so depths outside the reference range wrap.
+TEST(Synth, VirtualDepthOutsideTheReferenceRangeStaysRight) {
+  AnalyticScene analytic;
+  analytic.square = true;
+  analytic.squareHalf = 6;
+  // The virtual camera moves 25 units forward: the square is then 35 away, nearer than Znear = 50.
+  // Wrapped depth would put the square elsewhere; checked well inside its 20-sample-wide image.
+  const Camera left = analytic.camera("left", -3), virtualCamera = analytic.camera("virtual", 0, 0, 25), right = analytic.camera("right", 3);
+  const Scene scene = analytic.scene(left, virtualCamera, right);
+  const Frame output = test::synthesizeOnce(analytic, scene);
+  const Frame truth = truthOf(analytic, virtualCamera);
+  const int cx = (analytic.width - 1) / 2, cy = (analytic.height - 1) / 2;
+  for (int dy = -4; dy <= 4; ++dy)
+    for (int dx = -4; dx <= 4; ++dx) EXPECT_NEAR(output.planes[0].at(cx + dx, cy + dy), truth.planes[0].at(cx + dx, cy + dy), 4);
+}
+
+// VSRS 4.2 never checks for points behind the camera: they wrap around to the front as ghosts.
+TEST(Synth, PointsBehindTheVirtualCameraNeverShowUp) {
+  AnalyticScene analytic;
+  const Camera left = analytic.camera("left", -4), right = analytic.camera("right", 4);
+  Camera backwards = analytic.camera("virtual", 0, 0, 10);
+  backwards.R = Mat3::identity();
+  backwards.R[0][0] = -1;  // rotated 180 degrees about y: it looks down -z, away from the plane
+  backwards.R[2][2] = -1;
+  const Scene scene = analytic.scene(left, backwards, right);
+  const Frame output = test::synthesizeOnce(analytic, scene);
+  // Nothing is visible: every sample is the hole filler's empty value, none is scene texture.
+  for (uint16_t sample : output.planes[0].samples) ASSERT_EQ(sample, 16);
+  for (uint16_t sample : output.planes[1].samples) ASSERT_EQ(sample, 128);
+}
+
+// VSRS 4.2 divides by zero when both baselines are zero.
+TEST(Synth, ZeroBaselinesShareTheWeight) {
+  EXPECT_EQ(baselineWeights({0.0, 0.0}), (std::vector<double>{0.5, 0.5}));
+  EXPECT_EQ(baselineWeights({0.0, 3.0}), (std::vector<double>{1.0, 0.0}));
+  const std::vector<double> w = baselineWeights({1.0, 3.0});
+  EXPECT_DOUBLE_EQ(w[0], 0.75);  // VSRS: d_right / (d_left + d_right)
+  EXPECT_DOUBLE_EQ(w[1], 0.25);
+  AnalyticScene analytic;
+  const Camera here = analytic.camera("here", 2);
+  const Scene scene = analytic.scene(here, here, here);
+  EXPECT_TRUE(test::synthesizeOnce(analytic, scene) == truthOf(analytic, here));
+}
+
+TEST(Synth, DepthType1AndInfiniteZfar) {
+  AnalyticScene analytic;
+  analytic.depthType = 1;
+  analytic.planeZ = 110;
+  analytic.range = DepthRange{60.0, 130.0, 8};  // world z
+  const Camera left = analytic.camera("left", -4, 0, 10), virtualCamera = analytic.camera("virtual", 1, 0, 10),
+               right = analytic.camera("right", 4, 0, 10);
+  EXPECT_GT(psnrY(truthOf(analytic, virtualCamera), test::synthesizeOnce(analytic, analytic.scene(left, virtualCamera, right))), 38.0);
+
+  AnalyticScene infinite;
+  infinite.range = DepthRange{50.0, HUGE_VAL, 16};
+  const Camera l = infinite.camera("left", -4), v = infinite.camera("virtual", 1), r = infinite.camera("right", 4);
+  EXPECT_GT(psnrY(truthOf(infinite, v), test::synthesizeOnce(infinite, infinite.scene(l, v, r))), 40.0);
+}
+
+// VSRS 4.2 compares depth levels as signed chars in blending: 200 counts as nearer than... nothing.
+TEST(Synth, BlendingTakesTheNearerSurfaceForHighDepthLevels) {
+  const DepthRange range{50.0, 120.0, 8};
+  WarpedLayer near, far;
+  near.reset(1, 1, 1);
+  far.reset(1, 1, 1);
+  near.inverseDepth[0] = levelToInverseZ(200, range);
+  near.colour[0][0] = 200;
+  far.inverseDepth[0] = levelToInverseZ(100, range);
+  far.colour[0][0] = 100;
+  BlendOptions options;
+  options.weights = {0.5, 0.5};
+  options.depthTolerance = 5 / 255.0 * (1 / 50.0 - 1 / 120.0);
+  BlendedLayer out;
+  blendLayers({&far, &near}, options, out);
+  EXPECT_EQ(out.colour[0][0], 200.0f);
+  // Within the tolerance the two are one surface and mixed by weight.
+  far.inverseDepth[0] = levelToInverseZ(197, range);
+  options.weights = {0.25, 0.75};
+  blendLayers({&far, &near}, options, out);
+  EXPECT_FLOAT_EQ(out.colour[0][0], 0.25f * 100 + 0.75f * 200);
+}
+
+TEST(Synth, ViewProjectionRoundTripsAndRejectsPointsBehind) {
+  AnalyticScene analytic;
+  Camera reference = analytic.camera("ref", 1e6 - 3, 1e6);  // far from the origin: must not cost precision
+  Camera target = analytic.camera("tgt", 1e6 + 2, 1e6, 1);
+  target.R[0][2] = 0.05;  // a slightly rotated target (re-orthonormalised below)
+  target.R[2][0] = -0.05;
+  target.R[0][0] = target.R[2][2] = std::sqrt(1 - 0.05 * 0.05);
+  const ViewProjection forward(reference, target, 0), backward(reference, target, 0);
+  for (double u : {0.0, 10.5, 63.0})
+    for (double z : {50.0, 80.0, 120.0}) {
+      double x, y, wv, bu, bv;
+      ASSERT_TRUE(forward.forward(u, 20, 1 / z, x, y, wv));
+      ASSERT_TRUE(backward.backward(x, y, wv, bu, bv));
+      EXPECT_NEAR(bu, u, 1e-6);
+      EXPECT_NEAR(bv, 20, 1e-6);
+    }
+  // A point 5 units in front of the reference is behind a target 10 units further forward.
+  const Camera ahead = analytic.camera("ahead", 0, 0, 10);
+  double x, y, wv;
+  EXPECT_FALSE(ViewProjection(analytic.camera("ref", 0), ahead, 0).forward(30, 20, 1 / 5.0, x, y, wv));
+  EXPECT_TRUE(ViewProjection(analytic.camera("ref", 0), ahead, 0).forward(30, 20, 1 / 15.0, x, y, wv));
+  EXPECT_NEAR(1 / wv, 5.0, 1e-12);
+}
+
+TEST(Interpolation, IntegerPositionsReturnTheSampleForEveryFilter) {
+  Plane plane(5, 4);
+  for (size_t i = 0; i < plane.samples.size(); ++i) plane.samples[i] = uint16_t(i * 37 % 251);
+  for (int precision : {1, 2, 4})
+    for (int filter : {0, 1, 2}) {
+      const SubPixelSampler sampler(precision, filter);
+      for (int phase = 0; phase < precision; ++phase) {
+        const float* k = sampler.kernel(phase);
+        EXPECT_NEAR(std::accumulate(k, k + sampler.taps(), 0.0f), 1.0f, 1e-6f);
+      }
+      for (int y = 0; y < plane.height; ++y)
+        for (int x = 0; x < plane.width; ++x) EXPECT_EQ(sampler.sample(plane, x, y), float(plane.at(x, y)));
+    }
+}
+
+// VSRS 4.2's bicubic filter reads before the row start, and it truncates negative coordinates
+// towards zero. Here edges read the nearest edge sample and positions round on the 1/P grid.
+TEST(Interpolation, EdgesClampAndNegativePositionsRoundDownwards) {
+  Plane ramp(4, 1);
+  for (int x = 0; x < 4; ++x) ramp.at(x, 0) = uint16_t(100 + 10 * x);
+  const SubPixelSampler bilinear(4, 0), bicubic(4, 1), avc(4, 2);
+  // -0.25 lies between the (clamped) sample -1 and sample 0: both are 100.
+  EXPECT_FLOAT_EQ(bilinear.sample(ramp, -0.25, 0), 100.0f);
+  EXPECT_FLOAT_EQ(bilinear.sample(ramp, 0.25, 0), 102.5f);
+  EXPECT_FLOAT_EQ(bilinear.sample(ramp, 3.75, 0), 130.0f);
+  // Taps at -2, -1, 0, 1 read 100, 100, 100, 110 (the first two clamped): 100 - 0.0625 * 10.
+  EXPECT_FLOAT_EQ(bicubic.sample(ramp, -0.5, 0), 99.375f);
+  // A 1x1 plane: every filter reads only its one sample, wherever it is asked.
+  const Plane single(1, 1, 77);
+  for (const SubPixelSampler* s : {&bilinear, &bicubic, &avc})
+    for (double x : {-0.75, -0.25, 0.0, 0.5, 0.75}) EXPECT_FLOAT_EQ(s->sample(single, x, x), 77.0f);
+  // Precision 2 rounds 0.3 to the half-pel 0.5, Precision 1 to 0.
+  EXPECT_FLOAT_EQ(SubPixelSampler(2, 0).sample(ramp, 1.3, 0), 115.0f);
+  EXPECT_FLOAT_EQ(SubPixelSampler(1, 0).sample(ramp, 1.3, 0), 110.0f);
+}
+
+TEST(HoleFill, HolesTakeTheBackgroundNeverTheForeground) {
+  // A row: background (far, 50) | hole x 6 | foreground (near, 200).
+  BlendedLayer layer;
+  layer.reset(12, 5, 1);
+  for (int y = 0; y < 5; ++y)
+    for (int x = 0; x < 12; ++x) {
+      const size_t i = size_t(y) * 12 + x;
+      if (x < 3) {
+        layer.colour[0][i] = 50;
+        layer.inverseDepth[i] = 0.01;
+        layer.hole[i] = 0;
+      } else if (x >= 9) {
+        layer.colour[0][i] = 200;
+        layer.inverseDepth[i] = 0.05;
+        layer.hole[i] = 0;
+      }
+    }
+  {
+    BlendedLayer filled = layer;
+    HoleFillOptions options;
+    options.backgroundFirst = true;
+    options.depthTolerance = 0.001;
+    EXPECT_EQ(fillHoles(filled, options), size_t(6 * 5));
+    EXPECT_EQ(filled.holeCount(), 0u);
+    for (int y = 0; y < 5; ++y)
+      // Background is 50, foreground 200: within a few levels of the background.
+      for (int x = 3; x < 9; ++x) EXPECT_NEAR(filled.colour[0][size_t(y) * 12 + x], 50.0f, 5.0f) << x << "," << y;
+  }
+  // IvsrsInpaint 0 is VSRS's plain inpainting: it does not know depth and mixes both sides in.
+  {
+    BlendedLayer filled = layer;
+    HoleFillOptions options;
+    options.backgroundFirst = false;
+    fillHoles(filled, options);
+    EXPECT_EQ(filled.holeCount(), 0u);
+    EXPECT_GT(filled.colour[0][size_t(2) * 12 + 8], 100.0f);  // next to the foreground: mostly foreground
+    EXPECT_LT(filled.colour[0][size_t(2) * 12 + 3], 100.0f);  // next to the background: mostly background
+  }
+  // Nothing valid at all: the empty value.
+  BlendedLayer empty;
+  empty.reset(4, 4, 1);
+  HoleFillOptions options;
+  options.emptyValue[0] = 16;
+  fillHoles(empty, options);
+  for (float v : empty.colour[0]) EXPECT_EQ(v, 16.0f);
+}
+
+}  // namespace
+}  // namespace vs
