@@ -17,11 +17,11 @@ OptionSpec intOption(const char* key, long long defaultValue, double lo, double 
   return s;
 }
 
-OptionSpec depthValueOption(const char* key, bool farthest, const char* help) {
+OptionSpec depthValueOption(const char* key, bool farthest, const char* help, bool required = true) {
   OptionSpec s;
   s.key = key;
   s.type = OptionType::Double;
-  s.required = true;
+  s.required = required;
   s.allowInfinity = farthest;
   s.vsrsDefault = "0.0";
   s.help = help;
@@ -74,8 +74,8 @@ void addSynthesisOptions(OptionTable& table) {
                        "Number of frames to synthesize from StartFrame on"),
              depthValueOption("LeftNearestDepthValue", false, "Znear of the left depth map: the depth of level 2^bits-1"),
              depthValueOption("LeftFarthestDepthValue", true, "Zfar of the left depth map: the depth of level 0 (inf allowed)"),
-             depthValueOption("RightNearestDepthValue", false, "Znear of the right depth map: the depth of level 2^bits-1"),
-             depthValueOption("RightFarthestDepthValue", true, "Zfar of the right depth map: the depth of level 0 (inf allowed)"),
+             depthValueOption("RightNearestDepthValue", false, "Znear of the right depth map: the depth of level 2^bits-1", false),
+             depthValueOption("RightFarthestDepthValue", true, "Zfar of the right depth map: the depth of level 0 (inf allowed)", false),
          });
   addAll(table, "Cameras",
          {
@@ -83,7 +83,8 @@ void addSynthesisOptions(OptionTable& table) {
                         "Camera parameter file (VSRS format: a name, K, two distortion values, then R and t) holding the three cameras"),
              textOption("LeftCameraName", OptionType::String, true, "param_dog38", "Name of the left reference camera in the camera file"),
              textOption("VirtualCameraName", OptionType::String, true, "param_dog39", "Name of the virtual camera to synthesize"),
-             textOption("RightCameraName", OptionType::String, true, "param_dog41", "Name of the right reference camera in the camera file"),
+             textOption("RightCameraName", OptionType::String, false, "param_dog41",
+                        "Name of the right reference camera; leave every Right key out to extrapolate from the left view alone"),
              intOption("CameraRotationConvention", 0, 0, 1, "-",
                        "0: R in the camera file rotates world to camera (VSRS 4.x); 1: R rotates camera to world "
                        "(VSRS 3.5 data), so it is transposed on reading"),
@@ -91,9 +92,9 @@ void addSynthesisOptions(OptionTable& table) {
   addAll(table, "Files",
          {
              textOption("LeftViewImageName", OptionType::Path, true, "dog038.yuv", "Texture sequence of the left camera (planar YUV)"),
-             textOption("RightViewImageName", OptionType::Path, true, "dog041.yuv", "Texture sequence of the right camera (planar YUV)"),
+             textOption("RightViewImageName", OptionType::Path, false, "dog041.yuv", "Texture sequence of the right camera (planar YUV)"),
              textOption("LeftDepthMapName", OptionType::Path, true, "depth_dog038.yuv", "Depth sequence of the left camera (YUV; luma is the depth level)"),
-             textOption("RightDepthMapName", OptionType::Path, true, "depth_dog041.yuv", "Depth sequence of the right camera (YUV; luma is the depth level)"),
+             textOption("RightDepthMapName", OptionType::Path, false, "depth_dog041.yuv", "Depth sequence of the right camera (YUV; luma is the depth level)"),
              textOption("OutputVirtualViewImageName", OptionType::Path, true, "dog_virtual039.yuv",
                         "Output sequence of the virtual view; never an input file"),
              textOption("ReferenceVirtualViewImageName", OptionType::Path, false, "-",

@@ -71,8 +71,19 @@ SynthesisSettings readSynthesisSettings(const Config& config) {
   s.rotationConvention = config.getInt("CameraRotationConvention") == 1 ? RotationConvention::CameraToWorld
                                                                          : RotationConvention::WorldToCamera;
   s.virtualCameraName = config.getString("VirtualCameraName");
-  for (const char* side : {"Left", "Right"}) {
-    const std::string prefix(side);
+  // The right view is optional: all five of its keys, or none (extrapolation from the left view).
+  static const char* const rightKeys[] = {"RightCameraName", "RightViewImageName", "RightDepthMapName",
+                                          "RightNearestDepthValue", "RightFarthestDepthValue"};
+  int rightKeysSet = 0;
+  for (const char* key : rightKeys) rightKeysSet += config.isSet(key) ? 1 : 0;
+  if (rightKeysSet > 0 && rightKeysSet < 5)
+    for (const char* key : rightKeys)
+      if (!config.isSet(key))
+        problems.add(where + ": missing key '" + key + "': give every Right key for two reference views, or none to " +
+                     "extrapolate from the left view alone");
+  std::vector<std::string> sides{"Left"};
+  if (rightKeysSet == 5) sides.push_back("Right");
+  for (const std::string& prefix : sides) {
     ReferenceView view;
     view.label = prefix;
     view.cameraName = config.getString(prefix + "CameraName");

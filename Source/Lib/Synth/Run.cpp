@@ -9,6 +9,7 @@
 #include "Common/Error.h"
 #include "Common/Metrics.h"
 #include "Common/Yuv.h"
+#include "Synth/Plan.h"
 
 namespace vs {
 
@@ -18,34 +19,39 @@ double seconds(std::chrono::steady_clock::time_point since) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - since).count();
 }
 
-class GeneralRenderer : public FrameRenderer {
+// ViewSyn's middle box: what the plan decided, a copy or the synthesizer on the chosen path.
+class ViewSynRenderer : public FrameRenderer {
 public:
-  explicit GeneralRenderer(const Scene& scene) : scene_(scene), synthesizer_(scene) {}
+  explicit ViewSynRenderer(const Scene& scene) : scene_(scene), plan_(makePlan(scene)) {
+    if (plan_.copyOf < 0) synthesizer_ = std::make_unique<Synthesizer>(scene, plan_.mode);
+  }
   void render(const std::vector<ReferenceFrame>& references, Frame& output, StageTimes& times) override {
-    synthesizer_.synthesize(references, output, times);
+    if (plan_.copyOf >= 0) {
+      output = *references[size_t(plan_.copyOf)].texture;
+      return;
+    }
+    synthesizer_->synthesize(references, output, times);
   }
   std::vector<std::string> plan() const override {
+    std::vector<std::string> lines = plan_.lines;
+    if (!synthesizer_) return lines;
     const SynthesisSettings& s = scene_.settings;
-    std::vector<std::string> lines;
-    if (s.mode != SynthesisMode::General)
-      lines.push_back(std::string("SynthesisMode ") + (s.mode == SynthesisMode::Auto ? "auto" : "1") +
-                      ": the 1D parallel path is not built yet; running the general path, which handles any rig");
-    lines.push_back("mode: general 3D warping (depth warp by triangles and points, backward texture warp)");
-    char line[256];
-    std::snprintf(line, sizeof line, "blend weights: left %.4f, right %.4f (%s)", synthesizer_.blendWeights()[0],
-                  synthesizer_.blendWeights()[1], s.viewBlending ? "nearer view only" : "weighted blending");
-    lines.push_back(line);
-    lines.push_back(std::string("texture: Precision ") + std::to_string(s.precision) + ", Filter " + std::to_string(s.filter) +
+    std::string weights = "blend weights:";
+    for (size_t k = 0; k < s.references.size(); ++k) {
+      char item[64];
+      std::snprintf(item, sizeof item, " %s %.4f", s.references[k].label.c_str(), synthesizer_->blendWeights()[k]);
+      weights += item;
+    }
+    lines.push_back(weights + (s.viewBlending ? " (ViewBlending 1: the heavier view where views agree)" : ""));
+    lines.push_back("texture: Precision " + std::to_string(s.precision) + ", Filter " + std::to_string(s.filter) +
                     (s.colorSpace ? ", processed in RGB" : ", processed in YUV"));
-    lines.push_back(std::string("holes: ") + (s.ivsrsInpaint ? "background-side fill, then OpenCV inpainting" : "OpenCV inpainting"));
-    if (s.missingDepthLevel >= 0) lines.push_back("depth level " + std::to_string(s.missingDepthLevel) + " is missing depth: not warped");
-    if (s.boundaryNoiseRemoval) lines.push_back("boundary noise removal: on");
     return lines;
   }
 
 private:
   const Scene& scene_;
-  Synthesizer synthesizer_;
+  Plan plan_;
+  std::unique_ptr<Synthesizer> synthesizer_;
 };
 
 std::string describeTimes(const StageTimes& t, double frames) {
@@ -170,7 +176,7 @@ RunSummary runSequence(const std::string& toolName, const Config& config, const 
 
 int runViewSyn(const Config& config) {
   const Scene scene = loadScene(config);
-  GeneralRenderer renderer(scene);
+  ViewSynRenderer renderer(scene);
   runSequence("ViewSyn", config, scene, renderer);
   return 0;
 }

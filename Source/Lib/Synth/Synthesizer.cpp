@@ -59,15 +59,19 @@ void rasteriseTriangle(std::vector<double>& zbuffer, int width, int height, cons
     }
 }
 
-// Closes one- and two-sample gaps between two samples of one surface, along rows and columns, with
-// the farther of the two sides: a crack is never filled with foreground.
+// Closes one- and two-sample gaps between two samples of one surface (inverse depths within the
+// tolerance), along rows and columns, by interpolating between them: a crack is never filled with
+// foreground, since both sides are the same surface.
 void closeCracks(std::vector<double>& zbuffer, int width, int height, double tolerance) {
   auto close = [&](size_t a, size_t gap1, size_t gap2, size_t b, bool two) {
     const double wa = zbuffer[a], wb = zbuffer[b];
     if (wa < 0 || wb < 0 || std::fabs(wa - wb) > tolerance) return;
-    const double fill = std::min(wa, wb);
-    zbuffer[gap1] = fill;
-    if (two) zbuffer[gap2] = fill;
+    if (two) {
+      zbuffer[gap1] = (2 * wa + wb) / 3;
+      zbuffer[gap2] = (wa + 2 * wb) / 3;
+    } else {
+      zbuffer[gap1] = 0.5 * (wa + wb);
+    }
   };
   for (int y = 0; y < height; ++y)
     for (int x = 1; x + 1 < width; ++x) {
@@ -87,8 +91,9 @@ void closeCracks(std::vector<double>& zbuffer, int width, int height, double tol
 
 }  // namespace
 
-Synthesizer::Synthesizer(const Scene& scene)
+Synthesizer::Synthesizer(const Scene& scene, SynthesisMode mode)
     : scene_(scene),
+      parallel_(mode == SynthesisMode::Parallel1D),
       outputFormat_(scene.settings.textureFormat),
       rgb_(scene.settings.colorSpace == 1),
       hasChroma_(scene.settings.textureFormat.chroma != ChromaFormat::Yuv400),
@@ -97,7 +102,7 @@ Synthesizer::Synthesizer(const Scene& scene)
   double inverseRange = 0;
   std::vector<double> distances;
   for (const ReferenceView& reference : s.references) {
-    ViewState view{ViewProjection(reference.camera, scene.virtualCamera, s.depthType), {}, {}, {}, {}, {}, {}, {}};
+    ViewState view(ViewProjection(reference.camera, scene.virtualCamera, s.depthType, parallel_));
     view.levelToInverseDepth = inverseZTable(reference.depthRange);
     if (s.missingDepthLevel >= 0) view.levelToInverseDepth[size_t(s.missingDepthLevel)] = std::nan("");
     const double farInverse = std::isinf(reference.depthRange.zfar) ? 0.0 : 1.0 / reference.depthRange.zfar;
@@ -110,9 +115,16 @@ Synthesizer::Synthesizer(const Scene& scene)
   edgeLevelStep_ = std::max(1, int(std::lround(kDiscontinuityLevels8 / 255.0 * s.depthFormat.maxValue())));
   blendOptions_.weights = baselineWeights(distances);
   blendOptions_.depthTolerance = double(s.depthBlendDifference) / 255.0 * inverseRange;
+  if (parallel_) {
+    // VSRS's 1D MergingOption: 0 z-buffer only (one level of tolerance), 1 averaging only,
+    // 2 adaptive: mixed within DepthThreshold levels, hole counting decides between views.
+    if (s.oneD.merging == 0) blendOptions_.depthTolerance = 1.0 / 255.0 * inverseRange;
+    else if (s.oneD.merging == 1) blendOptions_.depthTolerance = HUGE_VAL;
+    else blendOptions_.depthTolerance = double(s.oneD.depthThreshold) / 255.0 * inverseRange;
+  }
   blendOptions_.nearestViewOnly = s.viewBlending == 1;
   fillOptions_.backgroundFirst = s.ivsrsInpaint;
-  fillOptions_.depthTolerance = blendOptions_.depthTolerance;
+  fillOptions_.depthTolerance = double(s.depthBlendDifference) / 255.0 * inverseRange;
   const float mid = float(1 << (outputFormat_.bitDepth - 1));
   fillOptions_.emptyValue[0] = rgb_ ? mid : float(16 << (outputFormat_.bitDepth - 8));
   fillOptions_.emptyValue[1] = fillOptions_.emptyValue[2] = mid;
@@ -121,7 +133,8 @@ Synthesizer::Synthesizer(const Scene& scene)
 
 void Synthesizer::markReferenceEdges(ViewState& view, const Plane& depth) {
   const int w = depth.width, h = depth.height;
-  std::vector<uint8_t> step(size_t(w) * h, 0);
+  std::vector<uint8_t>& step = view.referenceStep;
+  step.assign(size_t(w) * h, 0);
   const int missing = scene_.settings.missingDepthLevel;
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) {
@@ -134,7 +147,9 @@ void Synthesizer::markReferenceEdges(ViewState& view, const Plane& depth) {
       step[size_t(y) * w + x] = edge;
     }
   // Dilate by one sample: the colours on both sides of an edge are mixed by the camera's optics.
+  // (1D mode with WarpEnhancementOption 0 does without these reliability flags.)
   view.referenceEdge.assign(size_t(w) * h, 0);
+  if (parallel_ && !scene_.settings.oneD.warpEnhancement) return;
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) {
       if (!step[size_t(y) * w + x]) continue;
@@ -166,8 +181,24 @@ void Synthesizer::warpDepth(ViewState& view, const Plane& depth) {
     }
   const int outW = outputFormat_.width, outH = outputFormat_.height;
   view.luma.reset(outW, outH, rgb_ ? 3 : 1);
+  if (parallel_) rasteriseRows(view, w, h);
+  else rasteriseTriangles(view, w, h);
+  // Every sample also lands as a point, so thin foreground keeps its width.
   std::vector<double>& zbuffer = view.luma.inverseDepth;
+  for (size_t i = 0; i < n; ++i) {
+    if (view.warpedW[i] < 0) continue;
+    const double px = std::floor(view.warpedX[i] + 0.5), py = std::floor(view.warpedY[i] + 0.5);
+    if (px < 0 || py < 0 || px >= outW || py >= outH) continue;
+    depthTest(zbuffer, size_t(py) * outW + size_t(px), view.warpedW[i]);
+  }
+  if (parallel_ && scene_.settings.oneD.cleanNoise) cleanIsolatedSamples(view.luma);
+  closeCracks(zbuffer, outW, outH, discontinuity_);
+}
+
+void Synthesizer::rasteriseTriangles(ViewState& view, int w, int h) {
   // Triangles of each quad of neighbouring samples, when all three lie on one surface.
+  std::vector<double>& zbuffer = view.luma.inverseDepth;
+  const int outW = view.luma.width, outH = view.luma.height;
   static const int corners[2][3] = {{0, 1, 3}, {0, 3, 2}};
   for (int y = 0; y + 1 < h; ++y)
     for (int x = 0; x + 1 < w; ++x) {
@@ -188,14 +219,75 @@ void Synthesizer::warpDepth(ViewState& view, const Plane& depth) {
         if (ok && hi - lo <= discontinuity_) rasteriseTriangle(zbuffer, outW, outH, tx, ty, tw);
       }
     }
-  // Every sample also lands as a point, so thin foreground keeps its width.
-  for (size_t i = 0; i < n; ++i) {
-    if (view.warpedW[i] < 0) continue;
-    const double px = std::floor(view.warpedX[i] + 0.5), py = std::floor(view.warpedY[i] + 0.5);
-    if (px < 0 || py < 0 || px >= outW || py >= outH) continue;
-    depthTest(zbuffer, size_t(py) * outW + size_t(px), view.warpedW[i]);
+}
+
+void Synthesizer::rasteriseRows(ViewState& view, int w, int h) {
+  // 1D: rows map to rows, so the depth grid is rasterised as segments between horizontal neighbours
+  // on one surface. SplattingOption 0 draws none (points only), 1 all, 2 only within BoundaryGrowth
+  // samples of a reference depth edge.
+  const OneDOptions& oneD = scene_.settings.oneD;
+  if (oneD.splatting == 0) return;
+  std::vector<double>& zbuffer = view.luma.inverseDepth;
+  const int outW = view.luma.width;
+  std::vector<uint8_t> nearBoundary(size_t(w), 1);
+  for (int y = 0; y < h && y < view.luma.height; ++y) {
+    const size_t row = size_t(y) * w;
+    if (oneD.splatting == 2) {
+      std::fill(nearBoundary.begin(), nearBoundary.end(), uint8_t(0));
+      for (int x = 0; x < w; ++x)
+        if (view.referenceStep[row + x])
+          for (int k = std::max(0, x - oneD.boundaryGrowth); k <= std::min(w - 1, x + oneD.boundaryGrowth); ++k) nearBoundary[size_t(k)] = 1;
+    }
+    double* out = zbuffer.data() + size_t(y) * outW;
+    for (int x = 0; x + 1 < w; ++x) {
+      const size_t i = row + x;
+      const double w0 = view.warpedW[i], w1 = view.warpedW[i + 1];
+      if (w0 < 0 || w1 < 0 || std::fabs(w0 - w1) > discontinuity_ || !(nearBoundary[size_t(x)] || nearBoundary[size_t(x) + 1])) continue;
+      double x0 = view.warpedX[i], x1 = view.warpedX[i + 1], a = w0, b = w1;
+      if (x1 < x0) {
+        std::swap(x0, x1);
+        std::swap(a, b);
+      }
+      const int first = std::max(0, int(std::ceil(x0 - 1e-9))), last = std::min(outW - 1, int(std::floor(x1 + 1e-9)));
+      if (last - first > 64) continue;  // extreme magnification: left to the points and the hole filler
+      const double span = x1 - x0;
+      for (int px = first; px <= last; ++px) {
+        const double t = span > 0 ? (px - x0) / span : 0.0;
+        const double wv = a + t * (b - a);
+        if (wv > out[px]) out[px] = wv;
+      }
+    }
   }
-  closeCracks(zbuffer, outW, outH, discontinuity_);
+}
+
+void Synthesizer::cleanIsolatedSamples(WarpedLayer& layer) {
+  // CleanNoiseOption: a sample with holes on both sides along its row is a stray point of a surface
+  // seen elsewhere: removed before it picks up colour.
+  const int w = layer.width;
+  for (int y = 0; y < layer.height; ++y) {
+    double* row = layer.inverseDepth.data() + size_t(y) * w;
+    for (int x = 1; x + 1 < w; ++x)
+      if (row[x] >= 0 && row[x - 1] < 0 && row[x + 1] < 0) row[x] = kNoDepth;
+  }
+}
+
+void Synthesizer::flagCrowdedHoles(WarpedLayer& layer) {
+  // MergingOption 2's hole counting: a sample with more than HoleCountThreshold holes in its 7x7
+  // neighbourhood is unreliable; where another view agrees and is not, that view is used.
+  const int w = layer.width, h = layer.height, threshold = scene_.settings.oneD.holeCountThreshold;
+  std::vector<int> integral(size_t(w + 1) * (h + 1), 0);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x)
+      integral[size_t(y + 1) * (w + 1) + x + 1] = (layer.inverseDepth[size_t(y) * w + x] < 0 ? 1 : 0) +
+                                                  integral[size_t(y) * (w + 1) + x + 1] +
+                                                  integral[size_t(y + 1) * (w + 1) + x] - integral[size_t(y) * (w + 1) + x];
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const int x0 = std::max(0, x - 3), x1 = std::min(w, x + 4), y0 = std::max(0, y - 3), y1 = std::min(h, y + 4);
+      const int holes = integral[size_t(y1) * (w + 1) + x1] - integral[size_t(y0) * (w + 1) + x1] -
+                        integral[size_t(y1) * (w + 1) + x0] + integral[size_t(y0) * (w + 1) + x0];
+      if (holes > threshold) layer.edge[size_t(y) * w + x] = 1;
+    }
 }
 
 void Synthesizer::warpTexture(ViewState& view, const std::vector<const Plane*>& planes) {
@@ -333,6 +425,49 @@ void Synthesizer::warpChroma(ViewState& view, const Frame& texture) {
     }
 }
 
+void Synthesizer::keepStaticFill(const std::vector<ReferenceFrame>& references, const std::vector<uint8_t>& lumaHoles,
+                                 const std::vector<uint8_t>& chromaHoles) {
+  // TemporalImprovementOption: hole filling guesses; where a row of every reference is unchanged
+  // since the previous frame, a sample that was a hole then and is one now keeps the previous guess,
+  // so static disocclusions do not flicker.
+  const int h = outputFormat_.height, w = outputFormat_.width;
+  std::vector<uint8_t> rowStatic(size_t(h), havePrevious_ ? 1 : 0);
+  if (havePrevious_)
+    for (size_t k = 0; k < references.size(); ++k)
+      for (int y = 0; y < h; ++y)
+        rowStatic[size_t(y)] &= uint8_t(std::equal(references[k].depth->row(y), references[k].depth->row(y) + w,
+                                                   previousDepth_[k].row(y)) &&
+                                        std::equal(references[k].texture->planes[0].row(y),
+                                                   references[k].texture->planes[0].row(y) + w, previousLuma_[k].row(y)));
+  auto keep = [&](BlendedLayer& layer, const std::vector<uint8_t>& holes, std::vector<uint8_t>& previousHoles,
+                  BlendedLayer& previous, int rowsPerSample) {
+    if (havePrevious_ && previousHoles.size() == holes.size())
+      for (int y = 0; y < layer.height; ++y) {
+        bool unchanged = true;
+        for (int r = y * rowsPerSample; r < std::min(h, (y + 1) * rowsPerSample); ++r) unchanged = unchanged && rowStatic[size_t(r)];
+        if (!unchanged) continue;
+        for (int x = 0; x < layer.width; ++x) {
+          const size_t i = size_t(y) * layer.width + x;
+          if (holes[i] && previousHoles[i])
+            for (int c = 0; c < layer.channels; ++c) layer.colour[c][i] = previous.colour[c][i];
+        }
+      }
+    previousHoles = holes;
+    previous = layer;
+  };
+  keep(blendedLuma_, lumaHoles, previousHoles_, previousFilled_, 1);
+  if (!rgb_ && hasChroma_)
+    keep(blendedChroma_, chromaHoles, previousChromaHoles_, previousChromaFilled_,
+         outputFormat_.chroma == ChromaFormat::Yuv420 ? 2 : 1);
+  previousDepth_.resize(references.size());
+  previousLuma_.resize(references.size());
+  for (size_t k = 0; k < references.size(); ++k) {
+    previousDepth_[k] = *references[k].depth;
+    previousLuma_[k] = references[k].texture->planes[0];
+  }
+  havePrevious_ = true;
+}
+
 void Synthesizer::synthesize(const std::vector<ReferenceFrame>& references, Frame& output, StageTimes& times) {
   VS_CHECK(references.size() == views_.size());
   output.reset(outputFormat_);
@@ -355,11 +490,14 @@ void Synthesizer::synthesize(const std::vector<ReferenceFrame>& references, Fram
       warpTexture(view, {&texture.planes[0]});
     }
     if (scene_.settings.boundaryNoiseRemoval) removeBoundaryNoise(view.luma);
-    if (!rgb_ && hasChroma_) warpChroma(view, texture);
+    if (parallel_ && scene_.settings.oneD.merging == 2) flagCrowdedHoles(view.luma);
   }
+  if (views_.size() > 1) rejectOccludedInOtherViews();
+  // Chroma follows the luma decisions: it is warped from the final luma depth.
+  if (!rgb_ && hasChroma_)
+    for (size_t k = 0; k < views_.size(); ++k) warpChroma(views_[k], *references[k].texture);
   times.textureWarp += seconds(start);
 
-  if (views_.size() > 1) rejectOccludedInOtherViews();
   start = std::chrono::steady_clock::now();
   std::vector<const WarpedLayer*> lumaLayers, chromaLayers;
   for (const ViewState& view : views_) {
@@ -372,12 +510,19 @@ void Synthesizer::synthesize(const std::vector<ReferenceFrame>& references, Fram
   times.blend += seconds(start);
 
   start = std::chrono::steady_clock::now();
+  const bool temporal = parallel_ && scene_.settings.oneD.temporalImprovement;
+  std::vector<uint8_t> lumaHoles, chromaHoles;
+  if (temporal) {
+    lumaHoles = blendedLuma_.hole;
+    chromaHoles = blendedChroma_.hole;
+  }
   fillHoles(blendedLuma_, fillOptions_);
   if (!rgb_ && hasChroma_) {
     HoleFillOptions chromaFill = fillOptions_;
     chromaFill.emptyValue[0] = chromaFill.emptyValue[1] = fillOptions_.emptyValue[1];
     fillHoles(blendedChroma_, chromaFill);
   }
+  if (temporal) keepStaticFill(references, lumaHoles, chromaHoles);
   times.holeFill += seconds(start);
 
   const int maxValue = outputFormat_.maxValue();

@@ -47,7 +47,8 @@ struct FrameStats {
 
 class Synthesizer {
 public:
-  explicit Synthesizer(const Scene& scene);
+  // `mode` is General or Parallel1D (the plan's choice; Parallel1D needs a rectified rig).
+  explicit Synthesizer(const Scene& scene, SynthesisMode mode = SynthesisMode::General);
 
   // Synthesizes the virtual view of one frame into `output` (reset to the texture format).
   void synthesize(const std::vector<ReferenceFrame>& references, Frame& output, StageTimes& times);
@@ -60,15 +61,23 @@ public:
 
 private:
   struct ViewState {
+    explicit ViewState(ViewProjection p) : projection(p) {}
     ViewProjection projection;
     std::vector<double> levelToInverseDepth;  // per depth level; NaN for the missing level
     WarpedLayer luma;                         // or RGB in ColorSpace 1
     WarpedLayer chroma;                       // U, V at chroma resolution (ColorSpace 0 with colour)
     std::vector<double> warpedX, warpedY, warpedW;  // forward-projected reference samples
-    std::vector<uint8_t> referenceEdge;             // reference samples next to a depth discontinuity
+    std::vector<uint8_t> referenceStep;             // reference samples at a depth discontinuity
+    std::vector<uint8_t> referenceEdge;             // the same, dilated by one sample: mixed colours
   };
 
   void warpDepth(ViewState& view, const Plane& depth);
+  void rasteriseRows(ViewState& view, int width, int height);
+  void rasteriseTriangles(ViewState& view, int width, int height);
+  void cleanIsolatedSamples(WarpedLayer& layer);
+  void flagCrowdedHoles(WarpedLayer& layer);
+  void keepStaticFill(const std::vector<ReferenceFrame>& references, const std::vector<uint8_t>& lumaHoles,
+                      const std::vector<uint8_t>& chromaHoles);
   void markReferenceEdges(ViewState& view, const Plane& depth);
   void warpTexture(ViewState& view, const std::vector<const Plane*>& planes);
   void warpChroma(ViewState& view, const Frame& texture);
@@ -76,6 +85,7 @@ private:
   void rejectOccludedInOtherViews();
 
   const Scene& scene_;
+  bool parallel_;          // the 1D path
   FrameFormat outputFormat_;
   bool rgb_;
   bool hasChroma_;
@@ -88,6 +98,11 @@ private:
   BlendedLayer blendedLuma_, blendedChroma_;
   std::vector<Frame> rgbReferences_;
   FrameStats stats_;
+  // 1D TemporalImprovementOption: the previous frame's depth, texture luma, holes and filled output.
+  std::vector<Plane> previousDepth_, previousLuma_;
+  std::vector<uint8_t> previousHoles_, previousChromaHoles_;
+  BlendedLayer previousFilled_, previousChromaFilled_;
+  bool havePrevious_ = false;
 };
 
 }  // namespace vs

@@ -4,7 +4,8 @@
 
 namespace vs {
 
-ViewProjection::ViewProjection(const Camera& reference, const Camera& target, int depthType) : depthType_(depthType) {
+ViewProjection::ViewProjection(const Camera& reference, const Camera& target, int depthType, bool parallel)
+    : depthType_(depthType), parallel_(parallel) {
   const RelativePose pose = relativePose(reference, target);
   const Mat3 referenceKInverse = inverse(reference.K);
   const Mat3 targetKInverse = inverse(target.K);
@@ -15,9 +16,24 @@ ViewProjection::ViewProjection(const Camera& reference, const Camera& target, in
   backwardOffset_ = -(reference.K * (rotationInverse * pose.t));
   worldRayZ_ = (inverse(reference.R) * referenceKInverse).row(2);
   centreZ_ = reference.t.z;
+  if (parallel_) {
+    // x_tgt = x_ref + (b, 0, 0) with b = pose.t.x; u_tgt = fx_t (X_ref + b) / Z + cx_t.
+    rowScale_ = target.K[0][0] / reference.K[0][0];
+    rowOffset_ = target.K[0][2] - rowScale_ * reference.K[0][2];
+    rowShift_ = target.K[0][0] * pose.t.x;
+  }
 }
 
 bool ViewProjection::forward(double u, double v, double inverseDepth, double& x, double& y, double& wv) const {
+  if (parallel_) {
+    // DepthType 1 here has the camera z axis along world z (checked by the plan): z_cam = Z - C_z.
+    const double w = depthType_ == 1 ? inverseDepth / (1.0 - centreZ_ * inverseDepth) : inverseDepth;
+    if (!(w >= 0.0) || !std::isfinite(w)) return false;
+    x = rowScale_ * u + rowOffset_ + rowShift_ * w;
+    y = v;
+    wv = w;
+    return std::isfinite(x);
+  }
   double a = 1.0, w = inverseDepth;
   if (depthType_ == 1) {
     const double rayZ = worldRayZ_.x * u + worldRayZ_.y * v + worldRayZ_.z;
@@ -41,6 +57,11 @@ bool ViewProjection::forward(double u, double v, double inverseDepth, double& x,
 }
 
 bool ViewProjection::backward(double x, double y, double wv, double& u, double& v) const {
+  if (parallel_) {
+    u = (x - rowOffset_ - rowShift_ * wv) / rowScale_;
+    v = y;
+    return std::isfinite(u);
+  }
   const Mat3& m = backwardMatrix_;
   const double qx = m[0][0] * x + m[0][1] * y + m[0][2] + backwardOffset_.x * wv;
   const double qy = m[1][0] * x + m[1][1] * y + m[1][2] + backwardOffset_.y * wv;

@@ -17,7 +17,10 @@ namespace vs {
 
 class ViewProjection {
 public:
-  ViewProjection(const Camera& reference, const Camera& target, int depthType);
+  // `parallel`: the two cameras form a rectified pair (Plan.h's checkRectification), so a pixel moves
+  // along its row only: x = s u + o + f_x b w, with the same inverse depth in both cameras. The
+  // general formulas give the same result; this form is a multiply-add per pixel.
+  ViewProjection(const Camera& reference, const Camera& target, int depthType, bool parallel = false);
 
   // Reference pixel (u, v) with depth value Z given as inverseDepth = 1/Z (DepthType's Z) -> target
   // pixel (x, y) and inverse target depth wv. False when the point is behind (or on the plane of)
@@ -27,8 +30,12 @@ public:
   // point is not in front of the reference camera.
   bool backward(double x, double y, double wv, double& u, double& v) const;
 
+  bool parallel() const { return parallel_; }
+
 private:
   int depthType_;
+  bool parallel_;
+  double rowScale_ = 1, rowOffset_ = 0, rowShift_ = 0;  // parallel: x = rowScale u + rowOffset + rowShift w
   Mat3 forwardMatrix_;   // K_tgt R K_ref^-1
   Vec3 forwardOffset_;   // K_tgt t
   Mat3 backwardMatrix_;  // K_ref R^-1 K_tgt^-1

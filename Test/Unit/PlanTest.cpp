@@ -1,0 +1,121 @@
+// The plan: which path and which stages a scene gets, and why; the 1D path against analytic truth.
+#include <gtest/gtest.h>
+
+#include "Common/Config.h"
+#include "Common/Error.h"
+#include "Common/Metrics.h"
+#include "Common/Options.h"
+#include "Synth/Plan.h"
+#include "SynthTestScene.h"
+
+namespace vs {
+namespace {
+
+using test::AnalyticScene;
+
+Scene rigScene(const AnalyticScene& analytic, SynthesisMode mode, double rotation = 0) {
+  Camera left = analytic.camera("left", -4), virtualCamera = analytic.camera("virtual", 1), right = analytic.camera("right", 4);
+  if (rotation != 0) {  // rotate the right camera about y
+    right.R = Mat3::identity();
+    right.R[0][0] = right.R[2][2] = std::cos(rotation);
+    right.R[0][2] = -std::sin(rotation);
+    right.R[2][0] = std::sin(rotation);
+  }
+  Scene scene = analytic.scene(left, virtualCamera, right);
+  scene.settings.mode = mode;
+  return scene;
+}
+
+TEST(Plan, AutoPicksTheOneDimensionalPathForARectifiedRigAndSaysWhy) {
+  AnalyticScene analytic;
+  const Plan plan = makePlan(rigScene(analytic, SynthesisMode::Auto));
+  EXPECT_EQ(plan.mode, SynthesisMode::Parallel1D);
+  EXPECT_NE(plan.lines[0].find("auto: the rig is rectified"), std::string::npos) << plan.lines[0];
+  EXPECT_TRUE(plan.blend);
+  EXPECT_TRUE(plan.chroma);
+  EXPECT_EQ(plan.copyOf, -1);
+}
+
+TEST(Plan, AutoPicksTheGeneralPathForARotatedRigAndMode1IsRefusedWithTheDeviation) {
+  AnalyticScene analytic;
+  const Plan plan = makePlan(rigScene(analytic, SynthesisMode::Auto, 0.01));
+  EXPECT_EQ(plan.mode, SynthesisMode::General);
+  EXPECT_NE(plan.lines[0].find("rotation differs by 0.573 deg"), std::string::npos) << plan.lines[0];
+  try {
+    makePlan(rigScene(analytic, SynthesisMode::Parallel1D, 0.01));
+    FAIL() << "SynthesisMode 1 on a rotated rig must be refused";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("Right: rotation differs by 0.573 deg"), std::string::npos) << e.what();
+  }
+  // A camera off the x axis and a different cy are reported too.
+  Camera raised = analytic.camera("raised", 4, 0.5), shifted = analytic.camera("shifted", 4);
+  shifted.K[1][2] += 2;
+  const Rectification offAxis = checkRectification(raised, analytic.camera("virtual", 0), 0);
+  EXPECT_FALSE(offAxis.rectified());
+  EXPECT_NEAR(offAxis.offAxis, 0.5 / std::hypot(4, 0.5), 1e-12);
+  EXPECT_NEAR(checkRectification(shifted, analytic.camera("virtual", 0), 0).cyDifference, 2.0, 1e-12);
+}
+
+TEST(Plan, CopiesWhenTheVirtualCameraIsAReferenceAndSkipsWhatIsNotThere) {
+  AnalyticScene analytic;
+  const Camera left = analytic.camera("left", -4), right = analytic.camera("right", 4);
+  EXPECT_EQ(makePlan(analytic.scene(left, right, right)).copyOf, 1);
+  AnalyticScene grey = analytic;
+  grey.chroma = ChromaFormat::Yuv400;
+  Scene single = grey.scene(left, analytic.camera("virtual", 1), right);
+  single.settings.references.pop_back();
+  const Plan plan = makePlan(single);
+  EXPECT_FALSE(plan.blend);
+  EXPECT_FALSE(plan.chroma);
+}
+
+TEST(Plan, OneReferenceViewIsAValidConfigWithoutAnyRightKey) {
+  const std::string text =
+      "SourceWidth 64\nSourceHeight 48\nLeftNearestDepthValue 50\nLeftFarthestDepthValue 120\n"
+      "CameraParameterFile cams.txt\nLeftCameraName a\nVirtualCameraName b\nLeftViewImageName a.yuv\n"
+      "LeftDepthMapName da.yuv\nOutputVirtualViewImageName out.yuv\n";
+  const Config config = Config::fromText(viewSynOptionTable(), text, "one.cfg", "/tmp");
+  EXPECT_EQ(readSynthesisSettings(config).references.size(), 1u);
+  // Some Right keys but not all: each missing one is named.
+  const Config partial = Config::fromText(viewSynOptionTable(), text + "RightCameraName c\n", "one.cfg", "/tmp");
+  try {
+    readSynthesisSettings(partial);
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("missing key 'RightDepthMapName'"), std::string::npos) << e.what();
+  }
+}
+
+TEST(OneD, ParallelPathMatchesTheAnalyticViewAndTheGeneralPath) {
+  AnalyticScene analytic;
+  analytic.square = true;
+  Scene oneD = rigScene(analytic, SynthesisMode::Parallel1D);
+  oneD.settings.oneD.splatting = 1;
+  const Frame truth = [&] {
+    Frame t;
+    Plane d;
+    analytic.render(oneD.virtualCamera, t, d);
+    return t;
+  }();
+  std::vector<Frame> textures(2);
+  std::vector<Plane> depths(2);
+  std::vector<ReferenceFrame> refs;
+  for (int k = 0; k < 2; ++k) analytic.render(oneD.settings.references[k].camera, textures[k], depths[k]);
+  for (int k = 0; k < 2; ++k) refs.push_back(ReferenceFrame{&textures[k], &depths[k]});
+  Frame parallel, general;
+  StageTimes times;
+  Synthesizer(oneD, SynthesisMode::Parallel1D).synthesize(refs, parallel, times);
+  Synthesizer(oneD, SynthesisMode::General).synthesize(refs, general, times);
+  EXPECT_GT(framePsnr(truth, parallel).y, 32.0);
+  // Same geometry: the two paths agree closely (not bitwise: the 1D path merges by its own keys).
+  EXPECT_GT(framePsnr(general, parallel).y, 40.0);
+  // The identity stays exact on the 1D path.
+  Scene identity = oneD;
+  identity.virtualCamera = identity.settings.references[0].camera;
+  Frame copy;
+  Synthesizer(identity, SynthesisMode::Parallel1D).synthesize(refs, copy, times);
+  EXPECT_TRUE(copy == textures[0]);
+}
+
+}  // namespace
+}  // namespace vs
