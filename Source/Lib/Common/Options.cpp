@@ -113,7 +113,7 @@ void addSynthesisOptions(OptionTable& table) {
          });
   addAll(table, "Synthesis",
          {
-             choiceOption("SynthesisMode", {"0", "1", "auto"}, "0", "0",
+             choiceOption("SynthesisMode", {"0", "1", "auto"}, "auto", "0",
                           "0: general 3D warping; 1: 1D parallel (rectified rig); auto: 1D when the rig is rectified"),
              choiceOption("Precision", {"1", "2", "4"}, "2", "2", "Sub-pixel precision of texture look-ups: 1 integer, 2 half, 4 quarter pel"),
              choiceOption("Filter", {"0", "1", "2"}, "1", "1", "Interpolation filter: 0 (bi)linear, 1 (bi)cubic, 2 MPEG-4 AVC 6-tap"),

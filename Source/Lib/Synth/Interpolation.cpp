@@ -73,6 +73,19 @@ float SubPixelSampler::sample(const Plane& plane, double x, double y) const {
     const long long cx = std::clamp(ix, 0LL, maxX), cy = std::clamp(iy, 0LL, maxY);
     return float(plane.at(int(cx), int(cy)));
   }
+  const long long left = ix + first_, top = iy + first_;
+  if (left >= 0 && top >= 0 && left + taps_ - 1 <= maxX && top + taps_ - 1 <= maxY) {
+    // Inside the plane: no clamping; rows whose weight is 0 (phase 0) are skipped.
+    float sum = 0.0f;
+    for (int ty = 0; ty < taps_; ++ty) {
+      if (ky[ty] == 0.0f) continue;
+      const uint16_t* row = plane.row(int(top + ty)) + left;
+      float rowSum = 0.0f;
+      for (int tx = 0; tx < taps_; ++tx) rowSum += kx[tx] * float(row[tx]);
+      sum += ky[ty] * rowSum;
+    }
+    return sum;
+  }
   float sum = 0.0f;
   for (int ty = 0; ty < taps_; ++ty) {
     if (ky[ty] == 0.0f) continue;

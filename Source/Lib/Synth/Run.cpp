@@ -6,6 +6,8 @@
 #include <fstream>
 #include <memory>
 
+#include <opencv2/core/utility.hpp>
+
 #include "Common/Error.h"
 #include "Common/Metrics.h"
 #include "Common/Yuv.h"
@@ -67,6 +69,8 @@ std::string describeTimes(const StageTimes& t, double frames) {
 
 RunSummary runSequence(const std::string& toolName, const Config& config, const Scene& scene, FrameRenderer& renderer) {
   const SynthesisSettings& s = scene.settings;
+  // Threads 0: every core. The output does not depend on it (Synth/Parallel.h).
+  cv::setNumThreads(s.threads > 0 ? s.threads : cv::getNumberOfCPUs());
   std::printf("%s %s\n\n%s\n%s", toolName.c_str(), VS_VERSION, config.effectiveText().c_str(), describeCameras(scene).c_str());
   for (const std::string& warning : scene.warnings) std::printf("warning: %s\n", warning.c_str());
   std::printf("\nplan:\n");

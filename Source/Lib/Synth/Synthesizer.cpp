@@ -32,19 +32,24 @@ uint16_t toSample(float value, int maxValue) {
   return rounded >= float(maxValue) ? uint16_t(maxValue) : uint16_t(rounded);
 }
 
-// Z-buffer write: the nearest (largest inverse depth) wins.
-inline void depthTest(std::vector<double>& zbuffer, size_t i, double w) {
-  if (w > zbuffer[i]) zbuffer[i] = w;
+// Pixel-centre range [first, last] covered by [lo, hi] within [0, size - 1]; false when empty.
+inline bool coveredRange(double lo, double hi, int size, int& first, int& last) {
+  if (hi < -1e-9 || lo > size - 1 + 1e-9) return false;
+  lo = std::max(lo - 1e-9, 0.0);
+  hi = std::min(hi + 1e-9, double(size - 1));
+  first = int(lo);
+  if (double(first) < lo) ++first;  // ceil of a non-negative value
+  last = int(hi);                    // floor of a non-negative value
+  return first <= last;
 }
 
-void rasteriseTriangle(std::vector<double>& zbuffer, int width, int height, const double* x, const double* y,
+void rasteriseTriangle(AtomicMaxBuffer& zbuffer, int width, int height, const double* x, const double* y,
                        const double* w) {
-  const double minX = std::min({x[0], x[1], x[2]}), maxX = std::max({x[0], x[1], x[2]});
-  const double minY = std::min({y[0], y[1], y[2]}), maxY = std::max({y[0], y[1], y[2]});
+  const double minX = std::min(x[0], std::min(x[1], x[2])), maxX = std::max(x[0], std::max(x[1], x[2]));
+  const double minY = std::min(y[0], std::min(y[1], y[2])), maxY = std::max(y[0], std::max(y[1], y[2]));
   if ((maxX - minX) * (maxY - minY) > kMaxTriangleArea) return;
-  const int x0 = std::max(0, int(std::ceil(minX - 1e-9))), x1 = std::min(width - 1, int(std::floor(maxX + 1e-9)));
-  const int y0 = std::max(0, int(std::ceil(minY - 1e-9))), y1 = std::min(height - 1, int(std::floor(maxY + 1e-9)));
-  if (x0 > x1 || y0 > y1) return;
+  int x0, x1, y0, y1;
+  if (!coveredRange(minX, maxX, width, x0, x1) || !coveredRange(minY, maxY, height, y0, y1)) return;
   const double area = (x[1] - x[0]) * (y[2] - y[0]) - (x[2] - x[0]) * (y[1] - y[0]);
   if (std::fabs(area) < 1e-12) return;
   const double inv = 1.0 / area;
@@ -55,7 +60,7 @@ void rasteriseTriangle(std::vector<double>& zbuffer, int width, int height, cons
       const double b2 = ((x[1] - x[0]) * (py - y[0]) - (px - x[0]) * (y[1] - y[0])) * inv;
       const double b0 = 1.0 - b1 - b2;
       if (b0 < -1e-9 || b1 < -1e-9 || b2 < -1e-9) continue;
-      depthTest(zbuffer, size_t(py) * width + px, b0 * w[0] + b1 * w[1] + b2 * w[2]);
+      zbuffer.raise(size_t(py) * width + px, b0 * w[0] + b1 * w[1] + b2 * w[2]);
     }
 }
 
@@ -73,20 +78,25 @@ void closeCracks(std::vector<double>& zbuffer, int width, int height, double tol
       zbuffer[gap1] = 0.5 * (wa + wb);
     }
   };
-  for (int y = 0; y < height; ++y)
-    for (int x = 1; x + 1 < width; ++x) {
-      const size_t i = size_t(y) * width + x;
-      if (zbuffer[i] >= 0) continue;
-      if (zbuffer[i + 1] >= 0) close(i - 1, i, i, i + 1, false);
-      else if (x + 2 < width) close(i - 1, i, i + 1, i + 2, true);
-    }
-  for (int y = 1; y + 1 < height; ++y)
-    for (int x = 0; x < width; ++x) {
-      const size_t i = size_t(y) * width + x, up = i - width, down = i + width;
-      if (zbuffer[i] >= 0) continue;
-      if (zbuffer[down] >= 0) close(up, i, i, down, false);
-      else if (y + 2 < height) close(up, i, down, down + width, true);
-    }
+  // Rows (each row by one thread), then columns (each column by one thread).
+  parallelRanges(height, [&](int y0, int y1) {
+    for (int y = y0; y < y1; ++y)
+      for (int x = 1; x + 1 < width; ++x) {
+        const size_t i = size_t(y) * width + x;
+        if (zbuffer[i] >= 0) continue;
+        if (zbuffer[i + 1] >= 0) close(i - 1, i, i, i + 1, false);
+        else if (x + 2 < width) close(i - 1, i, i + 1, i + 2, true);
+      }
+  });
+  parallelRanges(width, [&](int x0, int x1) {
+    for (int y = 1; y + 1 < height; ++y)
+      for (int x = x0; x < x1; ++x) {
+        const size_t i = size_t(y) * width + x, up = i - width, down = i + width;
+        if (zbuffer[i] >= 0) continue;
+        if (zbuffer[down] >= 0) close(up, i, i, down, false);
+        else if (y + 2 < height) close(up, i, down, down + width, true);
+      }
+  });
 }
 
 }  // namespace
@@ -134,31 +144,46 @@ Synthesizer::Synthesizer(const Scene& scene, SynthesisMode mode)
 void Synthesizer::markReferenceEdges(ViewState& view, const Plane& depth) {
   const int w = depth.width, h = depth.height;
   std::vector<uint8_t>& step = view.referenceStep;
-  step.assign(size_t(w) * h, 0);
-  const int missing = scene_.settings.missingDepthLevel;
-  for (int y = 0; y < h; ++y)
-    for (int x = 0; x < w; ++x) {
-      const int level = depth.at(x, y);
-      bool edge = level == missing;
-      if (x + 1 < w) edge = edge || std::abs(level - int(depth.at(x + 1, y))) >= edgeLevelStep_ || depth.at(x + 1, y) == missing;
-      if (x > 0) edge = edge || std::abs(level - int(depth.at(x - 1, y))) >= edgeLevelStep_ || depth.at(x - 1, y) == missing;
-      if (y + 1 < h) edge = edge || std::abs(level - int(depth.at(x, y + 1))) >= edgeLevelStep_ || depth.at(x, y + 1) == missing;
-      if (y > 0) edge = edge || std::abs(level - int(depth.at(x, y - 1))) >= edgeLevelStep_ || depth.at(x, y - 1) == missing;
-      step[size_t(y) * w + x] = edge;
+  step.resize(size_t(w) * h);
+  const int missing = scene_.settings.missingDepthLevel, minStep = edgeLevelStep_;
+  auto differs = [&](int level, int other) { return other == missing || std::abs(level - other) >= minStep; };
+  parallelRanges(h, [&](int y0, int y1) {
+    for (int y = y0; y < y1; ++y) {
+      const uint16_t* row = depth.row(y);
+      const uint16_t* above = y > 0 ? depth.row(y - 1) : nullptr;
+      const uint16_t* below = y + 1 < h ? depth.row(y + 1) : nullptr;
+      for (int x = 0; x < w; ++x) {
+        const int level = row[x];
+        step[size_t(y) * w + x] = level == missing || (x + 1 < w && differs(level, row[x + 1])) ||
+                                  (x > 0 && differs(level, row[x - 1])) || (above && differs(level, above[x])) ||
+                                  (below && differs(level, below[x]));
+      }
     }
-  // Dilate by one sample: the colours on both sides of an edge are mixed by the camera's optics.
+  });
+  // Dilated by one sample: the colours on both sides of an edge are mixed by the camera's optics.
   // (1D mode with WarpEnhancementOption 0 does without these reliability flags.)
-  view.referenceEdge.assign(size_t(w) * h, 0);
+  std::vector<uint8_t>& edge = view.referenceEdge;
+  edge.assign(size_t(w) * h, 0);
   if (parallel_ && !scene_.settings.oneD.warpEnhancement) return;
-  for (int y = 0; y < h; ++y)
-    for (int x = 0; x < w; ++x) {
-      if (!step[size_t(y) * w + x]) continue;
-      for (int dy = -1; dy <= 1; ++dy)
-        for (int dx = -1; dx <= 1; ++dx) {
-          const int nx = x + dx, ny = y + dy;
-          if (nx >= 0 && ny >= 0 && nx < w && ny < h) view.referenceEdge[size_t(ny) * w + nx] = 1;
-        }
+  // Separable: OR over three samples along rows, then along columns.
+  std::vector<uint8_t>& rows = view.referenceStepRows;
+  rows.resize(size_t(w) * h);
+  parallelRanges(h, [&](int y0, int y1) {
+    for (int y = y0; y < y1; ++y) {
+      const uint8_t* in = step.data() + size_t(y) * w;
+      uint8_t* out = rows.data() + size_t(y) * w;
+      for (int x = 0; x < w; ++x) out[x] = in[x] | (x > 0 ? in[x - 1] : 0) | (x + 1 < w ? in[x + 1] : 0);
     }
+  });
+  parallelRanges(h, [&](int y0, int y1) {
+    for (int y = y0; y < y1; ++y) {
+      const uint8_t* mid = rows.data() + size_t(y) * w;
+      const uint8_t* up = y > 0 ? mid - w : mid;
+      const uint8_t* down = y + 1 < h ? mid + w : mid;
+      uint8_t* out = edge.data() + size_t(y) * w;
+      for (int x = 0; x < w; ++x) out[x] = mid[x] | up[x] | down[x];
+    }
+  });
 }
 
 void Synthesizer::warpDepth(ViewState& view, const Plane& depth) {
@@ -166,41 +191,49 @@ void Synthesizer::warpDepth(ViewState& view, const Plane& depth) {
   const size_t n = size_t(w) * size_t(h);
   view.warpedX.resize(n);
   view.warpedY.resize(n);
-  view.warpedW.assign(n, kNoDepth);
-  for (int y = 0; y < h; ++y)
-    for (int x = 0; x < w; ++x) {
-      const size_t i = size_t(y) * w + x;
-      const double inverseDepth = view.levelToInverseDepth[depth.at(x, y)];
-      if (std::isnan(inverseDepth)) continue;  // declared missing: not warped
-      double vx, vy, vw;
-      if (view.projection.forward(x, y, inverseDepth, vx, vy, vw)) {
-        view.warpedX[i] = vx;
-        view.warpedY[i] = vy;
-        view.warpedW[i] = vw;
+  view.warpedW.resize(n);
+  parallelRanges(h, [&](int y0, int y1) {
+    for (int y = y0; y < y1; ++y) {
+      const uint16_t* levels = depth.row(y);
+      for (int x = 0; x < w; ++x) {
+        const size_t i = size_t(y) * w + x;
+        view.warpedW[i] = kNoDepth;
+        const double inverseDepth = view.levelToInverseDepth[levels[x]];
+        if (std::isnan(inverseDepth)) continue;  // declared missing: not warped
+        double vx, vy, vw;
+        if (view.projection.forward(x, y, inverseDepth, vx, vy, vw)) {
+          view.warpedX[i] = vx;
+          view.warpedY[i] = vy;
+          view.warpedW[i] = vw;
+        }
       }
     }
+  });
   const int outW = outputFormat_.width, outH = outputFormat_.height;
   view.luma.reset(outW, outH, rgb_ ? 3 : 1);
+  zbuffer_.reset(size_t(outW) * outH, kNoDepth);
   if (parallel_) rasteriseRows(view, w, h);
   else rasteriseTriangles(view, w, h);
   // Every sample also lands as a point, so thin foreground keeps its width.
-  std::vector<double>& zbuffer = view.luma.inverseDepth;
-  for (size_t i = 0; i < n; ++i) {
-    if (view.warpedW[i] < 0) continue;
-    const double px = std::floor(view.warpedX[i] + 0.5), py = std::floor(view.warpedY[i] + 0.5);
-    if (px < 0 || py < 0 || px >= outW || py >= outH) continue;
-    depthTest(zbuffer, size_t(py) * outW + size_t(px), view.warpedW[i]);
-  }
+  parallelRanges(h, [&](int y0, int y1) {
+    for (size_t i = size_t(y0) * w; i < size_t(y1) * w; ++i) {
+      if (view.warpedW[i] < 0) continue;
+      const double px = std::floor(view.warpedX[i] + 0.5), py = std::floor(view.warpedY[i] + 0.5);
+      if (px < 0 || py < 0 || px >= outW || py >= outH) continue;
+      zbuffer_.raise(size_t(py) * outW + size_t(px), view.warpedW[i]);
+    }
+  });
+  zbuffer_.copyTo(view.luma.inverseDepth);
   if (parallel_ && scene_.settings.oneD.cleanNoise) cleanIsolatedSamples(view.luma);
-  closeCracks(zbuffer, outW, outH, discontinuity_);
+  closeCracks(view.luma.inverseDepth, outW, outH, discontinuity_);
 }
 
 void Synthesizer::rasteriseTriangles(ViewState& view, int w, int h) {
   // Triangles of each quad of neighbouring samples, when all three lie on one surface.
-  std::vector<double>& zbuffer = view.luma.inverseDepth;
   const int outW = view.luma.width, outH = view.luma.height;
   static const int corners[2][3] = {{0, 1, 3}, {0, 3, 2}};
-  for (int y = 0; y + 1 < h; ++y)
+  parallelRanges(h - 1, [&](int y0, int y1) {
+  for (int y = y0; y < y1; ++y)
     for (int x = 0; x + 1 < w; ++x) {
       const size_t quad[4] = {size_t(y) * w + x, size_t(y) * w + x + 1, size_t(y + 1) * w + x, size_t(y + 1) * w + x + 1};
       for (const auto& triangle : corners) {
@@ -216,9 +249,10 @@ void Synthesizer::rasteriseTriangles(ViewState& view, int w, int h) {
           lo = std::min(lo, tw[k]);
           hi = std::max(hi, tw[k]);
         }
-        if (ok && hi - lo <= discontinuity_) rasteriseTriangle(zbuffer, outW, outH, tx, ty, tw);
+        if (ok && hi - lo <= discontinuity_) rasteriseTriangle(zbuffer_, outW, outH, tx, ty, tw);
       }
     }
+  });
 }
 
 void Synthesizer::rasteriseRows(ViewState& view, int w, int h) {
@@ -227,10 +261,10 @@ void Synthesizer::rasteriseRows(ViewState& view, int w, int h) {
   // samples of a reference depth edge.
   const OneDOptions& oneD = scene_.settings.oneD;
   if (oneD.splatting == 0) return;
-  std::vector<double>& zbuffer = view.luma.inverseDepth;
   const int outW = view.luma.width;
+  parallelRanges(std::min(h, view.luma.height), [&](int y0, int y1) {
   std::vector<uint8_t> nearBoundary(size_t(w), 1);
-  for (int y = 0; y < h && y < view.luma.height; ++y) {
+  for (int y = y0; y < y1; ++y) {
     const size_t row = size_t(y) * w;
     if (oneD.splatting == 2) {
       std::fill(nearBoundary.begin(), nearBoundary.end(), uint8_t(0));
@@ -238,7 +272,7 @@ void Synthesizer::rasteriseRows(ViewState& view, int w, int h) {
         if (view.referenceStep[row + x])
           for (int k = std::max(0, x - oneD.boundaryGrowth); k <= std::min(w - 1, x + oneD.boundaryGrowth); ++k) nearBoundary[size_t(k)] = 1;
     }
-    double* out = zbuffer.data() + size_t(y) * outW;
+    const size_t out = size_t(y) * outW;  // rows map to rows: only this thread writes row y
     for (int x = 0; x + 1 < w; ++x) {
       const size_t i = row + x;
       const double w0 = view.warpedW[i], w1 = view.warpedW[i + 1];
@@ -248,27 +282,30 @@ void Synthesizer::rasteriseRows(ViewState& view, int w, int h) {
         std::swap(x0, x1);
         std::swap(a, b);
       }
-      const int first = std::max(0, int(std::ceil(x0 - 1e-9))), last = std::min(outW - 1, int(std::floor(x1 + 1e-9)));
-      if (last - first > 64) continue;  // extreme magnification: left to the points and the hole filler
+      int first, last;
+      if (!coveredRange(x0, x1, outW, first, last) || last - first > 64) continue;  // > 64: extreme magnification,
+                                                                                     // left to the points and hole filler
       const double span = x1 - x0;
       for (int px = first; px <= last; ++px) {
         const double t = span > 0 ? (px - x0) / span : 0.0;
-        const double wv = a + t * (b - a);
-        if (wv > out[px]) out[px] = wv;
+        zbuffer_.raise(out + size_t(px), a + t * (b - a));
       }
     }
   }
+  });
 }
 
 void Synthesizer::cleanIsolatedSamples(WarpedLayer& layer) {
   // CleanNoiseOption: a sample with holes on both sides along its row is a stray point of a surface
   // seen elsewhere: removed before it picks up colour.
   const int w = layer.width;
-  for (int y = 0; y < layer.height; ++y) {
-    double* row = layer.inverseDepth.data() + size_t(y) * w;
-    for (int x = 1; x + 1 < w; ++x)
-      if (row[x] >= 0 && row[x - 1] < 0 && row[x + 1] < 0) row[x] = kNoDepth;
-  }
+  parallelRanges(layer.height, [&](int y0, int y1) {
+    for (int y = y0; y < y1; ++y) {
+      double* row = layer.inverseDepth.data() + size_t(y) * w;
+      for (int x = 1; x + 1 < w; ++x)
+        if (row[x] >= 0 && row[x - 1] < 0 && row[x + 1] < 0) row[x] = kNoDepth;
+    }
+  });
 }
 
 void Synthesizer::flagCrowdedHoles(WarpedLayer& layer) {
@@ -281,19 +318,22 @@ void Synthesizer::flagCrowdedHoles(WarpedLayer& layer) {
       integral[size_t(y + 1) * (w + 1) + x + 1] = (layer.inverseDepth[size_t(y) * w + x] < 0 ? 1 : 0) +
                                                   integral[size_t(y) * (w + 1) + x + 1] +
                                                   integral[size_t(y + 1) * (w + 1) + x] - integral[size_t(y) * (w + 1) + x];
-  for (int y = 0; y < h; ++y)
-    for (int x = 0; x < w; ++x) {
-      const int x0 = std::max(0, x - 3), x1 = std::min(w, x + 4), y0 = std::max(0, y - 3), y1 = std::min(h, y + 4);
-      const int holes = integral[size_t(y1) * (w + 1) + x1] - integral[size_t(y0) * (w + 1) + x1] -
-                        integral[size_t(y1) * (w + 1) + x0] + integral[size_t(y0) * (w + 1) + x0];
-      if (holes > threshold) layer.edge[size_t(y) * w + x] = 1;
-    }
+  parallelRanges(h, [&](int rowBegin, int rowEnd) {
+    for (int y = rowBegin; y < rowEnd; ++y)
+      for (int x = 0; x < w; ++x) {
+        const int x0 = std::max(0, x - 3), x1 = std::min(w, x + 4), y0 = std::max(0, y - 3), y1 = std::min(h, y + 4);
+        const int holes = integral[size_t(y1) * (w + 1) + x1] - integral[size_t(y0) * (w + 1) + x1] -
+                          integral[size_t(y1) * (w + 1) + x0] + integral[size_t(y0) * (w + 1) + x0];
+        if (holes > threshold) layer.edge[size_t(y) * w + x] = 1;
+      }
+  });
 }
 
 void Synthesizer::warpTexture(ViewState& view, const std::vector<const Plane*>& planes) {
   WarpedLayer& layer = view.luma;
   const int refW = planes[0]->width, refH = planes[0]->height;
-  for (int y = 0; y < layer.height; ++y)
+  parallelRanges(layer.height, [&](int y0, int y1) {
+  for (int y = y0; y < y1; ++y)
     for (int x = 0; x < layer.width; ++x) {
       const size_t i = size_t(y) * layer.width + x;
       if (layer.inverseDepth[i] < 0) continue;
@@ -307,24 +347,26 @@ void Synthesizer::warpTexture(ViewState& view, const std::vector<const Plane*>& 
       const int eu = std::clamp(int(std::floor(u + 0.5)), 0, refW - 1), ev = std::clamp(int(std::floor(v + 0.5)), 0, refH - 1);
       layer.edge[i] = view.referenceEdge[size_t(ev) * refW + eu];
     }
+  });
 }
 
 void Synthesizer::removeBoundaryNoise(WarpedLayer& layer) {
   // Samples on a reference depth edge within two samples of this view's own hole carry foreground
   // colour bled onto background: drop them, so the other view or the hole filler supplies them.
   const int w = layer.width, h = layer.height;
-  std::vector<uint8_t> nearHole(size_t(w) * h, 0);
-  for (int y = 0; y < h; ++y)
-    for (int x = 0; x < w; ++x) {
-      if (layer.inverseDepth[size_t(y) * w + x] >= 0) continue;
-      for (int dy = -2; dy <= 2; ++dy)
-        for (int dx = -2; dx <= 2; ++dx) {
-          const int nx = x + dx, ny = y + dy;
-          if (nx >= 0 && ny >= 0 && nx < w && ny < h) nearHole[size_t(ny) * w + nx] = 1;
-        }
-    }
-  for (size_t i = 0; i < nearHole.size(); ++i)
-    if (nearHole[i] && layer.edge[i]) layer.inverseDepth[i] = kNoDepth;
+  std::vector<uint8_t> drop(size_t(w) * h, 0);
+  parallelRanges(h, [&](int y0, int y1) {
+    for (int y = y0; y < y1; ++y)
+      for (int x = 0; x < w; ++x) {
+        if (!layer.edge[size_t(y) * w + x] || layer.inverseDepth[size_t(y) * w + x] < 0) continue;
+        bool nearHole = false;
+        for (int ny = std::max(0, y - 2); ny <= std::min(h - 1, y + 2) && !nearHole; ++ny)
+          for (int nx = std::max(0, x - 2); nx <= std::min(w - 1, x + 2); ++nx) nearHole |= layer.inverseDepth[size_t(ny) * w + nx] < 0;
+        drop[size_t(y) * w + x] = nearHole;
+      }
+  });
+  for (size_t i = 0; i < drop.size(); ++i)
+    if (drop[i]) layer.inverseDepth[i] = kNoDepth;
 }
 
 // For every sample, the inverse depth of the farthest of the nearest valid samples left, right, above
@@ -340,14 +382,18 @@ static void farthestNeighbourDepth(const WarpedLayer& layer, std::vector<double>
       else if (last >= 0) farthest[i] = std::min(farthest[i], last);
     }
   };
-  for (int y = 0; y < h; ++y) {
-    scan(size_t(y) * w, 1, w);
-    scan(size_t(y) * w + w - 1, -1, w);
-  }
-  for (int x = 0; x < w; ++x) {
-    scan(size_t(x), w, h);
-    scan(size_t(h - 1) * w + x, -ptrdiff_t(w), h);
-  }
+  parallelRanges(h, [&](int y0, int y1) {
+    for (int y = y0; y < y1; ++y) {
+      scan(size_t(y) * w, 1, w);
+      scan(size_t(y) * w + w - 1, -1, w);
+    }
+  });
+  parallelRanges(w, [&](int x0, int x1) {
+    for (int x = x0; x < x1; ++x) {
+      scan(size_t(x), w, h);
+      scan(size_t(h - 1) * w + x, -ptrdiff_t(w), h);
+    }
+  });
 }
 
 void Synthesizer::rejectOccludedInOtherViews() {
@@ -366,10 +412,12 @@ void Synthesizer::rejectOccludedInOtherViews() {
     for (size_t k = 0; k < views_.size(); ++k) {
       if (k == o || blendOptions_.weights[k] >= 1.0) continue;
       const WarpedLayer& self = views_[k].luma;
-      for (size_t i = 0; i < n; ++i)
-        if (self.valid(i) && !other.valid(i) && farthest[i] != HUGE_VAL &&
-            self.inverseDepth[i] < farthest[i] - kBehindHoleSteps * discontinuity_)
-          reject[k][i] = 1;
+      parallelRanges(outputFormat_.height, [&](int y0, int y1) {
+        for (size_t i = size_t(y0) * outputFormat_.width; i < size_t(y1) * outputFormat_.width; ++i)
+          if (self.valid(i) && !other.valid(i) && farthest[i] != HUGE_VAL &&
+              self.inverseDepth[i] < farthest[i] - kBehindHoleSteps * discontinuity_)
+            reject[k][i] = 1;
+      });
     }
   }
   for (size_t k = 0; k < views_.size(); ++k)
@@ -384,8 +432,9 @@ void Synthesizer::warpChroma(ViewState& view, const Frame& texture) {
   const WarpedLayer& luma = view.luma;
   WarpedLayer& layer = view.chroma;
   layer.reset(cw, ch, 2);
-  const double tolerance = blendOptions_.depthTolerance;
-  for (int j = 0; j < ch; ++j)
+  const double tolerance = fillOptions_.depthTolerance;
+  parallelRanges(ch, [&](int j0, int j1) {
+  for (int j = j0; j < j1; ++j)
     for (int i = 0; i < cw; ++i) {
       // The chroma sample covers a scale x scale block of luma samples; it takes the depth of the
       // front-most surface there (the mean inverse depth of the block's samples on it).
@@ -423,6 +472,7 @@ void Synthesizer::warpChroma(ViewState& view, const Frame& texture) {
       layer.colour[0][c] = sampler_.sample(texture.planes[1], cu, cv);
       layer.colour[1][c] = sampler_.sample(texture.planes[2], cu, cv);
     }
+  });
 }
 
 void Synthesizer::keepStaticFill(const std::vector<ReferenceFrame>& references, const std::vector<uint8_t>& lumaHoles,

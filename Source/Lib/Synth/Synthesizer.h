@@ -16,6 +16,7 @@
 #include "Synth/HoleFill.h"
 #include "Synth/Interpolation.h"
 #include "Synth/Layer.h"
+#include "Synth/Parallel.h"
 #include "Synth/Warp.h"
 
 namespace vs {
@@ -69,6 +70,7 @@ private:
     std::vector<double> warpedX, warpedY, warpedW;  // forward-projected reference samples
     std::vector<uint8_t> referenceStep;             // reference samples at a depth discontinuity
     std::vector<uint8_t> referenceEdge;             // the same, dilated by one sample: mixed colours
+    std::vector<uint8_t> referenceStepRows;         // scratch of the dilation
   };
 
   void warpDepth(ViewState& view, const Plane& depth);
@@ -95,6 +97,7 @@ private:
   BlendOptions blendOptions_;
   HoleFillOptions fillOptions_;
   std::vector<ViewState> views_;
+  AtomicMaxBuffer zbuffer_;  // depth warp target, shared by the threads of one view's warp
   BlendedLayer blendedLuma_, blendedChroma_;
   std::vector<Frame> rgbReferences_;
   FrameStats stats_;

@@ -1,0 +1,57 @@
+#pragma once
+// Work split over rows (or any index range) on OpenCV's thread pool; the thread count is set once per
+// run from the Threads key (cv::setNumThreads). Every parallel loop in the synthesizer writes only
+// its own rows, or combines by max (AtomicMaxBuffer), so the output is bit-identical whatever the
+// number of threads.
+#include <atomic>
+#include <cstdint>
+#include <cstring>
+#include <vector>
+
+#include <opencv2/core/utility.hpp>
+
+namespace vs {
+
+// Calls body(begin, end) on disjoint sub-ranges of [0, count).
+template <class Body>
+void parallelRanges(int count, const Body& body) {
+  if (count <= 0) return;
+  cv::parallel_for_(cv::Range(0, count), [&](const cv::Range& range) { body(range.start, range.end); });
+}
+
+// A z-buffer of inverse depths that many threads may raise at once. Non-negative doubles order like
+// their bit patterns read as signed integers, and kNoDepth (-1) reads as a negative one, so an
+// integer atomic max is a max of the doubles; the result does not depend on the order of writes.
+class AtomicMaxBuffer {
+public:
+  void reset(size_t size, double value) {
+    if (cells_.size() != size) cells_ = std::vector<std::atomic<int64_t>>(size);
+    const int64_t bits = toBits(value);
+    for (auto& cell : cells_) cell.store(bits, std::memory_order_relaxed);
+  }
+  void raise(size_t i, double value) {
+    const int64_t bits = toBits(value);
+    int64_t current = cells_[i].load(std::memory_order_relaxed);
+    while (bits > current && !cells_[i].compare_exchange_weak(current, bits, std::memory_order_relaxed)) {
+    }
+  }
+  void copyTo(std::vector<double>& out) const {
+    out.resize(cells_.size());
+    for (size_t i = 0; i < cells_.size(); ++i) out[i] = fromBits(cells_[i].load(std::memory_order_relaxed));
+  }
+
+private:
+  static int64_t toBits(double v) {
+    int64_t bits;
+    std::memcpy(&bits, &v, sizeof bits);
+    return bits;
+  }
+  static double fromBits(int64_t bits) {
+    double v;
+    std::memcpy(&v, &bits, sizeof v);
+    return v;
+  }
+  std::vector<std::atomic<int64_t>> cells_;
+};
+
+}  // namespace vs
