@@ -4,13 +4,16 @@
 #include <cerrno>
 #include <charconv>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <map>
 #include <sstream>
 #include <system_error>
 #include <utility>
 
+#include "Common/CameraJson.h"
 #include "Common/Error.h"
 
 namespace vs {
@@ -107,7 +110,21 @@ std::string shortestDecimal(double value) {
 }  // namespace
 
 CameraFile::CameraFile(std::string path, std::vector<Camera> cameras, std::vector<std::string> warnings)
-    : path_(std::move(path)), cameras_(std::move(cameras)), warnings_(std::move(warnings)) {}
+    : path_(std::move(path)), cameras_(std::move(cameras)), info_(cameras_.size()), warnings_(std::move(warnings)) {}
+
+CameraFile::CameraFile(std::string path, std::vector<Camera> cameras, std::vector<CameraInfo> info,
+                       std::vector<std::string> warnings)
+    : path_(std::move(path)), cameras_(std::move(cameras)), info_(std::move(info)), warnings_(std::move(warnings)) {
+  VS_CHECK(info_.size() == cameras_.size());
+}
+
+const CameraInfo& CameraFile::info(const std::string& name) const {
+  for (size_t k = 0; k < cameras_.size(); ++k)
+    if (cameras_[k].name == name) return info_[k];
+  find(name);  // throws the message that lists the names
+  VS_CHECK(false);
+  return info_.front();
+}
 
 bool CameraFile::contains(const std::string& name) const {
   for (const auto& camera : cameras_)
@@ -235,6 +252,16 @@ CameraFile parseCameraText(const std::string& text, const std::string& sourceNam
 }
 
 CameraFile readCameraFile(const std::string& path, RotationConvention convention) {
+  // A folder opens as an empty stream, and a video given by mistake would be read whole: say so first.
+  constexpr std::uintmax_t kMaxCameraFileBytes = std::uintmax_t(16) << 20;
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec))
+    throw InputError("camera parameter file '" + path + "' is a folder, not a camera parameter file");
+  const std::uintmax_t bytes = std::filesystem::file_size(path, ec);
+  if (!ec && bytes > kMaxCameraFileBytes)
+    throw InputError("camera parameter file '" + path + "' is " + std::to_string(bytes) + " bytes; at most " +
+                     std::to_string(kMaxCameraFileBytes) + " expected (is it a camera parameter file?)");
+  if (path.size() >= 5 && path.compare(path.size() - 5, 5, ".json") == 0) return readCameraJson(path);
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError("cannot open camera parameter file '" + path + "': " + std::strerror(errno));
   std::ostringstream content;

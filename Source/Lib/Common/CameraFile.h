@@ -12,10 +12,24 @@
 
 namespace vs {
 
+// What an MPEG-I camera JSON says about a camera beyond the pinhole model (a VSRS text file says
+// none of it: every field is then unset).
+struct CameraInfo {
+  bool hasDepthRange = false;
+  double znear = 0, zfar = 0;  // Depth_range; zfar may be +inf
+  int bitDepthColor = 0;       // 0: not given
+  int bitDepthDepth = 0;
+  int width = 0, height = 0;   // Resolution; 0: not given
+  std::string colorSpace, depthColorSpace;  // "YUV420", "YUV400", ...
+};
+
 class CameraFile {
 public:
   CameraFile() = default;
   CameraFile(std::string path, std::vector<Camera> cameras, std::vector<std::string> warnings);
+  CameraFile(std::string path, std::vector<Camera> cameras, std::vector<CameraInfo> info, std::vector<std::string> warnings);
+  // Per-camera extras, same order as cameras(); unset fields for VSRS text files.
+  const CameraInfo& info(const std::string& name) const;
 
   // In file order of first appearance; a name defined twice holds its last definition.
   const std::vector<Camera>& cameras() const { return cameras_; }
@@ -30,10 +44,12 @@ public:
 private:
   std::string path_;
   std::vector<Camera> cameras_;
+  std::vector<CameraInfo> info_;
   std::vector<std::string> warnings_;
 };
 
-// Reads and validates (validateCamera) every camera of a file. Throws InputError "<file>:<line>: ..."
+// Reads and validates (validateCamera) every camera of a file; a name ending in ".json" is read as an
+// MPEG-I camera JSON (CameraJson.h), anything else as the VSRS text format. Throws InputError "<file>:<line>: ..."
 // for a block with fewer than 23 numbers, a token that is not a finite number where a number is
 // expected, a name line inside a block, numbers left over after a block, a file without any camera,
 // and for every camera validateCamera refuses.

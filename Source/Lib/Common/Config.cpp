@@ -85,6 +85,8 @@ std::string typeDescription(const OptionSpec& spec) {
     }
     case OptionType::String: return "text";
     case OptionType::Path: return "file name";
+    case OptionType::TextList: return "comma-separated names";
+    case OptionType::PathList: return "comma-separated file names";
     case OptionType::Choice: {
       std::string text = "one of";
       for (size_t i = 0; i < spec.choices.size(); ++i) text += (i ? ", " : " ") + spec.choices[i];
@@ -96,10 +98,26 @@ std::string typeDescription(const OptionSpec& spec) {
 
 }  // namespace
 
+std::vector<std::string> splitList(const std::string& text) {
+  std::vector<std::string> items;
+  size_t start = 0;
+  while (true) {
+    const size_t comma = text.find(',', start);
+    items.push_back(text.substr(start, comma == std::string::npos ? std::string::npos : comma - start));
+    if (comma == std::string::npos) break;
+    start = comma + 1;
+  }
+  return items;
+}
+
 void ProblemList::throwIfAny(const std::string& header) const {
   if (problems_.empty()) return;
+  // A binary file read as a config has a problem on every line: show the first ones, count the rest.
+  constexpr size_t kMaxProblemsShown = 50;
   std::string message = header;
-  for (const std::string& problem : problems_) message += "\n  " + problem;
+  for (size_t i = 0; i < problems_.size() && i < kMaxProblemsShown; ++i) message += "\n  " + problems_[i];
+  if (problems_.size() > kMaxProblemsShown)
+    message += "\n  ... and " + std::to_string(problems_.size() - kMaxProblemsShown) + " more problems";
   throw InputError(message);
 }
 
@@ -173,14 +191,18 @@ std::string OptionTable::nearestKey(const std::string& key) const {
   const std::string lower = toLower(key);
   std::string best;
   size_t bestDistance = std::string::npos;
+  const size_t allowed = std::max<size_t>(2, key.size() / 3);
   for (const OptionSpec& spec : options_) {
+    // The distance is at least the difference in length: skip the quadratic work for a long junk key.
+    const size_t lengthDifference =
+        lower.size() > spec.key.size() ? lower.size() - spec.key.size() : spec.key.size() - lower.size();
+    if (lengthDifference > allowed) continue;
     const size_t d = editDistance(lower, toLower(spec.key));
     if (d < bestDistance) {
       bestDistance = d;
       best = spec.key;
     }
   }
-  const size_t allowed = std::max<size_t>(2, key.size() / 3);
   return bestDistance <= allowed ? best : std::string();
 }
 
@@ -277,6 +299,7 @@ void Config::parseText(const std::string& text, const std::string& name, const s
       continue;
     }
     if (!line.empty() && line.back() == '\r') line.pop_back();  // CRLF
+    if (lineNumber == 1 && line.compare(0, 3, "\xEF\xBB\xBF") == 0) line.erase(0, 3);  // UTF-8 BOM (Notepad)
     const size_t hash = line.find('#');
     if (hash != std::string::npos) line.erase(hash);
     const size_t control = findControlCharacter(line);
@@ -359,6 +382,14 @@ void Config::validateValues(ProblemList& problems) const {
       case OptionType::Path:
         if (value.empty()) problems.add(prefix + "expected a non-empty " + typeDescription(s));
         break;
+      case OptionType::TextList:
+      case OptionType::PathList:
+        for (const std::string& item : splitList(value))
+          if (item.empty()) {
+            problems.add(prefix + "expected " + typeDescription(s) + " without empty items");
+            break;
+          }
+        break;
     }
   }
 }
@@ -402,6 +433,17 @@ std::string Config::getPath(const std::string& key) const {
   auto it = settings_.find(key);
   if (it == settings_.end()) return resolvePath(spec(key).defaultValue, "");
   return resolvePath(it->second.value, it->second.origin.baseDir);
+}
+
+std::vector<std::string> Config::getList(const std::string& key) const {
+  const OptionSpec& s = spec(key);
+  VS_CHECK(s.type == OptionType::TextList || s.type == OptionType::PathList);
+  auto it = settings_.find(key);
+  if (it == settings_.end()) return {};
+  std::vector<std::string> items = splitList(it->second.value);
+  if (s.type == OptionType::PathList)
+    for (std::string& item : items) item = resolvePath(item, it->second.origin.baseDir);
+  return items;
 }
 
 std::string Config::origin(const std::string& key) const {

@@ -29,6 +29,8 @@ enum class OptionType {
   Double,  // finite real in [minValue, maxValue]; `inf` too when allowInfinity
   String,  // any text without control characters
   Path,    // a file name, resolved against the folder of the config file that names it
+  TextList,  // comma-separated items, e.g. camera names "v1,v2,v4"
+  PathList,  // comma-separated file names, each resolved like a Path
   Choice,  // one of `choices`
 };
 
@@ -94,6 +96,8 @@ public:
   // File name with `\` turned into `/`, resolved against the folder of the config that set it
   // (command line: the working directory). Empty when the value is empty.
   std::string getPath(const std::string& key) const;
+  // The items of a TextList, or of a PathList resolved like getPath; empty when unset.
+  std::vector<std::string> getList(const std::string& key) const;
   // "file.cfg:12", "command line" or "default".
   std::string origin(const std::string& key) const;
 
@@ -125,6 +129,8 @@ private:
 // Parses a double the way every key does: the whole text must be a number; `inf` only when allowed.
 bool parseDouble(const std::string& text, double& value, bool allowInfinity);
 bool parseInt(const std::string& text, int64_t& value);
+// "a,b,c" -> {"a", "b", "c"}; empty items are kept (and refused by the value checks).
+std::vector<std::string> splitList(const std::string& text);
 // `\` -> `/`, repeated separators collapsed; relative names resolved against baseDir.
 std::string resolvePath(const std::string& name, const std::string& baseDir);
 

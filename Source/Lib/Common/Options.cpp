@@ -72,8 +72,8 @@ void addSynthesisOptions(OptionTable& table) {
              intOption("StartFrame", 0, 0, kMaxFrames, "0", "First frame of the input sequences to synthesize (0-based)"),
              intOption("TotalNumberOfFrames", 300, 1, kMaxFrames, "300",
                        "Number of frames to synthesize from StartFrame on"),
-             depthValueOption("LeftNearestDepthValue", false, "Znear of the left depth map: the depth of level 2^bits-1"),
-             depthValueOption("LeftFarthestDepthValue", true, "Zfar of the left depth map: the depth of level 0 (inf allowed)"),
+             depthValueOption("LeftNearestDepthValue", false, "Znear of the left depth map: the depth of level 2^bits-1 (from a JSON camera file when absent)", false),
+             depthValueOption("LeftFarthestDepthValue", true, "Zfar of the left depth map: the depth of level 0 (inf allowed)", false),
              depthValueOption("RightNearestDepthValue", false, "Znear of the right depth map: the depth of level 2^bits-1", false),
              depthValueOption("RightFarthestDepthValue", true, "Zfar of the right depth map: the depth of level 0 (inf allowed)", false),
          });
@@ -81,7 +81,8 @@ void addSynthesisOptions(OptionTable& table) {
          {
              textOption("CameraParameterFile", OptionType::Path, true, "cam_param.txt",
                         "Camera parameter file (VSRS format: a name, K, two distortion values, then R and t) holding the three cameras"),
-             textOption("LeftCameraName", OptionType::String, true, "param_dog38", "Name of the left reference camera in the camera file"),
+             textOption("LeftCameraName", OptionType::String, false, "param_dog38",
+                        "Name of the left reference camera in the camera file (or give the Reference keys)"),
              textOption("VirtualCameraName", OptionType::String, true, "param_dog39", "Name of the virtual camera to synthesize"),
              textOption("RightCameraName", OptionType::String, false, "param_dog41",
                         "Name of the right reference camera; leave every Right key out to extrapolate from the left view alone"),
@@ -91,14 +92,29 @@ void addSynthesisOptions(OptionTable& table) {
          });
   addAll(table, "Files",
          {
-             textOption("LeftViewImageName", OptionType::Path, true, "dog038.yuv", "Texture sequence of the left camera (planar YUV)"),
+             textOption("LeftViewImageName", OptionType::Path, false, "dog038.yuv", "Texture sequence of the left camera (planar YUV)"),
              textOption("RightViewImageName", OptionType::Path, false, "dog041.yuv", "Texture sequence of the right camera (planar YUV)"),
-             textOption("LeftDepthMapName", OptionType::Path, true, "depth_dog038.yuv", "Depth sequence of the left camera (YUV; luma is the depth level)"),
+             textOption("LeftDepthMapName", OptionType::Path, false, "depth_dog038.yuv", "Depth sequence of the left camera (YUV; luma is the depth level)"),
              textOption("RightDepthMapName", OptionType::Path, false, "depth_dog041.yuv", "Depth sequence of the right camera (YUV; luma is the depth level)"),
              textOption("OutputVirtualViewImageName", OptionType::Path, true, "dog_virtual039.yuv",
                         "Output sequence of the virtual view; never an input file"),
              textOption("ReferenceVirtualViewImageName", OptionType::Path, false, "-",
                         "Optional ground-truth sequence of the virtual camera: PSNR is reported against it per frame"),
+         });
+  addAll(table, "Reference views (1 to 16, instead of Left and Right)",
+         {
+             textOption("ReferenceCameraNames", OptionType::TextList, false, "-",
+                        "Reference cameras, comma-separated (v1,v2,v4,v5); replaces every Left and Right key"),
+             textOption("ReferenceViewImageNames", OptionType::PathList, false, "-", "Their texture sequences, in the same order"),
+             textOption("ReferenceDepthMapNames", OptionType::PathList, false, "-", "Their depth sequences, in the same order"),
+             textOption("ReferenceNearestDepthValues", OptionType::TextList, false, "-",
+                        "Their Znear values (from a JSON camera file when absent)"),
+             textOption("ReferenceFarthestDepthValues", OptionType::TextList, false, "-",
+                        "Their Zfar values, inf allowed (from a JSON camera file when absent)"),
+             textOption("OutputVirtualDepthMapName", OptionType::Path, false, "-",
+                        "Optional output of the virtual view's depth, as levels of the virtual camera's depth range"),
+             depthValueOption("VirtualNearestDepthValue", false, "Znear of the virtual depth output (default: the first reference's)", false),
+             depthValueOption("VirtualFarthestDepthValue", true, "Zfar of the virtual depth output (default: the first reference's)", false),
          });
   addAll(table, "Formats",
          {

@@ -16,7 +16,119 @@ constexpr int64_t kMaxPixels = int64_t(1) << 26;  // 64 Mpixel: larger frames ar
 bool samePath(const std::string& a, const std::string& b) {
   std::error_code ec;
   if (std::filesystem::exists(a, ec) && std::filesystem::exists(b, ec)) return std::filesystem::equivalent(a, b, ec);
-  return std::filesystem::weakly_canonical(a, ec) == std::filesystem::weakly_canonical(b, ec);
+  // Where either name cannot be made canonical (too long, a loop of links), compare the names as
+  // written: two failures must not read as the same (empty) path.
+  std::error_code ecA, ecB;
+  const std::filesystem::path canonicalA = std::filesystem::weakly_canonical(a, ecA);
+  const std::filesystem::path canonicalB = std::filesystem::weakly_canonical(b, ecB);
+  if (ecA || ecB) return std::filesystem::path(a).lexically_normal() == std::filesystem::path(b).lexically_normal();
+  return canonicalA == canonicalB;
+}
+
+void checkDepthRange(const DepthRange& range, int depthType, const std::string& prefix, const std::string& where,
+                     ProblemList& problems) {
+  try {
+    validateDepthRange(range, depthType, prefix);
+  } catch (const InputError& e) {
+    std::string hint;
+    if (depthType == 0 && range.znear < 0 && range.zfar < 0)
+      hint = " (both are negative: if they are world z coordinates, as in VSRS 3.5 data whose cameras look "
+             "along -z, set DepthType 1)";
+    problems.add(where + ": " + e.what() + hint);
+  }
+}
+
+// The reference views: the Reference* lists, or the Left keys and (all or none of) the Right keys.
+void readReferenceViews(const Config& config, SynthesisSettings& s, const std::string& where, ProblemList& problems) {
+  static const char* const leftKeys[] = {"LeftCameraName", "LeftViewImageName", "LeftDepthMapName",
+                                         "LeftNearestDepthValue", "LeftFarthestDepthValue"};
+  static const char* const rightKeys[] = {"RightCameraName", "RightViewImageName", "RightDepthMapName",
+                                          "RightNearestDepthValue", "RightFarthestDepthValue"};
+  auto newView = [&](const std::string& label, const std::string& camera, const std::string& texture,
+                     const std::string& depth) {
+    ReferenceView view;
+    view.label = label;
+    view.cameraName = camera;
+    view.texturePath = texture;
+    view.depthPath = depth;
+    view.depthFormat = s.depthFormat;
+    view.depthRange.bitDepth = s.depthFormat.bitDepth;
+    return view;
+  };
+  if (config.isSet("ReferenceCameraNames")) {
+    for (const char* key : leftKeys)
+      if (config.isSet(key)) problems.add(where + ": '" + key + "' and ReferenceCameraNames exclude each other");
+    for (const char* key : rightKeys)
+      if (config.isSet(key)) problems.add(where + ": '" + key + "' and ReferenceCameraNames exclude each other");
+    const std::vector<std::string> names = config.getList("ReferenceCameraNames");
+    const std::vector<std::string> textures = config.getList("ReferenceViewImageNames");
+    const std::vector<std::string> depths = config.getList("ReferenceDepthMapNames");
+    const std::vector<std::string> nears = config.getList("ReferenceNearestDepthValues");
+    const std::vector<std::string> fars = config.getList("ReferenceFarthestDepthValues");
+    if (names.size() > kMaxReferenceViews)
+      problems.add(where + ": ReferenceCameraNames lists " + std::to_string(names.size()) + " cameras; at most " +
+                   std::to_string(kMaxReferenceViews) + " are supported");
+    auto sameLength = [&](const char* key, const std::vector<std::string>& items, bool optional) {
+      if (optional && items.empty()) return true;
+      if (items.size() == names.size()) return true;
+      problems.add(where + ": " + key + " lists " + std::to_string(items.size()) + " items but ReferenceCameraNames " +
+                   std::to_string(names.size()));
+      return false;
+    };
+    const bool ok = sameLength("ReferenceViewImageNames", textures, false) &
+                    sameLength("ReferenceDepthMapNames", depths, false) &
+                    sameLength("ReferenceNearestDepthValues", nears, true) &
+                    sameLength("ReferenceFarthestDepthValues", fars, true);
+    if (nears.empty() != fars.empty())
+      problems.add(where + ": give both ReferenceNearestDepthValues and ReferenceFarthestDepthValues, or neither");
+    if (!ok) return;
+    for (size_t k = 0; k < names.size(); ++k) {
+      ReferenceView view = newView("Reference " + std::to_string(k + 1), names[k], textures[k], depths[k]);
+      if (!nears.empty() && !fars.empty()) {
+        const bool nearOk = parseDouble(nears[k], view.depthRange.znear, false);
+        const bool farOk = parseDouble(fars[k], view.depthRange.zfar, true);
+        if (!nearOk || !farOk) {
+          problems.add(where + ": depth range of reference " + std::to_string(k + 1) + " ('" + nears[k] + "', '" +
+                       fars[k] + "'): numbers expected (inf for an infinite far plane)");
+        } else {
+          view.depthRangeFromKeys = true;
+          checkDepthRange(view.depthRange, s.depthType, "Reference" + std::to_string(k + 1), where, problems);
+        }
+      }
+      s.references.push_back(view);
+    }
+    return;
+  }
+  // Left keys: camera and files required; the depth range may come from a JSON camera file.
+  for (int k = 0; k < 3; ++k)
+    if (!config.isSet(leftKeys[k]))
+      problems.add(where + ": missing required key '" + leftKeys[k] + "' (or give the Reference keys)");
+  // The right view is optional: all five of its keys, or none (extrapolation from the left view).
+  int rightKeysSet = 0;
+  for (const char* key : rightKeys) rightKeysSet += config.isSet(key) ? 1 : 0;
+  const bool rightComplete = rightKeysSet == 5 || (rightKeysSet == 3 && config.isSet("RightCameraName") &&
+                                                   config.isSet("RightViewImageName") && config.isSet("RightDepthMapName"));
+  if (rightKeysSet > 0 && !rightComplete)
+    for (const char* key : rightKeys)
+      if (!config.isSet(key))
+        problems.add(where + ": missing key '" + key + "': give every Right key for two reference views, or none to " +
+                     "extrapolate from the left view alone");
+  std::vector<std::string> sides{"Left"};
+  if (rightKeysSet > 0 && rightComplete) sides.push_back("Right");
+  for (const std::string& prefix : sides) {
+    ReferenceView view = newView(prefix, config.getString(prefix + "CameraName"), config.getPath(prefix + "ViewImageName"),
+                                 config.getPath(prefix + "DepthMapName"));
+    const std::string nearKey = prefix + "NearestDepthValue", farKey = prefix + "FarthestDepthValue";
+    if (config.isSet(nearKey) != config.isSet(farKey))
+      problems.add(where + ": give both " + nearKey + " and " + farKey + ", or neither (a JSON camera file gives them)");
+    if (config.isSet(nearKey) && config.isSet(farKey)) {
+      view.depthRange.znear = config.getDouble(nearKey);
+      view.depthRange.zfar = config.getDouble(farKey);
+      view.depthRangeFromKeys = true;
+      checkDepthRange(view.depthRange, s.depthType, prefix, where, problems);
+    }
+    s.references.push_back(view);
+  }
 }
 
 }  // namespace
@@ -31,7 +143,7 @@ const char* synthesisModeName(SynthesisMode mode) {
 }
 
 std::vector<std::string> SynthesisSettings::inputPaths() const {
-  std::vector<std::string> paths{cameraFile};
+  std::vector<std::string> paths{cameraFile};  // the output must be none of these
   for (const ReferenceView& view : references) {
     paths.push_back(view.texturePath);
     paths.push_back(view.depthPath);
@@ -71,43 +183,19 @@ SynthesisSettings readSynthesisSettings(const Config& config) {
   s.rotationConvention = config.getInt("CameraRotationConvention") == 1 ? RotationConvention::CameraToWorld
                                                                          : RotationConvention::WorldToCamera;
   s.virtualCameraName = config.getString("VirtualCameraName");
-  // The right view is optional: all five of its keys, or none (extrapolation from the left view).
-  static const char* const rightKeys[] = {"RightCameraName", "RightViewImageName", "RightDepthMapName",
-                                          "RightNearestDepthValue", "RightFarthestDepthValue"};
-  int rightKeysSet = 0;
-  for (const char* key : rightKeys) rightKeysSet += config.isSet(key) ? 1 : 0;
-  if (rightKeysSet > 0 && rightKeysSet < 5)
-    for (const char* key : rightKeys)
-      if (!config.isSet(key))
-        problems.add(where + ": missing key '" + key + "': give every Right key for two reference views, or none to " +
-                     "extrapolate from the left view alone");
-  std::vector<std::string> sides{"Left"};
-  if (rightKeysSet == 5) sides.push_back("Right");
-  for (const std::string& prefix : sides) {
-    ReferenceView view;
-    view.label = prefix;
-    view.cameraName = config.getString(prefix + "CameraName");
-    view.texturePath = config.getPath(prefix + "ViewImageName");
-    view.depthPath = config.getPath(prefix + "DepthMapName");
-    view.depthRange.bitDepth = s.depthFormat.bitDepth;
-    const std::string nearKey = prefix + "NearestDepthValue", farKey = prefix + "FarthestDepthValue";
-    if (config.isSet(nearKey) && config.isSet(farKey)) {
-      view.depthRange.znear = config.getDouble(nearKey);
-      view.depthRange.zfar = config.getDouble(farKey);
-      try {
-        validateDepthRange(view.depthRange, s.depthType, prefix);
-      } catch (const InputError& e) {
-        std::string hint;
-        if (s.depthType == 0 && view.depthRange.znear < 0 && view.depthRange.zfar < 0)
-          hint = " (both are negative: if they are world z coordinates, as in VSRS 3.5 data whose cameras look "
-                 "along -z, set DepthType 1)";
-        problems.add(where + ": " + e.what() + hint);
-      }
-    }
-    s.references.push_back(view);
-  }
+  readReferenceViews(config, s, where, problems);
   s.outputPath = config.getPath("OutputVirtualViewImageName");
   s.referenceViewPath = config.getPath("ReferenceVirtualViewImageName");
+  s.virtualDepthPath = config.getPath("OutputVirtualDepthMapName");
+  s.virtualDepthRange.bitDepth = s.depthFormat.bitDepth;
+  if (config.isSet("VirtualNearestDepthValue") != config.isSet("VirtualFarthestDepthValue"))
+    problems.add(where + ": give both VirtualNearestDepthValue and VirtualFarthestDepthValue, or neither");
+  if (config.isSet("VirtualNearestDepthValue") && config.isSet("VirtualFarthestDepthValue")) {
+    s.virtualDepthRangeSet = true;
+    s.virtualDepthRange.znear = config.getDouble("VirtualNearestDepthValue");
+    s.virtualDepthRange.zfar = config.getDouble("VirtualFarthestDepthValue");
+    checkDepthRange(s.virtualDepthRange, s.depthType, "Virtual", where, problems);
+  }
 
   s.colorSpace = int(config.getInt("ColorSpace"));
   if (s.colorSpace == 1 && s.textureFormat.chroma == ChromaFormat::Yuv400)
@@ -140,6 +228,17 @@ SynthesisSettings readSynthesisSettings(const Config& config) {
       if (!input.empty() && samePath(input, s.outputPath))
         problems.add(where + ": OutputVirtualViewImageName '" + s.outputPath + "' is also an input (" + input +
                      "); refusing to overwrite it");
+  // The report is created with fopen("w") once the output is open: as an input it would be truncated,
+  // as the output it would overwrite the first frame.
+  if (!s.reportPath.empty()) {
+    for (const std::string& input : s.inputPaths())
+      if (!input.empty() && samePath(input, s.reportPath))
+        problems.add(where + ": ReportFile '" + s.reportPath + "' is also an input (" + input +
+                     "); refusing to overwrite it");
+    if (!s.outputPath.empty() && samePath(s.outputPath, s.reportPath))
+      problems.add(where + ": ReportFile '" + s.reportPath +
+                   "' is the output sequence (OutputVirtualViewImageName); give the report a file of its own");
+  }
 
   problems.throwIfAny(where + ": invalid configuration:");
   return s;
@@ -161,8 +260,42 @@ Scene loadScene(const Config& config) {
     for (const Camera& c : cameras.cameras()) names += (names.empty() ? "" : ", ") + c.name;
     problems.add(s.cameraFile + ": camera '" + name + "' named by " + key + " is not in the file; it has: " + names);
   };
-  for (ReferenceView& view : s.references) lookUp(view.label + "CameraName", view.cameraName, view.camera);
+  for (ReferenceView& view : s.references) {
+    lookUp(view.label == "Left" || view.label == "Right" ? view.label + "CameraName" : "ReferenceCameraNames",
+           view.cameraName, view.camera);
+    if (!cameras.contains(view.cameraName)) continue;
+    // A JSON camera file gives each camera's depth range and bit depths; keys given in the config win.
+    const CameraInfo& info = cameras.info(view.cameraName);
+    if (info.bitDepthDepth > 0 && !config.isSet("DepthBitDepth")) {
+      view.depthFormat.bitDepth = view.depthRange.bitDepth = info.bitDepthDepth;
+      if (info.bitDepthDepth < 8 || info.bitDepthDepth > 16)
+        problems.add(s.cameraFile + ": camera '" + view.cameraName + "': BitDepthDepth " +
+                     std::to_string(info.bitDepthDepth) + " is outside 8..16");
+    }
+    if (!view.depthRangeFromKeys) {
+      if (!info.hasDepthRange) {
+        problems.add(s.cameraFile + ": no depth range for camera '" + view.cameraName + "': give the " +
+                     (view.label == "Left" || view.label == "Right" ? view.label + "NearestDepthValue and " + view.label +
+                                                                          "FarthestDepthValue keys"
+                                                                    : std::string("Reference*DepthValues keys")) +
+                     ", or a JSON camera file with Depth_range");
+        continue;
+      }
+      view.depthRange.znear = info.znear;
+      view.depthRange.zfar = info.zfar;
+      checkDepthRange(view.depthRange, s.depthType, view.cameraName + " Depth_range: ", s.cameraFile, problems);
+    }
+  }
   lookUp("VirtualCameraName", s.virtualCameraName, scene.virtualCamera);
+  if (!s.virtualDepthRangeSet && !s.references.empty()) {
+    const bool jsonRange = cameras.contains(s.virtualCameraName) && cameras.info(s.virtualCameraName).hasDepthRange;
+    s.virtualDepthRange = s.references[0].depthRange;
+    if (jsonRange) {
+      s.virtualDepthRange.znear = cameras.info(s.virtualCameraName).znear;
+      s.virtualDepthRange.zfar = cameras.info(s.virtualCameraName).zfar;
+    }
+    s.virtualDepthRange.bitDepth = s.depthFormat.bitDepth;
+  }
   problems.throwIfAny(config.configPath() + ": cameras:");
   return scene;
 }

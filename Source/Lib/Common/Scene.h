@@ -28,12 +28,16 @@ struct OneDOptions {
   bool cleanNoise = true;
 };
 
+constexpr size_t kMaxReferenceViews = 16;
+
 struct ReferenceView {
-  std::string label;          // "Left", "Right": the key prefix, for messages
+  std::string label;          // "Left", "Right" or "Reference k": for messages
   std::string cameraName;
   std::string texturePath;
   std::string depthPath;
   DepthRange depthRange;      // Znear, Zfar and bit depth of this view's depth maps
+  bool depthRangeFromKeys = false;  // given in the config (else from a JSON camera file)
+  FrameFormat depthFormat;    // of this view's depth file (bit depth may differ per view)
   Camera camera;              // filled by loadScene()
 };
 
@@ -46,9 +50,12 @@ struct SynthesisSettings {
   std::string cameraFile;
   RotationConvention rotationConvention = RotationConvention::WorldToCamera;
   std::string virtualCameraName;
-  std::vector<ReferenceView> references;     // left then right
+  std::vector<ReferenceView> references;     // left then right, or the Reference list (1 to 16)
   std::string outputPath;
   std::string referenceViewPath;             // ground truth of the virtual view; empty: none
+  std::string virtualDepthPath;              // output of the virtual depth; empty: none
+  DepthRange virtualDepthRange;              // levels of that output
+  bool virtualDepthRangeSet = false;         // given by the Virtual*DepthValue keys
   int colorSpace = 0;                        // 0 YUV, 1 RGB
   int precision = 2;                         // 1, 2, 4
   int filter = 1;                            // 0 bilinear, 1 bicubic, 2 AVC 6-tap

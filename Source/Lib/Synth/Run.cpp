@@ -10,6 +10,7 @@
 
 #include "Common/Error.h"
 #include "Common/Metrics.h"
+#include "Common/Depth.h"
 #include "Common/Yuv.h"
 #include "Synth/Plan.h"
 
@@ -33,6 +34,19 @@ public:
       return;
     }
     synthesizer_->synthesize(references, output, times);
+  }
+  bool virtualDepth(const std::vector<ReferenceFrame>& references, const DepthRange& range, Plane& levels) override {
+    if (synthesizer_) {
+      synthesizer_->virtualDepth(range, levels);
+      return true;
+    }
+    // A copy: the reference's depth, re-expressed in the virtual range (same camera, same depth).
+    const ReferenceView& view = scene_.settings.references[size_t(plan_.copyOf)];
+    const Plane& depth = *references[size_t(plan_.copyOf)].depth;
+    levels.resize(depth.width, depth.height);
+    for (size_t i = 0; i < depth.samples.size(); ++i)
+      levels.samples[i] = uint16_t(zToLevelRounded(levelToZ(depth.samples[i], view.depthRange), range));
+    return true;
   }
   std::vector<std::string> plan() const override {
     std::vector<std::string> lines = plan_.lines;
@@ -80,7 +94,7 @@ RunSummary runSequence(const std::string& toolName, const Config& config, const 
   std::vector<std::unique_ptr<YuvReader>> textures, depths;
   for (const ReferenceView& view : s.references) {
     textures.push_back(std::make_unique<YuvReader>(view.texturePath, s.textureFormat));
-    depths.push_back(std::make_unique<YuvReader>(view.depthPath, s.depthFormat));
+    depths.push_back(std::make_unique<YuvReader>(view.depthPath, view.depthFormat));
   }
   std::unique_ptr<YuvReader> truth;
   if (!s.referenceViewPath.empty()) truth = std::make_unique<YuvReader>(s.referenceViewPath, s.textureFormat);
@@ -104,6 +118,16 @@ RunSummary runSequence(const std::string& toolName, const Config& config, const 
 
   std::vector<std::string> inputs = s.inputPaths();
   YuvWriter writer(s.outputPath, s.textureFormat, inputs);
+  std::unique_ptr<YuvWriter> depthWriter;
+  FrameFormat virtualDepthFormat = s.depthFormat;
+  virtualDepthFormat.bitDepth = s.virtualDepthRange.bitDepth;
+  Frame virtualDepthFrame(virtualDepthFormat);
+  if (!s.virtualDepthPath.empty()) {
+    if (s.virtualDepthPath == s.outputPath) throw InputError("OutputVirtualDepthMapName and OutputVirtualViewImageName are the same file");
+    inputs.push_back(s.outputPath);
+    depthWriter = std::make_unique<YuvWriter>(s.virtualDepthPath, virtualDepthFormat, inputs);
+    virtualDepthFrame.fill(0);
+  }
   std::FILE* report = nullptr;
   if (!s.reportPath.empty()) {
     report = std::fopen(s.reportPath.c_str(), "w");
@@ -138,6 +162,11 @@ RunSummary runSequence(const std::string& toolName, const Config& config, const 
     renderer.render(references, output, times);
     start = std::chrono::steady_clock::now();
     writer.append(output);
+    if (depthWriter) {
+      if (!renderer.virtualDepth(references, s.virtualDepthRange, virtualDepthFrame.planes[0]))
+        throw InputError(toolName + " cannot write OutputVirtualDepthMapName");
+      depthWriter->append(virtualDepthFrame);
+    }
     times.write = seconds(start);
     summary.times += times;
     ++summary.framesWritten;

@@ -18,6 +18,12 @@ public:
   virtual void render(const std::vector<ReferenceFrame>& references, Frame& output, StageTimes& times) = 0;
   // Lines describing what this renderer will do (the plan), printed before the first frame.
   virtual std::vector<std::string> plan() const = 0;
+  // The last rendered frame's depth as levels of `range` (OutputVirtualDepthMapName); false when the
+  // renderer cannot provide it.
+  virtual bool virtualDepth(const std::vector<ReferenceFrame>& /*references*/, const DepthRange& /*range*/,
+                            Plane& /*levels*/) {
+    return false;
+  }
 };
 
 struct RunSummary {

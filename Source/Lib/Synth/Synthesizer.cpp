@@ -110,7 +110,7 @@ Synthesizer::Synthesizer(const Scene& scene, SynthesisMode mode)
       sampler_(scene.settings.precision, scene.settings.filter) {
   const SynthesisSettings& s = scene.settings;
   double inverseRange = 0;
-  std::vector<double> distances;
+  std::vector<double> distances, angles;
   for (const ReferenceView& reference : s.references) {
     ViewState view(ViewProjection(reference.camera, scene.virtualCamera, s.depthType, parallel_));
     view.levelToInverseDepth = inverseZTable(reference.depthRange);
@@ -118,11 +118,22 @@ Synthesizer::Synthesizer(const Scene& scene, SynthesisMode mode)
     const double farInverse = std::isinf(reference.depthRange.zfar) ? 0.0 : 1.0 / reference.depthRange.zfar;
     inverseRange += std::fabs(1.0 / reference.depthRange.znear - farInverse);
     distances.push_back(norm(reference.camera.centre() - scene.virtualCamera.centre()));
+    // Angle between the optical axes (rows 2 of R are the viewing directions in world coordinates).
+    const double cosine = dot(reference.camera.R.row(2), scene.virtualCamera.R.row(2)) /
+                          (norm(reference.camera.R.row(2)) * norm(scene.virtualCamera.R.row(2)));
+    angles.push_back(std::acos(std::clamp(cosine, -1.0, 1.0)));
     views_.push_back(std::move(view));
   }
   inverseRange /= double(s.references.size());
   discontinuity_ = kDiscontinuityLevels8 / 255.0 * inverseRange;
   edgeLevelStep_ = std::max(1, int(std::lround(kDiscontinuityLevels8 / 255.0 * s.depthFormat.maxValue())));
+  // A view's distance from the virtual camera counts its position and its viewing direction: the
+  // angle between optical axes (radians) is scaled by the mean camera distance, so a parallel rig
+  // keeps VSRS's baseline weights.
+  double meanDistance = 0;
+  for (double d : distances) meanDistance += d / double(distances.size());
+  for (size_t k = 0; k < distances.size(); ++k)
+    if (distances[k] > 0) distances[k] += meanDistance * angles[k];
   blendOptions_.weights = baselineWeights(distances);
   blendOptions_.depthTolerance = double(s.depthBlendDifference) / 255.0 * inverseRange;
   if (parallel_) {
@@ -403,20 +414,27 @@ void Synthesizer::rejectOccludedInOtherViews() {
   // is a misplaced one, typically a sample of unknown depth coded as the far plane. Drop it and let
   // the hole filler continue the surrounding background instead. A view the virtual camera sits on
   // (weight 1) shows exactly what the virtual camera sees and is never second-guessed.
+  // With more views: only a sample no other view covers, and behind the surroundings in every other
+  // view that has any.
   const size_t n = size_t(outputFormat_.width) * size_t(outputFormat_.height);
+  const int width = outputFormat_.width;
+  std::vector<uint8_t> validCount(n, 0);
+  for (const ViewState& view : views_)
+    for (size_t i = 0; i < n; ++i) validCount[i] += view.luma.valid(i) ? 1 : 0;
+  std::vector<std::vector<uint8_t>> reject(views_.size());
+  for (size_t k = 0; k < views_.size(); ++k)
+    reject[k].assign(n, blendOptions_.weights[k] >= 1.0 ? 0 : 1);  // 1: still a candidate
   std::vector<double> farthest;
-  std::vector<std::vector<uint8_t>> reject(views_.size(), std::vector<uint8_t>(n, 0));
   for (size_t o = 0; o < views_.size(); ++o) {
-    const WarpedLayer& other = views_[o].luma;
-    farthestNeighbourDepth(other, farthest);
+    farthestNeighbourDepth(views_[o].luma, farthest);
     for (size_t k = 0; k < views_.size(); ++k) {
-      if (k == o || blendOptions_.weights[k] >= 1.0) continue;
+      if (k == o) continue;
       const WarpedLayer& self = views_[k].luma;
       parallelRanges(outputFormat_.height, [&](int y0, int y1) {
-        for (size_t i = size_t(y0) * outputFormat_.width; i < size_t(y1) * outputFormat_.width; ++i)
-          if (self.valid(i) && !other.valid(i) && farthest[i] != HUGE_VAL &&
-              self.inverseDepth[i] < farthest[i] - kBehindHoleSteps * discontinuity_)
-            reject[k][i] = 1;
+        for (size_t i = size_t(y0) * width; i < size_t(y1) * width; ++i)
+          if (reject[k][i] && !(self.valid(i) && validCount[i] == 1 && farthest[i] != HUGE_VAL &&
+                                self.inverseDepth[i] < farthest[i] - kBehindHoleSteps * discontinuity_))
+            reject[k][i] = 0;
       });
     }
   }
@@ -516,6 +534,21 @@ void Synthesizer::keepStaticFill(const std::vector<ReferenceFrame>& references, 
     previousLuma_[k] = references[k].texture->planes[0];
   }
   havePrevious_ = true;
+}
+
+void Synthesizer::virtualDepth(const DepthRange& range, Plane& levels) const {
+  const int w = outputFormat_.width, h = outputFormat_.height;
+  levels.resize(w, h);
+  const Camera& camera = scene_.virtualCamera;
+  parallelRanges(h, [&](int y0, int y1) {
+    for (int y = y0; y < y1; ++y)
+      for (int x = 0; x < w; ++x) {
+        const double inverse = blendedLuma_.inverseDepth[size_t(y) * w + x];
+        double z = inverse > 0 ? 1.0 / inverse : HUGE_VAL;
+        if (scene_.settings.depthType == 1 && std::isfinite(z)) z = camera.backProject(x, y, z).z;  // world z
+        levels.at(x, y) = inverse < 0 ? 0 : uint16_t(zToLevelRounded(z, range));
+      }
+  });
 }
 
 void Synthesizer::synthesize(const std::vector<ReferenceFrame>& references, Frame& output, StageTimes& times) {

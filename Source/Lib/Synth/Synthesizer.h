@@ -54,6 +54,9 @@ public:
   // Synthesizes the virtual view of one frame into `output` (reset to the texture format).
   void synthesize(const std::vector<ReferenceFrame>& references, Frame& output, StageTimes& times);
   const FrameStats& lastStats() const { return stats_; }
+  // The last frame's virtual depth (after hole filling) as levels of `range`, with the scene's
+  // DepthType; samples nothing covered get level 0.
+  void virtualDepth(const DepthRange& range, Plane& levels) const;
   const std::vector<double>& blendWeights() const { return blendOptions_.weights; }
 
   // Inverse-depth tolerance that makes two samples one surface (DepthBlendDifference, in 8-bit levels
