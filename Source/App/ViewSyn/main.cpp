@@ -68,7 +68,8 @@ int main(int argc, char** argv) {
       std::printf("%s\nconfiguration OK\n", vs::describeCameras(scene).c_str());
       return 0;
     }
-    return vs::runViewSyn(config);
+    vs::runViewSyn(config);
+    return 0;
   } catch (const vs::InputError& e) {
     std::fprintf(stderr, "ViewSyn: error: %s\n", e.what());
     return 1;

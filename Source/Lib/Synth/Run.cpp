@@ -81,14 +81,19 @@ std::string describeTimes(const StageTimes& t, double frames) {
 
 }  // namespace
 
-RunSummary runSequence(const std::string& toolName, const Config& config, const Scene& scene, FrameRenderer& renderer) {
+RunSummary runSequence(const std::string& toolName, const Config& config, const Scene& scene, FrameRenderer& renderer,
+                       std::FILE* log) {
+  // Everything people read goes to `log`; nullptr: silent (benchmarks).
+  auto say = [log](const char* format, auto... args) {
+    if (log) std::fprintf(log, format, args...);
+  };
   const SynthesisSettings& s = scene.settings;
   // Threads 0: every core. The output does not depend on it (Synth/Parallel.h).
   cv::setNumThreads(s.threads > 0 ? s.threads : cv::getNumberOfCPUs());
-  std::printf("%s %s\n\n%s\n%s", toolName.c_str(), VS_VERSION, config.effectiveText().c_str(), describeCameras(scene).c_str());
-  for (const std::string& warning : scene.warnings) std::printf("warning: %s\n", warning.c_str());
-  std::printf("\nplan:\n");
-  for (const std::string& line : renderer.plan()) std::printf("  %s\n", line.c_str());
+  say("%s %s\n\n%s\n%s", toolName.c_str(), VS_VERSION, config.effectiveText().c_str(), describeCameras(scene).c_str());
+  for (const std::string& warning : scene.warnings) say("warning: %s\n", warning.c_str());
+  say("\nplan:\n");
+  for (const std::string& line : renderer.plan()) say("  %s\n", line.c_str());
 
   // Open every input and find how many frames all of them hold from StartFrame on.
   std::vector<std::unique_ptr<YuvReader>> textures, depths;
@@ -146,7 +151,7 @@ RunSummary runSequence(const std::string& toolName, const Config& config, const 
   Frame output, truthFrame;
   PsnrAccumulator accumulator(s.textureFormat.bitDepth, s.textureFormat.chroma != ChromaFormat::Yuv400);
   RunSummary summary;
-  std::printf("\n");
+  say("\n");
   for (int64_t f = 0; f < available; ++f) {
     const int64_t frameIndex = s.startFrame + f;
     StageTimes times;
@@ -170,15 +175,15 @@ RunSummary runSequence(const std::string& toolName, const Config& config, const 
     times.write = seconds(start);
     summary.times += times;
     ++summary.framesWritten;
-    std::printf("frame %lld: %.4f s", (long long)frameIndex, times.total());
+    say("frame %lld: %.4f s", (long long)frameIndex, times.total());
     FramePsnr psnr;
     if (truth) {
       psnr = framePsnr(truthFrame, output);
       accumulator.add(psnr);
-      std::printf("  PSNR Y %s U %s V %s dB", formatPsnr(psnr.y).c_str(), formatPsnr(psnr.u).c_str(), formatPsnr(psnr.v).c_str());
+      say("  PSNR Y %s U %s V %s dB", formatPsnr(psnr.y).c_str(), formatPsnr(psnr.u).c_str(), formatPsnr(psnr.v).c_str());
     }
-    std::printf("\n");
-    std::fflush(stdout);
+    say("\n");
+    if (log) std::fflush(log);
     if (report)
       std::fprintf(report, "%lld,%s,%s,%s,%s,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f\n", (long long)frameIndex,
                    truth ? formatPsnr(psnr.y).c_str() : "", truth ? formatPsnr(psnr.u).c_str() : "",
@@ -187,15 +192,15 @@ RunSummary runSequence(const std::string& toolName, const Config& config, const 
   }
 
   const double frames = double(summary.framesWritten);
-  std::printf("\n%lld frames written to %s\n", (long long)summary.framesWritten, s.outputPath.c_str());
-  std::printf("seconds per frame: %s\n", describeTimes(summary.times, frames).c_str());
+  say("\n%lld frames written to %s\n", (long long)summary.framesWritten, s.outputPath.c_str());
+  say("seconds per frame: %s\n", describeTimes(summary.times, frames).c_str());
   if (truth && accumulator.frames() > 0) {
     summary.meanPsnrY = accumulator.y().frameMean;
     if (accumulator.hasChroma()) {
       summary.meanPsnrU = accumulator.u().frameMean;
       summary.meanPsnrV = accumulator.v().frameMean;
     }
-    std::printf("mean PSNR: Y %s U %s V %s YUV %s dB\n", formatPsnr(accumulator.y().frameMean).c_str(),
+    say("mean PSNR: Y %s U %s V %s YUV %s dB\n", formatPsnr(accumulator.y().frameMean).c_str(),
                 accumulator.hasChroma() ? formatPsnr(accumulator.u().frameMean).c_str() : "-",
                 accumulator.hasChroma() ? formatPsnr(accumulator.v().frameMean).c_str() : "-",
                 formatPsnr(accumulator.yuv().frameMean).c_str());
@@ -207,11 +212,10 @@ RunSummary runSequence(const std::string& toolName, const Config& config, const 
   return summary;
 }
 
-int runViewSyn(const Config& config) {
+RunSummary runViewSyn(const Config& config, std::FILE* log) {
   const Scene scene = loadScene(config);
   ViewSynRenderer renderer(scene);
-  runSequence("ViewSyn", config, scene, renderer);
-  return 0;
+  return runSequence("ViewSyn", config, scene, renderer, log);
 }
 
 }  // namespace vs

@@ -2,6 +2,7 @@
 // The frame loop shared by ViewSyn and MeshRender (../shared/DESIGN.md, "Data flow"): open the
 // inputs, check how many frames they hold, then for each frame read, render, append to the output,
 // score against the reference view when one is configured; print VSRS-style progress and a summary.
+#include <cstdio>
 #include <string>
 #include <vector>
 
@@ -34,9 +35,11 @@ struct RunSummary {
 
 // Runs the whole sequence. Throws InputError for bad input; when the inputs hold fewer frames than
 // asked for, the frames they do hold are written and then InputError says how many.
-RunSummary runSequence(const std::string& toolName, const Config& config, const Scene& scene, FrameRenderer& renderer);
+// Progress and summary go to `log` (nullptr: silent).
+RunSummary runSequence(const std::string& toolName, const Config& config, const Scene& scene, FrameRenderer& renderer,
+                       std::FILE* log = stdout);
 
-// ViewSyn's run(): loads the scene, builds the synthesizer and runs the sequence. Returns the exit code.
-int runViewSyn(const Config& config);
+// ViewSyn's run(): loads the scene, lets the plan decide, runs the sequence.
+RunSummary runViewSyn(const Config& config, std::FILE* log = stdout);
 
 }  // namespace vs

@@ -1,0 +1,160 @@
+// SynthBench: seconds per frame of every ViewSyn stage, median of N runs, on the SceneGen demo at
+// three sizes and on the real Middlebury configs, with 1 and 2 threads. Prints seconds per frame,
+// seconds per megapixel and frames per second. See --help.
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "Common/Config.h"
+#include "Common/Error.h"
+#include "Common/Options.h"
+#include "Scene/SceneGen.h"
+#include "Synth/Run.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+
+const char* kUsage =
+    "SynthBench %s: times ViewSyn's stages (read, depth warp, texture warp, blend, hole fill, write) on\n"
+    "one frame, whole pipeline with file I/O, median of N runs, for each case and thread count.\n\n"
+    "Usage: SynthBench [--runs N] [--threads 1,2] [--work DIR] [--data DIR] [--no-demo] [--no-data]\n"
+    "                  [--all-scenes] [CONFIG.cfg ...]\n\n"
+    "  --runs N        runs per case (default 5)\n"
+    "  --threads LIST  thread counts (default 1,2)\n"
+    "  --work DIR      folder for generated scenes and outputs (default out/bench)\n"
+    "  --data DIR      real data (default $VS_DATA_DIR or ../shared/data): Middlebury configs are timed\n"
+    "  --no-demo       skip the SceneGen demo at 640x480, 1024x768 and 1920x1080\n"
+    "  --no-data       skip the real data\n"
+    "  --all-scenes    every Middlebury 2005/2006 scene (default: Art, Books, Aloe)\n"
+    "  CONFIG.cfg      further ViewSyn configs to time\n";
+
+struct Case {
+  std::string name;
+  std::string config;
+  std::vector<std::string> overrides;
+};
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
+}
+
+std::string demoConfig(const fs::path& work, int width, int height) {
+  const fs::path folder = work / ("demo_" + std::to_string(width) + "x" + std::to_string(height));
+  const fs::path config = folder / "viewsyn_cam1.cfg";
+  if (fs::exists(config)) return config.string();
+  const vs::Config sceneConfig =
+      vs::Config::fromText(vs::sceneGenOptionTable(), "", "SynthBench", ".",
+                           {"Scene=demo", "SourceWidth=" + std::to_string(width), "SourceHeight=" + std::to_string(height),
+                            "TotalNumberOfFrames=1", "OutputFolder=" + folder.string()});
+  std::ostringstream quiet;
+  vs::generateScene(vs::readSceneGenSettings(sceneConfig), quiet);
+  return config.string();
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::vector<std::string> args(argv + 1, argv + argc);
+  int runs = 5;
+  std::vector<int> threadCounts = {1, 2};
+  fs::path work = "out/bench";
+  const char* env = std::getenv("VS_DATA_DIR");
+  fs::path data = env && *env ? fs::path(env) : fs::path("../shared/data");
+  bool demo = true, real = true, allScenes = false;
+  std::vector<Case> cases;
+  for (size_t i = 0; i < args.size(); ++i) {
+    const std::string& a = args[i];
+    auto next = [&]() -> std::string {
+      if (i + 1 >= args.size()) {
+        std::fprintf(stderr, "SynthBench: %s needs a value\n", a.c_str());
+        std::exit(2);
+      }
+      return args[++i];
+    };
+    if (a == "--help" || a == "-h") {
+      std::printf(kUsage, VS_VERSION);
+      return 0;
+    } else if (a == "--runs") {
+      runs = std::max(1, std::atoi(next().c_str()));
+    } else if (a == "--threads") {
+      threadCounts.clear();
+      for (const std::string& t : vs::splitList(next())) threadCounts.push_back(std::max(1, std::atoi(t.c_str())));
+    } else if (a == "--work") {
+      work = next();
+    } else if (a == "--data") {
+      data = next();
+    } else if (a == "--no-demo") {
+      demo = false;
+    } else if (a == "--no-data") {
+      real = false;
+    } else if (a == "--all-scenes") {
+      allScenes = true;
+    } else if (a.rfind("--", 0) == 0) {
+      std::fprintf(stderr, "SynthBench: unknown option '%s' (see --help)\n", a.c_str());
+      return 2;
+    } else {
+      cases.push_back({fs::path(a).stem().string(), a, {}});
+    }
+  }
+  try {
+    fs::create_directories(work);
+    if (demo)
+      for (const auto& [w, h] : std::vector<std::pair<int, int>>{{640, 480}, {1024, 768}, {1920, 1080}}) {
+        const std::string config = demoConfig(work, w, h);
+        cases.push_back({"demo " + std::to_string(w) + "x" + std::to_string(h) + " general", config, {"SynthesisMode=0"}});
+        cases.push_back({"demo " + std::to_string(w) + "x" + std::to_string(h) + " 1D", config, {"SynthesisMode=1"}});
+      }
+    if (real && fs::is_directory(data)) {
+      for (const char* set : {"middlebury2005", "middlebury2006"}) {
+        if (!fs::is_directory(data / set)) continue;
+        std::vector<fs::path> scenes;
+        for (const auto& entry : fs::directory_iterator(data / set)) scenes.push_back(entry.path());
+        std::sort(scenes.begin(), scenes.end());
+        for (const fs::path& scene : scenes) {
+          const std::string name = scene.filename().string();
+          if (!allScenes && name != "Art" && name != "Books" && name != "Aloe") continue;
+          cases.push_back({name + " general", (scene / "synth_view3_general.cfg").string(), {}});
+          cases.push_back({name + " 1D", (scene / "synth_view3_1d.cfg").string(), {}});
+        }
+      }
+    } else if (real) {
+      std::fprintf(stderr, "SynthBench: %s is absent: real data skipped\n", data.string().c_str());
+    }
+
+    std::printf("%-28s %3s %8s %8s %8s %8s %8s %8s %9s %9s %7s\n", "case", "thr", "read", "d.warp", "t.warp", "blend",
+                "holes", "write", "s/frame", "s/MP", "fps");
+    const vs::OptionTable table = vs::viewSynOptionTable();
+    for (const Case& c : cases)
+      for (int threads : threadCounts) {
+        std::vector<std::string> overrides = c.overrides;
+        overrides.push_back("Threads=" + std::to_string(threads));
+        overrides.push_back("TotalNumberOfFrames=1");
+        overrides.push_back("OutputVirtualViewImageName=" + (work / "bench_out.yuv").string());
+        const vs::Config config = vs::Config::load(table, c.config, overrides);
+        std::vector<double> stage[7];
+        double megapixels = 0;
+        for (int r = 0; r < runs; ++r) {
+          const vs::RunSummary summary = vs::runViewSyn(config, nullptr);
+          const vs::StageTimes& t = summary.times;
+          const double values[7] = {t.read, t.depthWarp, t.textureWarp, t.blend, t.holeFill, t.write, t.total()};
+          for (int k = 0; k < 7; ++k) stage[k].push_back(values[k]);
+          megapixels = double(config.getInt("SourceWidth")) * double(config.getInt("SourceHeight")) / 1e6;
+        }
+        const double total = median(stage[6]);
+        std::printf("%-28s %3d %8.4f %8.4f %8.4f %8.4f %8.4f %8.4f %9.4f %9.4f %7.1f\n", c.name.c_str(), threads,
+                    median(stage[0]), median(stage[1]), median(stage[2]), median(stage[3]), median(stage[4]),
+                    median(stage[5]), total, total / megapixels, 1.0 / total);
+        std::fflush(stdout);
+      }
+    return 0;
+  } catch (const vs::InputError& e) {
+    std::fprintf(stderr, "SynthBench: error: %s\n", e.what());
+    return 1;
+  }
+}
