@@ -52,16 +52,20 @@ void rasteriseTriangle(AtomicMaxBuffer& zbuffer, int width, int height, const do
   if (!coveredRange(minX, maxX, width, x0, x1) || !coveredRange(minY, maxY, height, y0, y1)) return;
   const double area = (x[1] - x[0]) * (y[2] - y[0]) - (x[2] - x[0]) * (y[1] - y[0]);
   if (std::fabs(area) < 1e-12) return;
+  // Barycentric coordinates of pixel centres are affine in (px, py): b = A px + B py + C.
   const double inv = 1.0 / area;
-  for (int py = y0; py <= y1; ++py)
+  const double a1 = (y[2] - y[0]) * inv, c1 = -(x[2] - x[0]) * inv;
+  const double a2 = -(y[1] - y[0]) * inv, c2 = (x[1] - x[0]) * inv;
+  const double k1 = -(a1 * x[0] + c1 * y[0]), k2 = -(a2 * x[0] + c2 * y[0]);
+  const double dw1 = w[1] - w[0], dw2 = w[2] - w[0];
+  for (int py = y0; py <= y1; ++py) {
+    const double r1 = c1 * py + k1, r2 = c2 * py + k2;
     for (int px = x0; px <= x1; ++px) {
-      // Barycentric coordinates of the pixel centre.
-      const double b1 = ((px - x[0]) * (y[2] - y[0]) - (x[2] - x[0]) * (py - y[0])) * inv;
-      const double b2 = ((x[1] - x[0]) * (py - y[0]) - (px - x[0]) * (y[1] - y[0])) * inv;
-      const double b0 = 1.0 - b1 - b2;
+      const double b1 = a1 * px + r1, b2 = a2 * px + r2, b0 = 1.0 - b1 - b2;
       if (b0 < -1e-9 || b1 < -1e-9 || b2 < -1e-9) continue;
-      zbuffer.raise(size_t(py) * width + px, b0 * w[0] + b1 * w[1] + b2 * w[2]);
+      zbuffer.raise(size_t(py) * width + px, w[0] + b1 * dw1 + b2 * dw2);
     }
+  }
 }
 
 // Closes one- and two-sample gaps between two samples of one surface (inverse depths within the
