@@ -48,8 +48,8 @@ void blendLayers(const std::vector<const WarpedLayer*>& views, const BlendOption
 
 // Baseline weights for views at distances d_k from the virtual camera: proportional to 1 / d_k
 // (closer weighs more; for two views this is VSRS's d_other / (d_left + d_right)). Views at distance
-// 0 share the whole weight equally (one such view gets weight 1 and decides alone where it is valid);
-// no division by zero whatever the distances.
+// 0, or below 1e-6 of the largest distance, share the whole weight equally (one such view gets weight
+// 1 and decides alone where it is valid); no division by zero whatever the distances.
 std::vector<double> baselineWeights(const std::vector<double>& distances);
 
 }  // namespace vs

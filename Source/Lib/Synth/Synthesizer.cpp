@@ -18,9 +18,6 @@ constexpr double kDiscontinuityLevels8 = 8.0;
 // A sample seen by one view only is dropped when it lies this many discontinuity steps behind every
 // surface the other view shows around that spot (rejectOccludedInOtherViews).
 constexpr double kBehindHoleSteps = 3.0;
-// Triangles larger than this (in virtual pixels) are not rasterised: only extreme magnification makes
-// them, and their points are still splatted.
-constexpr double kMaxTriangleArea = 4096.0;
 
 double seconds(std::chrono::steady_clock::time_point since) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - since).count();
@@ -47,7 +44,6 @@ void rasteriseTriangle(AtomicMaxBuffer& zbuffer, int width, int height, const do
                        const double* w) {
   const double minX = std::min(x[0], std::min(x[1], x[2])), maxX = std::max(x[0], std::max(x[1], x[2]));
   const double minY = std::min(y[0], std::min(y[1], y[2])), maxY = std::max(y[0], std::max(y[1], y[2]));
-  if ((maxX - minX) * (maxY - minY) > kMaxTriangleArea) return;
   int x0, x1, y0, y1;
   if (!coveredRange(minX, maxX, width, x0, x1) || !coveredRange(minY, maxY, height, y0, y1)) return;
   const double area = (x[1] - x[0]) * (y[2] - y[0]) - (x[2] - x[0]) * (y[1] - y[0]);
@@ -129,7 +125,11 @@ Synthesizer::Synthesizer(const Scene& scene, SynthesisMode mode)
     views_.push_back(std::move(view));
   }
   inverseRange /= double(s.references.size());
-  discontinuity_ = kDiscontinuityLevels8 / 255.0 * inverseRange;
+  // Thresholds sit half a level past the whole number of 8-bit levels they name: inverse depths of
+  // quantised maps differ by whole levels, so a difference never ties with a threshold and a change of
+  // units or of world origin cannot flip a decision through rounding.
+  auto levels = [&](double levels8) { return (levels8 + 0.5) / 255.0 * inverseRange; };
+  discontinuity_ = levels(kDiscontinuityLevels8);
   edgeLevelStep_ = std::max(1, int(std::lround(kDiscontinuityLevels8 / 255.0 * s.depthFormat.maxValue())));
   // A view's distance from the virtual camera counts its position and its viewing direction: the
   // angle between optical axes (radians) is scaled by the mean camera distance, so a parallel rig
@@ -139,17 +139,17 @@ Synthesizer::Synthesizer(const Scene& scene, SynthesisMode mode)
   for (size_t k = 0; k < distances.size(); ++k)
     if (distances[k] > 0) distances[k] += meanDistance * angles[k];
   blendOptions_.weights = baselineWeights(distances);
-  blendOptions_.depthTolerance = double(s.depthBlendDifference) / 255.0 * inverseRange;
+  blendOptions_.depthTolerance = levels(s.depthBlendDifference);
   if (parallel_) {
     // VSRS's 1D MergingOption: 0 z-buffer only (one level of tolerance), 1 averaging only,
     // 2 adaptive: mixed within DepthThreshold levels, hole counting decides between views.
-    if (s.oneD.merging == 0) blendOptions_.depthTolerance = 1.0 / 255.0 * inverseRange;
+    if (s.oneD.merging == 0) blendOptions_.depthTolerance = levels(1);
     else if (s.oneD.merging == 1) blendOptions_.depthTolerance = HUGE_VAL;
-    else blendOptions_.depthTolerance = double(s.oneD.depthThreshold) / 255.0 * inverseRange;
+    else blendOptions_.depthTolerance = levels(s.oneD.depthThreshold);
   }
   blendOptions_.nearestViewOnly = s.viewBlending == 1;
   fillOptions_.backgroundFirst = s.ivsrsInpaint;
-  fillOptions_.depthTolerance = double(s.depthBlendDifference) / 255.0 * inverseRange;
+  fillOptions_.depthTolerance = levels(s.depthBlendDifference);
   const float mid = float(1 << (outputFormat_.bitDepth - 1));
   fillOptions_.emptyValue[0] = rgb_ ? mid : float(16 << (outputFormat_.bitDepth - 8));
   fillOptions_.emptyValue[1] = fillOptions_.emptyValue[2] = mid;
@@ -298,8 +298,7 @@ void Synthesizer::rasteriseRows(ViewState& view, int w, int h) {
         std::swap(a, b);
       }
       int first, last;
-      if (!coveredRange(x0, x1, outW, first, last) || last - first > 64) continue;  // > 64: extreme magnification,
-                                                                                     // left to the points and hole filler
+      if (!coveredRange(x0, x1, outW, first, last)) continue;
       const double span = x1 - x0;
       for (int px = first; px <= last; ++px) {
         const double t = span > 0 ? (px - x0) / span : 0.0;

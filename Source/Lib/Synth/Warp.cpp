@@ -4,6 +4,19 @@
 
 namespace vs {
 
+namespace {
+
+// Pixel positions are kept to 2^-20 px (1e-6), far finer than the quarter pel the filters resolve.
+// Rounding off the last bits makes positions that are mathematically equal bit-equal too, so that a
+// change of units or of world origin (which perturbs the last bits) cannot flip a rounding decision
+// at a tie, such as a warped sample landing exactly between two pixel centres.
+inline double snap(double position) {
+  constexpr double grid = 1048576.0;  // 2^20: multiplying and dividing by it are exact
+  return std::nearbyint(position * grid) / grid;
+}
+
+}  // namespace
+
 ViewProjection::ViewProjection(const Camera& reference, const Camera& target, int depthType, bool parallel)
     : depthType_(depthType), parallel_(parallel) {
   const RelativePose pose = relativePose(reference, target);
@@ -29,7 +42,7 @@ bool ViewProjection::forward(double u, double v, double inverseDepth, double& x,
     // DepthType 1 here has the camera z axis along world z (checked by the plan): z_cam = Z - C_z.
     const double w = depthType_ == 1 ? inverseDepth / (1.0 - centreZ_ * inverseDepth) : inverseDepth;
     if (!(w >= 0.0) || !std::isfinite(w)) return false;
-    x = rowScale_ * u + rowOffset_ + rowShift_ * w;
+    x = snap(rowScale_ * u + rowOffset_ + rowShift_ * w);
     y = v;
     wv = w;
     return std::isfinite(x);
@@ -50,15 +63,15 @@ bool ViewProjection::forward(double u, double v, double inverseDepth, double& x,
   const double py = a * (m[1][0] * u + m[1][1] * v + m[1][2]) + forwardOffset_.y * w;
   const double pz = a * (m[2][0] * u + m[2][1] * v + m[2][2]) + forwardOffset_.z * w;
   if (!(pz > 0.0)) return false;  // behind the target camera: never wraps around to the front
-  x = px / pz;
-  y = py / pz;
+  x = snap(px / pz);
+  y = snap(py / pz);
   wv = w / pz;
   return std::isfinite(x) && std::isfinite(y) && std::isfinite(wv);
 }
 
 bool ViewProjection::backward(double x, double y, double wv, double& u, double& v) const {
   if (parallel_) {
-    u = (x - rowOffset_ - rowShift_ * wv) / rowScale_;
+    u = snap((x - rowOffset_ - rowShift_ * wv) / rowScale_);
     v = y;
     return std::isfinite(u);
   }
@@ -67,8 +80,8 @@ bool ViewProjection::backward(double x, double y, double wv, double& u, double& 
   const double qy = m[1][0] * x + m[1][1] * y + m[1][2] + backwardOffset_.y * wv;
   const double qz = m[2][0] * x + m[2][1] * y + m[2][2] + backwardOffset_.z * wv;
   if (!(qz > 0.0)) return false;
-  u = qx / qz;
-  v = qy / qz;
+  u = snap(qx / qz);
+  v = snap(qy / qz);
   return std::isfinite(u) && std::isfinite(v);
 }
 
