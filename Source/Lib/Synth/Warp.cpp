@@ -6,12 +6,14 @@ namespace vs {
 
 namespace {
 
-// Pixel positions are kept to 2^-20 px (1e-6), far finer than the quarter pel the filters resolve.
+// Pixel positions are kept to 2^-30 px (1e-9), far finer than the quarter pel the filters resolve.
 // Rounding off the last bits makes positions that are mathematically equal bit-equal too, so that a
 // change of units or of world origin (which perturbs the last bits) cannot flip a rounding decision
 // at a tie, such as a warped sample landing exactly between two pixel centres.
+constexpr double kMaxPixelRadius = 1e9;  // projections farther than this from pixel (0, 0) are dropped
+
 inline double snap(double position) {
-  constexpr double grid = 1048576.0;  // 2^20: multiplying and dividing by it are exact
+  constexpr double grid = 1073741824.0;  // 2^30: multiplying and dividing by it are exact
   return std::nearbyint(position * grid) / grid;
 }
 
@@ -62,7 +64,9 @@ bool ViewProjection::forward(double u, double v, double inverseDepth, double& x,
   const double px = a * (m[0][0] * u + m[0][1] * v + m[0][2]) + forwardOffset_.x * w;
   const double py = a * (m[1][0] * u + m[1][1] * v + m[1][2]) + forwardOffset_.y * w;
   const double pz = a * (m[2][0] * u + m[2][1] * v + m[2][2]) + forwardOffset_.z * w;
-  if (!(pz > 0.0)) return false;  // behind the target camera: never wraps around to the front
+  // Behind the target camera, never wrapped around to the front; and a point (numerically) on its image
+  // plane projects beyond 1e9 pixels: not drawn either, or its triangles would cover the whole view.
+  if (!(pz > 0.0) || std::fabs(px) > kMaxPixelRadius * pz || std::fabs(py) > kMaxPixelRadius * pz) return false;
   x = snap(px / pz);
   y = snap(py / pz);
   wv = w / pz;
@@ -79,7 +83,7 @@ bool ViewProjection::backward(double x, double y, double wv, double& u, double& 
   const double qx = m[0][0] * x + m[0][1] * y + m[0][2] + backwardOffset_.x * wv;
   const double qy = m[1][0] * x + m[1][1] * y + m[1][2] + backwardOffset_.y * wv;
   const double qz = m[2][0] * x + m[2][1] * y + m[2][2] + backwardOffset_.z * wv;
-  if (!(qz > 0.0)) return false;
+  if (!(qz > 0.0) || std::fabs(qx) > kMaxPixelRadius * qz || std::fabs(qy) > kMaxPixelRadius * qz) return false;
   u = snap(qx / qz);
   v = snap(qy / qz);
   return std::isfinite(u) && std::isfinite(v);
