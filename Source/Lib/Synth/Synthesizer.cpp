@@ -136,8 +136,17 @@ Synthesizer::Synthesizer(const Scene& scene, SynthesisMode mode)
   // keeps VSRS's baseline weights.
   double meanDistance = 0;
   for (double d : distances) meanDistance += d / double(distances.size());
-  for (size_t k = 0; k < distances.size(); ++k)
-    if (distances[k] > 0) distances[k] += meanDistance * angles[k];
+  for (size_t k = 0; k < distances.size(); ++k) {
+    // A view whose parallax against the virtual camera stays below 1e-3 px everywhere (baseline
+    // times the nearest inverse depth, plus the turn between the optical axes, in pixels) is the
+    // virtual camera for every purpose: it decides alone where it is valid.
+    const ReferenceView& reference = s.references[k];
+    const double nearest = std::max(std::fabs(1.0 / reference.depthRange.znear),
+                                    std::isinf(reference.depthRange.zfar) ? 0.0 : std::fabs(1.0 / reference.depthRange.zfar));
+    const double parallax = scene.virtualCamera.K[0][0] * (distances[k] * nearest + angles[k]);
+    if (parallax < 1e-3) distances[k] = 0;
+    else distances[k] += meanDistance * angles[k];
+  }
   blendOptions_.weights = baselineWeights(distances);
   blendOptions_.depthTolerance = levels(s.depthBlendDifference);
   if (parallel_) {
