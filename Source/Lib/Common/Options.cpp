@@ -166,13 +166,13 @@ void addMeshOptions(OptionTable& table) {
   OptionSpec threshold;
   threshold.key = "MeshDiscontinuityThreshold";
   threshold.type = OptionType::Double;
-  threshold.defaultValue = "0.05";
+  threshold.defaultValue = "0.02";
   threshold.minValue = 0.0;
   threshold.maxValue = 1.0;
   threshold.vsrsDefault = "-";
   threshold.help =
-      "A triangle is dropped when its depths differ by more than this fraction of the nearest (depth "
-      "discontinuity); 1 keeps every triangle";
+      "A triangle is dropped when 1 - zmin/zmax over its corners exceeds this (a depth discontinuity); "
+      "1 keeps every triangle";
   addAll(table, "Mesh",
          {
              threshold,

@@ -1,0 +1,88 @@
+#pragma once
+// A triangle mesh from one reference view's depth map (doc/meshrender.md, "Mesh from depth").
+//
+// Vertices form a grid over the reference picture: columns at u = -0.5, 0, s, 2s, ..., W-1, W-0.5
+// (s = MeshGridStep; the last pixel column W-1 is always a vertex column even when s does not divide
+// W-1), rows likewise. The half-pixel border vertices take the depth of the nearest pixel, so the mesh
+// covers the whole picture area [-0.5, W-0.5] x [-0.5, H-0.5] that the reference camera saw, and the
+// reference projected into itself is covered up to its border samples.
+//
+// A vertex is stored in homogeneous reference-pixel form (a u, a v, a, w): w = 1/Z of its depth level
+// (Z as DepthType defines it) and a = w z_cam, so that K_ref^-1 (a u, a v, a) = w x_cam and the 4-vector
+// is w (x_cam, 1). DepthType 0: a = 1. DepthType 1: a = (1 - w C_z) / D_z with C the camera centre and
+// D = R^-1 K^-1 (u, v, 1) the world ray. The sign is normalised to w >= 0; a > 0 means the point is in
+// front of the reference camera. w = 0 (Zfar = inf) is a point at infinity and needs no special case:
+// OpenGL's clip-space w handles it (doc/meshrender.md, "Camera").
+//
+// Each grid quad gives two triangles, split along the diagonal whose ends have the closer depths (or the
+// one that avoids the quad's only invalid vertex). A triangle is dropped when its vertices' camera
+// depths differ by more than the threshold: 1 - z_min / z_max > MeshDiscontinuityThreshold. Vertices at
+// MissingDepthLevel, behind the camera, or whose ray misses a DepthType 1 plane are invalid and drop
+// every triangle they belong to.
+//
+// The vertices on the border of what is kept (those of a kept triangle that also belong to a dropped
+// one) are listed as points too, and drawn as one-pixel points after the triangles. A mesh ends at
+// its border vertices, that is at pixel centres, half a pixel short of where the reference pixel's
+// area ends; rendered as it is, a silhouette pixel whose centre falls on the mesh border is covered or
+// not depending on the rasteriser's tie rule (a reference view rendered into itself would lose about
+// half of them). The point covers the pixel nearest to the projected vertex, as ViewSyn's point splat
+// does. Vertices without any kept triangle (isolated depth samples, mostly noise) are not drawn.
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "Common/Camera.h"
+#include "Common/Depth.h"
+#include "Common/Frame.h"
+
+namespace vs {
+
+struct MeshOptions {
+  int depthType = 0;                     // DepthType: 0 camera z, 1 world z
+  int gridStep = 1;                      // MeshGridStep: vertex spacing in pixels
+  double discontinuityThreshold = 0.05;  // MeshDiscontinuityThreshold: relative depth step that drops a triangle
+  int missingDepthLevel = -1;            // MissingDepthLevel: vertices at this level are dropped; -1 off
+};
+
+struct DepthMesh {
+  int columns = 0, rows = 0;           // vertex grid size
+  std::vector<double> gridU, gridV;    // reference pixel position of each grid column and row
+  std::vector<float> vertices;         // 4 floats a vertex, row-major over the grid: (a u, a v, a, w)
+  std::vector<float> boundary;         // 1 float a vertex: 1 where it belongs to a dropped triangle
+  std::vector<uint8_t> valid;          // 1 a vertex: a finite point in front of the reference camera
+  std::vector<uint32_t> triangles;     // 3 vertex indices a triangle
+  std::vector<uint32_t> points;        // border vertices of kept triangles, drawn as one-pixel points
+  size_t droppedTriangles = 0;         // triangles left out (discontinuity or invalid vertex)
+
+  size_t vertexCount() const { return size_t(columns) * size_t(rows); }
+  size_t triangleCount() const { return triangles.size() / 3; }
+};
+
+// The homogeneous vertex (a u, a v, a, w) of reference pixel (u, v) with depth value 1/Z = inverseZ
+// (see the header comment). Returns false when it is not a usable point: inverseZ NaN, behind the
+// reference camera, or a DepthType 1 ray parallel to the plane. `inverseCameraZ` is w / a = 1 / z_cam
+// (0 at infinity).
+bool referenceVertex(const Camera& reference, int depthType, double u, double v, double inverseZ, double vertex[4],
+                     double& inverseCameraZ);
+
+class DepthMeshBuilder {
+public:
+  // For depth maps of `width` x `height` samples with levels in `range`, seen by `reference`.
+  DepthMeshBuilder(const Camera& reference, const DepthRange& range, int width, int height, const MeshOptions& options);
+
+  // Builds the mesh of one depth map (luma of the depth file; its size must be width x height).
+  void build(const Plane& depth, DepthMesh& mesh) const;
+
+  const MeshOptions& options() const { return options_; }
+
+private:
+  Camera reference_;
+  MeshOptions options_;
+  int width_, height_;
+  std::vector<double> inverseZ_;     // per depth level; NaN for MissingDepthLevel
+  std::vector<double> gridU_, gridV_;
+  std::vector<int> pixelU_, pixelV_;  // depth sample each grid column and row reads
+  std::vector<double> worldRayZ_;     // DepthType 1: D_z of each grid vertex
+};
+
+}  // namespace vs

@@ -1,0 +1,213 @@
+#include "Mesh/MeshSynthesizer.h"
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+
+#include "Common/Error.h"
+#include "Mesh/MeshPly.h"
+#include "Synth/Colour.h"
+#include "Synth/Run.h"
+
+namespace vs {
+
+namespace {
+
+double seconds(std::chrono::steady_clock::time_point since) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - since).count();
+}
+
+// Rounds a blended colour to a sample in [0, maxValue] (NaN -> 0).
+uint16_t roundToSample(float value, int maxValue) {
+  if (!(value > 0.0f)) return 0;
+  const float rounded = std::floor(value + 0.5f);
+  return rounded >= float(maxValue) ? uint16_t(maxValue) : uint16_t(rounded);
+}
+
+class MeshFrameRenderer : public FrameRenderer {
+public:
+  MeshFrameRenderer(const Scene& scene, const MeshSettings& settings) : synthesizer_(scene, settings) {}
+  void render(const std::vector<ReferenceFrame>& references, Frame& output, StageTimes& times) override {
+    synthesizer_.synthesize(references, output, times);
+  }
+  std::vector<std::string> plan() const override { return synthesizer_.plan(); }
+
+private:
+  MeshSynthesizer synthesizer_;
+};
+
+}  // namespace
+
+MeshSettings readMeshSettings(const Config& config) {
+  MeshSettings settings;
+  settings.discontinuityThreshold = config.getDouble("MeshDiscontinuityThreshold");
+  settings.gridStep = std::stoi(config.getString("MeshGridStep"));
+  settings.plyPath = config.getPath("MeshPlyOutput");
+  return settings;
+}
+
+MeshSynthesizer::MeshSynthesizer(const Scene& scene, const MeshSettings& settings)
+    : scene_(scene),
+      settings_(settings),
+      outputFormat_(scene.settings.textureFormat),
+      rgb_(scene.settings.colorSpace == 1),
+      hasChroma_(scene.settings.textureFormat.chroma != ChromaFormat::Yuv400) {
+  const SynthesisSettings& s = scene.settings;
+  lumaGrid_ = lumaGrid(scene.virtualCamera, outputFormat_.width, outputFormat_.height);
+  if (hasChroma_ && !rgb_) {
+    chromaGrid_ = chromaGrid(scene.virtualCamera, outputFormat_.width, outputFormat_.height, outputFormat_.chroma);
+    if (outputFormat_.chroma == ChromaFormat::Yuv420) chromaTexels_ = TexelMap{0.5, -0.25};
+  }
+  const SubPixelSampler sampler(s.precision, s.filter);
+  renderer_.setSampling(&sampler);
+  MeshOptions options;
+  options.depthType = s.depthType;
+  options.gridStep = settings.gridStep;
+  options.discontinuityThreshold = settings.discontinuityThreshold;
+  options.missingDepthLevel = s.missingDepthLevel;
+  for (const ReferenceView& reference : s.references) {
+    ViewState view{DepthMeshBuilder(reference.camera, reference.depthRange, s.depthFormat.width, s.depthFormat.height, options),
+                   false, {}, {}, {}, {}};
+    InverseDepthRange range;
+    view.depthRangeBounded = sceneInverseDepthRange(reference.camera, reference.depthRange, s.depthType,
+                                                    s.depthFormat.width, s.depthFormat.height, scene.virtualCamera, range);
+    if (view.depthRangeBounded) view.planes = clipPlanes(range);
+    views_.push_back(std::move(view));
+  }
+
+  // Blending and hole filling exactly as ViewSyn sets them up for this scene: the weights and the
+  // depth tolerance come from a Synthesizer on the same scene (so they cannot drift apart); the rest
+  // follows the same keys.
+  const Synthesizer viewSyn(scene);
+  blendOptions_.weights = viewSyn.blendWeights();
+  blendOptions_.depthTolerance = viewSyn.depthTolerance();
+  blendOptions_.nearestViewOnly = s.viewBlending == 1;
+  fillOptions_.backgroundFirst = s.ivsrsInpaint;
+  fillOptions_.depthTolerance = blendOptions_.depthTolerance;
+  const float mid = float(1 << (outputFormat_.bitDepth - 1));
+  const float black = float(16 << (outputFormat_.bitDepth - 8));
+  fillOptions_.emptyValue[0] = rgb_ ? mid : black;
+  fillOptions_.emptyValue[1] = fillOptions_.emptyValue[2] = mid;
+  chromaFillOptions_ = fillOptions_;
+  chromaFillOptions_.emptyValue[0] = chromaFillOptions_.emptyValue[1] = mid;
+}
+
+std::vector<std::string> MeshSynthesizer::plan() const {
+  const SynthesisSettings& s = scene_.settings;
+  std::vector<std::string> lines;
+  lines.push_back("mode: mesh rendering with OpenGL: " + renderer_.description());
+  char line[512];
+  std::snprintf(line, sizeof line,
+                "mesh: a vertex every %d pixel(s), triangles dropped where camera depths differ by more than %.4g "
+                "(1 - z_min / z_max)",
+                settings_.gridStep, settings_.discontinuityThreshold);
+  lines.push_back(line);
+  if (s.missingDepthLevel >= 0)
+    lines.push_back("depth level " + std::to_string(s.missingDepthLevel) + " is missing depth: its vertices are dropped");
+  for (size_t k = 0; k < views_.size(); ++k)
+    lines.push_back(s.references[k].label + " view: depth-buffer planes " +
+                    (views_[k].depthRangeBounded ? "from the scene's depth range" : "from each frame's mesh (the depth range is unbounded in the virtual camera)"));
+  lines.push_back(std::string("texture: Precision ") + std::to_string(s.precision) + ", Filter " + std::to_string(s.filter) +
+                  " as ViewSyn samples, evaluated in the fragment shader" +
+                  (rgb_ ? ", processed in RGB" : (hasChroma_ ? "; chroma rendered at chroma resolution" : "")));
+  std::string weights;
+  for (size_t k = 0; k < views_.size(); ++k) {
+    std::snprintf(line, sizeof line, "%s%s %.4f", k ? ", " : "", s.references[k].label.c_str(), blendOptions_.weights[k]);
+    weights += line;
+  }
+  std::snprintf(line, sizeof line, "blend weights: %s (%s), depth tolerance %.4g (1/depth)", weights.c_str(),
+                blendOptions_.nearestViewOnly ? "nearer view only" : "weighted blending", blendOptions_.depthTolerance);
+  lines.push_back(line);
+  lines.push_back(std::string("holes: ") + (s.ivsrsInpaint ? "background-side fill, then OpenCV inpainting" : "OpenCV inpainting"));
+  if (s.boundaryNoiseRemoval) lines.push_back("BoundaryNoiseRemoval 1: not applied by MeshRender");
+  if (s.mode != SynthesisMode::General)
+    lines.push_back("SynthesisMode: MeshRender renders every rig the same way (the 1D mode does not apply)");
+  if (!settings_.plyPath.empty()) {
+    std::string files;
+    for (const ReferenceView& reference : s.references)
+      files += (files.empty() ? "" : ", ") + plyPathForView(settings_.plyPath, reference.label);
+    lines.push_back("PLY of the first frame's meshes: " + files);
+  }
+  return lines;
+}
+
+void MeshSynthesizer::synthesize(const std::vector<ReferenceFrame>& references, Frame& output, StageTimes& times) {
+  VS_CHECK(references.size() == views_.size());
+  const SynthesisSettings& s = scene_.settings;
+  output.reset(outputFormat_);
+  for (size_t k = 0; k < views_.size(); ++k) {
+    ViewState& view = views_[k];
+    const ReferenceView& reference = s.references[k];
+    const Frame& texture = *references[k].texture;
+
+    auto start = std::chrono::steady_clock::now();
+    view.builder.build(*references[k].depth, view.mesh);
+    renderer_.uploadMesh(view.mesh);
+    const InverseDepthRange planes = view.depthRangeBounded
+                                         ? view.planes
+                                         : clipPlanes(meshInverseDepthRange(view.mesh, reference.camera, scene_.virtualCamera));
+    times.depthWarp += seconds(start);
+
+    start = std::chrono::steady_clock::now();
+    if (rgb_) {
+      yuvToRgb(texture, rgbReference_);
+      renderer_.uploadTexture({&rgbReference_.planes[0], &rgbReference_.planes[1], &rgbReference_.planes[2]});
+    } else {
+      renderer_.uploadTexture({&texture.planes[0]});
+    }
+    renderer_.render(meshClipMatrix(reference.camera, scene_.virtualCamera, lumaGrid_, planes), lumaGrid_, TexelMap{},
+                     view.luma);
+    if (hasChroma_ && !rgb_) {
+      renderer_.uploadTexture({&texture.planes[1], &texture.planes[2]});
+      renderer_.render(meshClipMatrix(reference.camera, scene_.virtualCamera, chromaGrid_, planes), chromaGrid_,
+                       chromaTexels_, view.chroma);
+    }
+    times.textureWarp += seconds(start);
+
+    if (!plyWritten_ && !settings_.plyPath.empty())
+      writeMeshPly(plyPathForView(settings_.plyPath, reference.label), view.mesh, reference.camera, texture);
+  }
+  plyWritten_ = true;
+
+  auto start = std::chrono::steady_clock::now();
+  std::vector<const WarpedLayer*> lumaLayers, chromaLayers;
+  for (const ViewState& view : views_) {
+    lumaLayers.push_back(&view.luma);
+    chromaLayers.push_back(&view.chroma);
+  }
+  blendLayers(lumaLayers, blendOptions_, blendedLuma_);
+  if (hasChroma_ && !rgb_) blendLayers(chromaLayers, blendOptions_, blendedChroma_);
+  holesAfterBlend_ = blendedLuma_.holeCount();
+  times.blend += seconds(start);
+
+  start = std::chrono::steady_clock::now();
+  fillHoles(blendedLuma_, fillOptions_);
+  if (hasChroma_ && !rgb_) fillHoles(blendedChroma_, chromaFillOptions_);
+  times.holeFill += seconds(start);
+
+  const int maxValue = outputFormat_.maxValue();
+  if (rgb_) {
+    rgbOutput_.reset(FrameFormat{outputFormat_.width, outputFormat_.height, outputFormat_.bitDepth, ChromaFormat::Yuv444});
+    for (int c = 0; c < 3; ++c)
+      for (size_t i = 0; i < rgbOutput_.planes[c].samples.size(); ++i)
+        rgbOutput_.planes[c].samples[i] = roundToSample(blendedLuma_.colour[c][i], maxValue);
+    rgbToYuv(rgbOutput_, output);
+    return;
+  }
+  for (size_t i = 0; i < output.planes[0].samples.size(); ++i)
+    output.planes[0].samples[i] = roundToSample(blendedLuma_.colour[0][i], maxValue);
+  if (hasChroma_)
+    for (int c = 0; c < 2; ++c)
+      for (size_t i = 0; i < output.planes[c + 1].samples.size(); ++i)
+        output.planes[c + 1].samples[i] = roundToSample(blendedChroma_.colour[c][i], maxValue);
+}
+
+int runMeshRender(const Config& config) {
+  const Scene scene = loadScene(config);
+  const MeshSettings settings = readMeshSettings(config);
+  MeshFrameRenderer renderer(scene, settings);
+  runSequence("MeshRender", config, scene, renderer);
+  return 0;
+}
+
+}  // namespace vs

@@ -1,0 +1,88 @@
+#pragma once
+// MeshRender's per-frame pipeline (doc/meshrender.md):
+//   1. mesh from depth: each reference view's depth map becomes a triangle mesh (DepthMesh.h)
+//   2. render: each mesh, textured with its own reference frame, is rendered separately into the
+//      virtual camera with OpenGL (GlMeshRenderer.h): luma at luma resolution, U and V in a second
+//      render at chroma resolution whose pixel centres are the chroma sample centres; colour and
+//      inverse depth are read back as ViewSyn's WarpedLayers
+//   3. blend the views and 4. fill the holes with ViewSyn's blendLayers and fillHoles, with the same
+//      options ViewSyn uses for the scene, 5. round into the output frame
+// ColorSpace 1 renders R, G, B at luma resolution instead of Y and U, V, as ViewSyn does.
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "Common/Config.h"
+#include "Common/Scene.h"
+#include "Mesh/DepthMesh.h"
+#include "Mesh/GlMeshRenderer.h"
+#include "Mesh/MeshProjection.h"
+#include "Synth/HoleFill.h"
+#include "Synth/Layer.h"
+#include "Synth/Synthesizer.h"
+
+namespace vs {
+
+// MeshRender's own keys (section "Mesh" of meshRenderOptionTable()).
+struct MeshSettings {
+  double discontinuityThreshold = 0.05;  // MeshDiscontinuityThreshold
+  int gridStep = 1;                      // MeshGridStep: 1, 2, 4 or 8
+  std::string plyPath;                   // MeshPlyOutput; empty: none
+};
+
+MeshSettings readMeshSettings(const Config& config);
+
+class MeshSynthesizer {
+public:
+  // Creates the OpenGL context (throws InputError when there is none) and everything that depends on
+  // the scene only: mesh grids, camera matrices, blend and hole-fill options.
+  MeshSynthesizer(const Scene& scene, const MeshSettings& settings);
+
+  // Synthesizes the virtual view of one frame into `output` (reset to the texture format). Mesh
+  // building and upload count as depthWarp, rendering and read-back as textureWarp.
+  void synthesize(const std::vector<ReferenceFrame>& references, Frame& output, StageTimes& times);
+
+  // Lines for the plan printed before the first frame.
+  std::vector<std::string> plan() const;
+  const std::string& rendererDescription() const { return renderer_.description(); }
+  const BlendOptions& blendOptions() const { return blendOptions_; }
+  const HoleFillOptions& holeFillOptions() const { return fillOptions_; }
+
+  // The last frame's intermediate results, for tests and diagnostics.
+  const DepthMesh& mesh(size_t view) const { return views_[view].mesh; }
+  const WarpedLayer& lumaLayer(size_t view) const { return views_[view].luma; }
+  const WarpedLayer& chromaLayer(size_t view) const { return views_[view].chroma; }
+  size_t holesAfterBlend() const { return holesAfterBlend_; }
+
+private:
+  struct ViewState {
+    DepthMeshBuilder builder;
+    bool depthRangeBounded = false;  // the scene's depth range bounds q in the virtual camera
+    InverseDepthRange planes;        // depth-buffer planes when bounded
+    DepthMesh mesh;
+    WarpedLayer luma;                // Y, or R, G, B with ColorSpace 1
+    WarpedLayer chroma;              // U, V at chroma resolution
+  };
+
+  const Scene& scene_;
+  MeshSettings settings_;
+  FrameFormat outputFormat_;
+  bool rgb_;
+  bool hasChroma_;
+  GlMeshRenderer renderer_;
+  RenderGrid lumaGrid_, chromaGrid_;
+  TexelMap chromaTexels_;
+  BlendOptions blendOptions_;
+  HoleFillOptions fillOptions_, chromaFillOptions_;
+  std::vector<ViewState> views_;
+  BlendedLayer blendedLuma_, blendedChroma_;
+  Frame rgbReference_, rgbOutput_;
+  size_t holesAfterBlend_ = 0;
+  bool plyWritten_ = false;
+};
+
+// MeshRender's run(): loads the scene, creates the renderer and runs the sequence (runSequence).
+// Returns the exit code.
+int runMeshRender(const Config& config);
+
+}  // namespace vs
