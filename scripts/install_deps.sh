@@ -3,7 +3,8 @@
 # what is already there. Needs root (as on a fresh Debian 12 machine).
 set -euo pipefail
 packages=(build-essential cmake libopencv-dev libgtest-dev libgmock-dev libbenchmark-dev
-          libegl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri python3)
+          libegl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri python3
+          python3-matplotlib python3-numpy)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
