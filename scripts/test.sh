@@ -1,6 +1,10 @@
 #!/usr/bin/env bash
-# The README's test command: installs what is missing, builds, runs the whole test suite with CTest.
-# Set VS_DATA_DIR / VS_SAMPLES_DIR to point the data tests elsewhere (default ../shared/...).
+# The README's test command: installs what is missing, builds, runs the whole test suite with CTest;
+# then builds the tree once more with AddressSanitizer and UndefinedBehaviorSanitizer (build-asan,
+# whose executables stay in build-asan/Bin so that Bin/ keeps the normal ones) and runs the whole
+# suite again. Any sanitizer report fails the test that triggered it.
+# Set VS_DATA_DIR / VS_SAMPLES_DIR to point the data tests elsewhere (default ../shared/...);
+# VS_SKIP_SANITIZE=1 skips the sanitizer run (for a quick local check; CI runs both).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/install_deps.sh
@@ -10,3 +14,23 @@ echo "build: $(( $(date +%s) - start )) s"
 start=$(date +%s)
 (cd build && ctest --output-on-failure -j"$(nproc)")
 echo "tests: $(( $(date +%s) - start )) s"
+
+if [[ "${VS_SKIP_SANITIZE:-0}" == 1 ]]; then
+  echo "sanitizer run skipped (VS_SKIP_SANITIZE=1)"
+  exit 0
+fi
+start=$(date +%s)
+bash scripts/build.sh build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DVS_SANITIZE=ON \
+  -DVS_BIN_OUTPUT_DIR="$PWD/build-asan/Bin"
+echo "sanitizer build: $(( $(date +%s) - start )) s"
+start=$(date +%s)
+asan="check_initialization_order=1:strict_init_order=1:detect_stack_use_after_return=1"
+export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
+export LSAN_OPTIONS="suppressions=$PWD/Test/lsan.supp:print_suppressions=0"
+# Every test but those that load Mesa's OpenGL driver (names with "Mesh"), with leak detection.
+(cd build-asan && ASAN_OPTIONS="detect_leaks=1:$asan" ctest --output-on-failure -j"$(nproc)" -E Mesh)
+# Mesa keeps a few blocks until exit and unloads its driver before LeakSanitizer looks, so their
+# stacks cannot be told apart from ours (Test/lsan.supp holds what can be): those tests run with
+# AddressSanitizer and UBSan but without leak detection.
+(cd build-asan && ASAN_OPTIONS="detect_leaks=0:$asan" ctest --output-on-failure -j"$(nproc)" -R Mesh)
+echo "sanitizer tests: $(( $(date +%s) - start )) s"

@@ -187,7 +187,8 @@ CameraFile parseCameraText(const std::string& text, const std::string& sourceNam
     std::string line = text.substr(position, end - position);
     position = end + (end + 1 < text.size() && text[end] == '\r' && text[end + 1] == '\n' ? 2 : 1);
     ++lineNumber;
-    if (lineNumber == 1 && line.compare(0, 3, "\xEF\xBB\xBF") == 0) line.erase(0, 3);  // UTF-8 BOM
+    // UTF-8 BOM: at the start of the file, or of any line (files joined with cat); never part of a name.
+    if (line.compare(0, 3, "\xEF\xBB\xBF") == 0) line.erase(0, 3);
 
     const std::vector<std::string> tokens = tokenize(line);
     if (tokens.empty()) continue;

@@ -299,7 +299,8 @@ void Config::parseText(const std::string& text, const std::string& name, const s
       continue;
     }
     if (!line.empty() && line.back() == '\r') line.pop_back();  // CRLF
-    if (lineNumber == 1 && line.compare(0, 3, "\xEF\xBB\xBF") == 0) line.erase(0, 3);  // UTF-8 BOM (Notepad)
+    // UTF-8 BOM (Notepad): at the start of the file, or of any line (files joined with cat).
+    if (line.compare(0, 3, "\xEF\xBB\xBF") == 0) line.erase(0, 3);
     const size_t hash = line.find('#');
     if (hash != std::string::npos) line.erase(hash);
     const size_t control = findControlCharacter(line);
@@ -348,7 +349,11 @@ void Config::applyOverride(const std::string& argument, ProblemList& problems) {
     problems.add(where + ": value of '" + key + "' holds a control character");
     return;
   }
-  setValue(key, value, SettingOrigin{where, std::filesystem::current_path().string()});
+  // The throwing overload would abort the tool when the working folder has been removed; "." then
+  // leaves relative names relative, and opening them fails with the file's name.
+  std::error_code ec;
+  const std::filesystem::path workingFolder = std::filesystem::current_path(ec);
+  setValue(key, value, SettingOrigin{where, ec ? std::string(".") : workingFolder.string()});
 }
 
 void Config::setValue(const std::string& key, const std::string& value, const SettingOrigin& origin) {

@@ -238,7 +238,18 @@ SynthesisSettings readSynthesisSettings(const Config& config) {
     if (!s.outputPath.empty() && samePath(s.outputPath, s.reportPath))
       problems.add(where + ": ReportFile '" + s.reportPath +
                    "' is the output sequence (OutputVirtualViewImageName); give the report a file of its own");
+    if (!s.virtualDepthPath.empty() && samePath(s.virtualDepthPath, s.reportPath))
+      problems.add(where + ": ReportFile '" + s.reportPath +
+                   "' is the output depth sequence (OutputVirtualDepthMapName); give the report a file of its own");
   }
+  if (!s.virtualDepthPath.empty())
+    for (const std::string& input : s.inputPaths())
+      if (!input.empty() && samePath(input, s.virtualDepthPath))
+        problems.add(where + ": OutputVirtualDepthMapName '" + s.virtualDepthPath + "' is also an input (" + input +
+                     "); refusing to overwrite it");
+  if (!s.virtualDepthPath.empty() && !s.outputPath.empty() && samePath(s.virtualDepthPath, s.outputPath))
+    problems.add(where + ": OutputVirtualDepthMapName and OutputVirtualViewImageName are the same file '" +
+                 s.outputPath + "'");
 
   problems.throwIfAny(where + ": invalid configuration:");
   return s;

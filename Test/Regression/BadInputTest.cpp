@@ -1,0 +1,660 @@
+// The bad input catalogue (issue 8): every case starts from a valid tiny scene written in code
+// (TinyScene.h), breaks one thing, runs Bin/ViewSyn on it and checks
+//   - the exit code (1 bad input, 2 bad usage) and fragments of the message on stderr,
+//   - that no file that was there before the run changed (byte for byte),
+//   - that every file the run made holds whole frames only (or, where the case says so, exactly n),
+//   - for the cases that ask for it, that the refusal is fast and allocates nothing big.
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <map>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "Common/CameraFile.h"
+#include "Process.h"
+#include "ProcessStats.h"
+#include "TestPaths.h"
+#include "TinyScene.h"
+
+namespace vs {
+namespace {
+
+namespace fs = std::filesystem;
+using test::TinyScene;
+
+constexpr int kWholeFramesOrNone = -1;  // outputFrames: no output file, or one of whole frames
+constexpr int kNoOutput = -2;           // outputFrames: the output file must not exist
+
+struct BadInputCase {
+  std::string name;         // the test's name
+  std::string description;  // what is broken, for the log
+  // Breaks the scene (already written, valid). `arguments` starts as {the config path}; the harness
+  // writes the scene's config again after build() and quotes every argument.
+  std::function<void(TinyScene& scene, std::vector<std::string>& arguments)> build;
+  int exitCode = 1;
+  std::vector<std::string> messages;  // each must appear on stderr
+  int outputFrames = kWholeFramesOrNone;  // >= 0: the output holds exactly this many whole frames
+  bool needsNonRoot = false;              // permissions do not stop root
+  double maxSeconds = 0;                  // > 0: the run must end within this many seconds
+  long maxRssMiB = 0;                     // > 0: the run's peak resident memory must stay below this
+};
+
+std::string readFile(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream content;
+  content << in.rdbuf();
+  return content.str();
+}
+
+void writeFile(const fs::path& path, const std::string& content) {
+  std::ofstream out(path, std::ios::binary | std::ios::trunc);
+  out << content;
+}
+
+// Size and FNV-1a hash of a file's bytes, read in chunks (inputs can be large and sparse).
+struct Digest {
+  uint64_t size = 0;
+  uint64_t hash = 14695981039346656037ull;
+  bool operator==(const Digest& o) const { return size == o.size && hash == o.hash; }
+};
+
+Digest digest(const fs::path& path) {
+  Digest d;
+  std::ifstream in(path, std::ios::binary);
+  std::vector<char> chunk(1 << 16);
+  while (in) {
+    in.read(chunk.data(), std::streamsize(chunk.size()));
+    const size_t got = size_t(in.gcount());
+    for (size_t i = 0; i < got; ++i) d.hash = (d.hash ^ uint8_t(chunk[i])) * 1099511628211ull;
+    d.size += got;
+  }
+  return d;
+}
+
+// Every regular file under `dir` (folders recursed, links not followed) -> its digest.
+std::map<std::string, Digest> snapshot(const fs::path& dir) {
+  std::map<std::string, Digest> files;
+  for (auto it = fs::recursive_directory_iterator(dir, fs::directory_options::skip_permission_denied);
+       it != fs::recursive_directory_iterator(); ++it) {
+    std::error_code ec;
+    if (it->is_symlink(ec)) {
+      it.disable_recursion_pending();
+      continue;  // the target is (or is not) in the folder in its own right
+    }
+    if (it->is_regular_file(ec)) files[it->path().string()] = digest(it->path());
+  }
+  return files;
+}
+
+void truncateTo(const fs::path& path, uintmax_t bytes) { fs::resize_file(path, bytes); }
+
+// The 23 numbers of a camera as text tokens, in file order (K, distortion, rows "r r r t").
+std::vector<std::string> cameraTokens(const Camera& camera) {
+  std::istringstream in(formatCamera(camera));
+  std::string name;
+  in >> name;
+  std::vector<std::string> tokens;
+  for (std::string token; in >> token;) tokens.push_back(token);
+  return tokens;
+}
+
+std::string cameraBlock(const std::string& name, const std::vector<std::string>& tokens) {
+  std::string text = name + "\n";
+  for (size_t i = 0; i < tokens.size(); ++i) {
+    text += tokens[i];
+    // K rows of 3, two distortion lines, rows of 4.
+    const bool endOfLine = i == 2 || i == 5 || i == 8 || i == 9 || i == 10 || (i > 10 && (i - 11) % 4 == 3);
+    text += endOfLine || i + 1 == tokens.size() ? "\n" : " ";
+  }
+  return text + "\n";
+}
+
+// Rewrites the scene's camera file with `edit` applied to the tokens of camera `name`.
+void editCamera(TinyScene& scene, const std::string& name, const std::function<void(std::vector<std::string>&)>& edit) {
+  std::string text;
+  for (const Camera& camera : scene.cameras()) {
+    std::vector<std::string> tokens = cameraTokens(camera);
+    if (camera.name == name) edit(tokens);
+    text += cameraBlock(camera.name, tokens);
+  }
+  writeFile(scene.path("cameras.txt"), text);
+}
+
+// Builders for the common shapes of a case.
+auto setKey(const std::string& key, const std::string& value) {
+  return [key, value](TinyScene& scene, std::vector<std::string>&) { scene.set(key, value); };
+}
+auto eraseKey(const std::string& key) {
+  return [key](TinyScene& scene, std::vector<std::string>&) { scene.erase(key); };
+}
+auto appendLine(const std::string& line) {
+  return [line](TinyScene& scene, std::vector<std::string>&) { scene.extraConfigText += line; };
+}
+auto addArgument(const std::string& argument) {
+  return [argument](TinyScene&, std::vector<std::string>& arguments) { arguments.push_back(argument); };
+}
+
+std::vector<BadInputCase> catalogue() {
+  std::vector<BadInputCase> cases;
+  auto add = [&](BadInputCase c) { cases.push_back(std::move(c)); };
+
+  // ---- Usage (exit code 2) ------------------------------------------------------------------------
+  add({"NoArguments", "ViewSyn without any argument prints the usage",
+       [](TinyScene&, std::vector<std::string>& a) { a.clear(); }, 2, {"Usage:"}, kNoOutput});
+  add({"UnknownOption", "an option that does not exist",
+       [](TinyScene&, std::vector<std::string>& a) { a.insert(a.begin(), "--frobnicate"); }, 2,
+       {"unknown option '--frobnicate'"}, kNoOutput});
+  add({"CheckWithoutConfig", "--check without a config file",
+       [](TinyScene&, std::vector<std::string>& a) { a = {"--check"}; }, 2, {"--check needs a config file"}, kNoOutput});
+
+  // ---- Config syntax ------------------------------------------------------------------------------
+  add({"KeyWithoutValue", "a key with no value", appendLine("Precision\n"), 1,
+       {"scene.cfg:23: key 'Precision' has no value; expected one of 1, 2, 4"}, kNoOutput});
+  add({"ThreeTokens", "a key with two values (a comment without '#')", appendLine("Filter 1 bicubic\n"), 1,
+       {"scene.cfg:23: key 'Filter' takes one value but 2 were given ('1' 'bicubic'); put comments after '#'"},
+       kNoOutput});
+  add({"BinaryJunk", "binary bytes in the config",
+       appendLine(std::string("Filter 1\x01\x02\xff\xfe\x00junk\n", 17)), 1,
+       {"scene.cfg:23: unexpected control byte 0x01 at column 9"}, kNoOutput});
+  add({"YuvFileAsConfig", "a YUV sequence given where the config belongs",
+       [](TinyScene& s, std::vector<std::string>& a) { a = {s.path("left.yuv").string()}; }, 1,
+       {"left.yuv: invalid configuration:", "binary data in a text config?"}, kNoOutput});
+  add({"ThousandsOfBadLines", "a config of 100000 unknown keys: the first 50 problems and a count",
+       [](TinyScene& s, std::vector<std::string>& a) {
+         std::string text;
+         for (int i = 0; i < 100000; ++i) text += "k" + std::to_string(i) + " 1\n";
+         writeFile(s.path("many.cfg"), text);
+         a = {s.path("many.cfg").string()};
+       },
+       1, {"many.cfg:50: unknown key 'k49'", "... and 99950 more problems"}, kNoOutput, false, 5.0, 200});
+  add({"TenMegabyteLine", "a config holding a 10 MB line",
+       [](TinyScene& s, std::vector<std::string>& a) {
+         writeFile(s.path("long.cfg"), "SourceWidth " + std::string(10u << 20, '9') + "\n");
+         a = {s.path("long.cfg").string()};
+       },
+       1, {"long.cfg: config file is 10485773 bytes; at most 1048576 expected (is it a config file?)"}, kNoOutput,
+       false, 5.0, 200});
+  add({"LongLine", "a 5000-character line", appendLine("ReportFile " + std::string(4989, 'r') + "\n"), 1,
+       {"scene.cfg:23: line is 5000 characters long; at most 4096 expected"}, kNoOutput});
+  add({"UnknownKey", "a key VSRS and we do not know", appendLine("FrobnicationLevel 3\n"), 1,
+       {"scene.cfg:23: unknown key 'FrobnicationLevel'"}, kNoOutput});
+  add({"MisspelledKey", "a misspelled key gets the nearest key as a hint", appendLine("SourceWidht 32\n"), 1,
+       {"unknown key 'SourceWidht' (did you mean 'SourceWidth'?)"}, kNoOutput});
+  add({"MisspelledOverride", "a misspelled key on the command line", addArgument("Precison=4"), 1,
+       {"command line: unknown key 'Precison' (did you mean 'Precision'?)"}, kNoOutput});
+  add({"OverrideWithoutEquals", "a command-line argument that is not Key=Value", addArgument("Precision"), 1,
+       {"argument 'Precision' is not of the form Key=Value"}, kNoOutput});
+  add({"EmptyOverride", "an empty camera name on the command line", addArgument("LeftCameraName="), 1,
+       {"LeftCameraName = '': expected a non-empty text"}, kNoOutput});
+  add({"EveryProblemAtOnce", "three problems are reported in one run",
+       [](TinyScene& s, std::vector<std::string>&) {
+         s.set("Precision", "3");
+         s.set("Filter", "7");
+         s.extraConfigText = "Colourspace 1\n";
+       },
+       1,
+       {"Precision = '3': expected one of 1, 2, 4", "Filter = '7': expected one of 0, 1, 2",
+        "unknown key 'Colourspace' (did you mean 'ColorSpace'?)"},
+       kNoOutput});
+  add({"ConfigNotFound", "the config file does not exist",
+       [](TinyScene& s, std::vector<std::string>& a) { a = {s.path("no_such.cfg").string()}; }, 1,
+       {"no_such.cfg: config file not found"}, kNoOutput});
+  add({"ConfigIsAFolder", "a folder given as the config",
+       [](TinyScene& s, std::vector<std::string>& a) {
+         fs::create_directory(s.path("folder.cfg"));
+         a = {s.path("folder.cfg").string()};
+       },
+       1, {"folder.cfg: is a folder, not a config file"}, kNoOutput});
+
+  // ---- Values out of range ------------------------------------------------------------------------
+  add({"Precision3", "Precision 3", setKey("Precision", "3"), 1,
+       {"scene.cfg:23: Precision = '3': expected one of 1, 2, 4"}, kNoOutput});
+  add({"NegativeWidth", "a negative frame width", setKey("SourceWidth", "-32"), 1,
+       {"SourceWidth = '-32': expected an integer in [1, 16384]"}, kNoOutput});
+  add({"ZeroHeight", "a zero frame height", setKey("SourceHeight", "0"), 1,
+       {"SourceHeight = '0': expected an integer in [1, 16384]"}, kNoOutput});
+  add({"OddWidth420", "an odd width with 4:2:0", setKey("SourceWidth", "31"), 1,
+       {"4:2:0 texture needs an even SourceWidth and SourceHeight, got 31 x 16"}, kNoOutput});
+  add({"WidthNotANumber", "letters where a size belongs", setKey("SourceHeight", "16px"), 1,
+       {"SourceHeight = '16px': expected an integer"}, kNoOutput});
+  add({"BitDepth17", "texture bit depth 17", setKey("TextureBitDepth", "17"), 1,
+       {"TextureBitDepth = '17': expected an integer in [8, 16]"}, kNoOutput});
+  add({"DepthType2", "DepthType 2", setKey("DepthType", "2"), 1, {"DepthType = '2': expected an integer in [0, 1]"},
+       kNoOutput});
+  add({"NegativeStartFrame", "StartFrame -1", setKey("StartFrame", "-1"), 1,
+       {"StartFrame = '-1': expected an integer in [0, 1000000000]"}, kNoOutput});
+  add({"ZeroFrames", "TotalNumberOfFrames 0", setKey("TotalNumberOfFrames", "0"), 1,
+       {"TotalNumberOfFrames = '0': expected an integer in [1, 1000000000]"}, kNoOutput});
+  add({"MissingDepthLevelAboveMax", "MissingDepthLevel 300 with 8-bit depth", setKey("MissingDepthLevel", "300"), 1,
+       {"MissingDepthLevel 300 is above the largest 8-bit depth level 255"}, kNoOutput});
+  add({"RgbWithoutChroma", "ColorSpace 1 with 4:0:0 texture",
+       [](TinyScene& s, std::vector<std::string>&) {
+         s.set("ColorSpace", "1");
+         s.set("ChromaFormat", "400");
+       },
+       1, {"ColorSpace 1 (RGB) needs colour input; ChromaFormat is 400"}, kNoOutput});
+  add({"HugeFrameSize", "16384 x 16384 frames: refused before allocating, fast, small",
+       [](TinyScene& s, std::vector<std::string>&) {
+         s.set("SourceWidth", "16384");
+         s.set("SourceHeight", "16384");
+       },
+       1, {"SourceWidth x SourceHeight = 16384 x 16384 is more than 67108864 pixels; refused before allocating memory"},
+       kNoOutput, false, 3.0, 200});
+  add({"LargestFrameSizeTinyFiles", "the largest allowed size with files far too small: refused before allocating",
+       [](TinyScene& s, std::vector<std::string>&) {
+         s.set("SourceWidth", "16384");
+         s.set("SourceHeight", "4096");
+       },
+       1, {"left.yuv: StartFrame 0 is beyond the end of the file (0 whole frames of 100663296 bytes)"}, kNoOutput,
+       false, 3.0, 200});
+  add({"BillionFrames", "TotalNumberOfFrames 1e9 on 3-frame files: the 3 frames are written, quickly",
+       setKey("TotalNumberOfFrames", "1000000000"), 1,
+       {"holds only 3 frames from StartFrame 0, but TotalNumberOfFrames is 1000000000; 3 whole frames were written to"},
+       3, false, 30.0, 300});
+
+  // ---- Missing keys -------------------------------------------------------------------------------
+  add({"MissingLeftCameraName", "a required key left out", eraseKey("LeftCameraName"), 1,
+       {"missing required key 'LeftCameraName'"}, kNoOutput});
+  add({"MissingCameraFile", "no CameraParameterFile", eraseKey("CameraParameterFile"), 1,
+       {"missing required key 'CameraParameterFile'"}, kNoOutput});
+  add({"MissingDepthValues", "no depth range for the left view",
+       [](TinyScene& s, std::vector<std::string>&) {
+         s.erase("LeftNearestDepthValue");
+         s.erase("LeftFarthestDepthValue");
+       },
+       1, {"no depth range for camera 'cam_left': give the LeftNearestDepthValue and LeftFarthestDepthValue keys"},
+       kNoOutput});
+  add({"PartialRightView", "some Right keys but not all", eraseKey("RightDepthMapName"), 1,
+       {"missing key 'RightDepthMapName': give every Right key for two reference views, or none"}, kNoOutput});
+
+  // ---- Missing or unreadable files ----------------------------------------------------------------
+  add({"TextureMissing", "the left texture does not exist", setKey("LeftViewImageName", "no_such.yuv"), 1,
+       {"no_such.yuv: cannot open: No such file or directory"}, kNoOutput});
+  add({"DepthIsAFolder", "a folder where the right depth file belongs (unreadable)",
+       [](TinyScene& s, std::vector<std::string>&) {
+         fs::create_directory(s.path("depth_folder.yuv"));
+         s.set("RightDepthMapName", "depth_folder.yuv");
+       },
+       1, {"depth_folder.yuv: cannot open: is a folder, not a file"}, kNoOutput});
+  add({"TextureUnreadable", "a texture without read permission (skipped as root)",
+       [](TinyScene& s, std::vector<std::string>&) { fs::permissions(s.path("left.yuv"), fs::perms::none); }, 1,
+       {"left.yuv: cannot open: Permission denied"}, kNoOutput, true});
+  add({"CameraFileMissing", "the camera file does not exist", setKey("CameraParameterFile", "no_such_cameras.txt"), 1,
+       {"cannot open camera parameter file", "no_such_cameras.txt"}, kNoOutput});
+  add({"CameraFileIsAFolder", "a folder where the camera file belongs",
+       [](TinyScene& s, std::vector<std::string>&) {
+         fs::create_directory(s.path("camera_folder"));
+         s.set("CameraParameterFile", "camera_folder");
+       },
+       1, {"camera_folder", "is a folder, not a camera parameter file"}, kNoOutput});
+  add({"CameraFileIsAVideo", "a 100 MB file given as the camera file: refused before reading it",
+       [](TinyScene& s, std::vector<std::string>&) {
+         std::ofstream(s.path("video.yuv")).close();
+         fs::resize_file(s.path("video.yuv"), 100u << 20);  // sparse: no disk space used
+         s.set("CameraParameterFile", "video.yuv");
+       },
+       1, {"video.yuv' is 104857600 bytes; at most 16777216 expected (is it a camera parameter file?)"}, kNoOutput,
+       false, 3.0, 200});
+  add({"ReferenceViewMissing", "the ground-truth view does not exist",
+       setKey("ReferenceVirtualViewImageName", "no_truth.yuv"), 1, {"no_truth.yuv: cannot open"}, kNoOutput});
+
+  // ---- Cameras ------------------------------------------------------------------------------------
+  add({"CameraNameNotInFile", "a virtual camera name the file does not have", setKey("VirtualCameraName", "cam_middle"),
+       1,
+       {"camera 'cam_middle' named by VirtualCameraName is not in the file; it has: cam_left, cam_virtual, cam_right"},
+       kNoOutput});
+  add({"CameraBlock22Numbers", "the middle camera block has 22 numbers",
+       [](TinyScene& s, std::vector<std::string>&) {
+         editCamera(s, "cam_virtual", [](std::vector<std::string>& t) { t.pop_back(); });
+       },
+       1,
+       {"cameras.txt:21: found 'cam_right', which reads as the name of a new camera, but camera 'cam_virtual' (line 11) "
+        "has only 22 of its 23 numbers"},
+       kNoOutput});
+  add({"CameraFileEndsEarly", "the last camera block has 22 numbers",
+       [](TinyScene& s, std::vector<std::string>&) {
+         editCamera(s, "cam_right", [](std::vector<std::string>& t) { t.pop_back(); });
+       },
+       1, {"the file ends early: camera 'cam_right' (line 21) has only 22 of its 23 numbers"}, kNoOutput});
+  add({"CameraNaN", "NaN in K",
+       [](TinyScene& s, std::vector<std::string>&) {
+         editCamera(s, "cam_left", [](std::vector<std::string>& t) { t[0] = "nan"; });
+       },
+       1, {"cameras.txt:2: 'nan' for K[0][0] of camera 'cam_left' is not a finite number"}, kNoOutput});
+  add({"CameraLetters", "letters in R",
+       [](TinyScene& s, std::vector<std::string>&) {
+         editCamera(s, "cam_right", [](std::vector<std::string>& t) { t[17] = "abc"; });
+       },
+       1, {"expected a number for R[1][2] of camera 'cam_right' (line 21), found 'abc'"}, kNoOutput});
+  add({"CameraHugeNumber", "a number beyond double range",
+       [](TinyScene& s, std::vector<std::string>&) {
+         editCamera(s, "cam_left", [](std::vector<std::string>& t) { t[14] = "1e999"; });
+       },
+       1, {"'1e999' for t[0] of camera 'cam_left' is out of the range of a double-precision number"}, kNoOutput});
+  add({"SingularK", "an intrinsic matrix without inverse",
+       [](TinyScene& s, std::vector<std::string>&) {
+         editCamera(s, "cam_virtual", [](std::vector<std::string>& t) {
+           t[1] = t[0];  // K = [f f cx; f f cy; 0 0 1]
+           t[3] = t[0];
+         });
+       },
+       1, {"camera 'cam_virtual': K is singular"}, kNoOutput});
+  add({"NegativeFocal", "fx < 0",
+       [](TinyScene& s, std::vector<std::string>&) {
+         editCamera(s, "cam_left", [](std::vector<std::string>& t) { t[0] = "-30"; });
+       },
+       1, {"camera 'cam_left': focal length fx = K[0][0] = -30, expected a positive number"}, kNoOutput});
+  add({"NotARotation", "R scaled by 2",
+       [](TinyScene& s, std::vector<std::string>&) {
+         editCamera(s, "cam_right", [](std::vector<std::string>& t) {
+           t[11] = "2";
+           t[16] = "2";
+           t[21] = "2";
+         });
+       },
+       1, {"camera 'cam_right': R is not a rotation matrix: max |R R^T - I| = 3"}, kNoOutput});
+  add({"ReflectionR", "R with determinant -1",
+       [](TinyScene& s, std::vector<std::string>&) {
+         editCamera(s, "cam_left", [](std::vector<std::string>& t) { t[21] = "-1"; });
+       },
+       1, {"camera 'cam_left': R is not a rotation matrix", "det(R) = -1 (expected +1)"}, kNoOutput});
+  add({"EmptyCameraFile", "a camera file without cameras",
+       [](TinyScene& s, std::vector<std::string>&) { writeFile(s.path("cameras.txt"), "# nothing here\n\n"); }, 1,
+       {"cameras.txt: no camera found"}, kNoOutput});
+  add({"YuvAsCameraFile", "a YUV sequence given as the camera file", setKey("CameraParameterFile", "left.yuv"), 1,
+       {"left.yuv"}, kNoOutput});
+  add({"Mode1NotRectified", "SynthesisMode 1 on a rig whose virtual camera is rotated",
+       [](TinyScene& s, std::vector<std::string>&) {
+         s.set("SynthesisMode", "1");
+         editCamera(s, "cam_virtual", [](std::vector<std::string>& t) {
+           t[11] = "0.9998476951563913";  // 1 degree about y
+           t[13] = "0.01745240643728351";
+           t[19] = "-0.01745240643728351";
+           t[21] = "0.9998476951563913";
+         });
+       },
+       1, {"SynthesisMode 1 (1D parallel) needs a rectified rig, and this one is not"}, kNoOutput});
+
+  // ---- Depth ranges -------------------------------------------------------------------------------
+  add({"ZnearEqualsZfar", "an empty depth range", setKey("LeftFarthestDepthValue", "50"), 1,
+       {"LeftNearestDepthValue and LeftFarthestDepthValue are both 50: the depth range is empty"}, kNoOutput});
+  add({"ZnearNegative", "Znear < 0 with DepthType 0", setKey("RightNearestDepthValue", "-5"), 1,
+       {"RightNearestDepthValue = -5: with DepthType 0 (camera-frame z) it must be greater than 0"}, kNoOutput});
+  add({"ZnearZero", "Znear = 0 with DepthType 0", setKey("LeftNearestDepthValue", "0"), 1,
+       {"LeftNearestDepthValue = 0: with DepthType 0 (camera-frame z) it must be greater than 0"}, kNoOutput});
+  add({"ZnearNaN", "Znear nan", setKey("LeftNearestDepthValue", "nan"), 1,
+       {"LeftNearestDepthValue = 'nan': expected a finite number"}, kNoOutput});
+  add({"ZnearSwapped", "Znear farther than Zfar", setKey("LeftNearestDepthValue", "500"), 1,
+       {"LeftNearestDepthValue = 500 is farther than LeftFarthestDepthValue = 120", "swapped keys?"}, kNoOutput});
+  add({"WorldZeroDepth", "DepthType 1 with Zfar 0",
+       [](TinyScene& s, std::vector<std::string>&) {
+         s.set("DepthType", "1");
+         s.set("RightFarthestDepthValue", "0");
+       },
+       1, {"RightFarthestDepthValue = 0: 1/Z would be infinite"}, kNoOutput});
+
+  // ---- Sequences ----------------------------------------------------------------------------------
+  add({"TruncatedTexture", "the left texture cut in the middle of frame 2: 2 frames are written",
+       [](TinyScene& s, std::vector<std::string>&) {
+         truncateTo(s.path("left.yuv"), 2 * s.textureFormat().frameBytes() + 100);
+       },
+       1, {"left.yuv holds only 2 frames from StartFrame 0, but TotalNumberOfFrames is 3; 2 whole frames were written to"},
+       2});
+  add({"TextureShorterThanAFrame", "a texture shorter than one frame",
+       [](TinyScene& s, std::vector<std::string>&) { truncateTo(s.path("right.yuv"), 100); }, 1,
+       {"right.yuv: StartFrame 0 is beyond the end of the file (0 whole frames of 768 bytes)"}, kNoOutput});
+  add({"StartFrameBeyondEnd", "StartFrame 5 of 3 frames", setKey("StartFrame", "5"), 1,
+       {"StartFrame 5 is beyond the end of the file (3 whole frames of 768 bytes)"}, kNoOutput});
+  add({"StartFrameAtEnd", "StartFrame 3 of 3 frames", setKey("StartFrame", "3"), 1,
+       {"StartFrame 3 is beyond the end of the file (3 whole frames"}, kNoOutput});
+  add({"TooManyFrames", "TotalNumberOfFrames 10 of 3: the 3 frames are written and the message says so",
+       setKey("TotalNumberOfFrames", "10"), 1,
+       {"holds only 3 frames from StartFrame 0, but TotalNumberOfFrames is 10; 3 whole frames were written to"}, 3});
+  add({"TooManyFramesFromStart", "StartFrame 1 and TotalNumberOfFrames 5 of 3: 2 frames are written",
+       [](TinyScene& s, std::vector<std::string>&) {
+         s.set("StartFrame", "1");
+         s.set("TotalNumberOfFrames", "5");
+       },
+       1, {"holds only 2 frames from StartFrame 1, but TotalNumberOfFrames is 5; 2 whole frames were written to"}, 2});
+  add({"DepthShorterThanTexture", "the right depth holds 2 frames, the textures 3",
+       [](TinyScene& s, std::vector<std::string>&) {
+         truncateTo(s.path("right_depth.yuv"), 2 * s.depthFormat().frameBytes());
+       },
+       1, {"right_depth.yuv holds only 2 frames from StartFrame 0, but TotalNumberOfFrames is 3; 2 whole frames"}, 2});
+  add({"ReferenceViewShort", "the ground-truth view holds 1 frame",
+       [](TinyScene& s, std::vector<std::string>&) {
+         fs::copy_file(s.path("left.yuv"), s.path("truth.yuv"));
+         truncateTo(s.path("truth.yuv"), s.textureFormat().frameBytes());
+         s.set("ReferenceVirtualViewImageName", "truth.yuv");
+       },
+       1, {"truth.yuv holds only 1 frames from StartFrame 0, but TotalNumberOfFrames is 3; 1 whole frames"}, 1});
+  add({"DepthSampleAboveMax", "a 10-bit depth file whose frame 1 holds the sample 4000: frame 0 is written",
+       [](TinyScene& s, std::vector<std::string>&) {
+         s.depthBitDepth = 10;
+         s.writeAll();
+         const uint64_t offset = s.depthFormat().frameBytes() + 2 * (2 * uint64_t(s.width) + 3);
+         std::fstream file(s.path("left_depth.yuv"), std::ios::in | std::ios::out | std::ios::binary);
+         file.seekp(std::streamoff(offset));
+         const char sample[2] = {char(4000 & 0xff), char(4000 >> 8)};
+         file.write(sample, 2);
+       },
+       1,
+       {"left_depth.yuv: frame 1, plane Y: sample 4000 at (x 3, y 2) exceeds 1023, the maximum of 10-bit samples"}, 1});
+  add({"WrongBitDepth", "8-bit files read as 10-bit: samples above 1023",
+       setKey("TextureBitDepth", "10"), 1, {"exceeds 1023, the maximum of 10-bit samples (wrong bit depth"}, 0});
+
+  // ---- Output -------------------------------------------------------------------------------------
+  add({"OutputIsInput", "the output is the left texture", setKey("OutputVirtualViewImageName", "left.yuv"), 1,
+       {"OutputVirtualViewImageName", "is also an input", "refusing to overwrite it"}});
+  add({"OutputIsInputOtherSpelling", "the output is the right depth, spelled with '.\\' and '..'",
+       setKey("OutputVirtualViewImageName", ".\\sub\\..\\right_depth.yuv"), 1, {"is also an input"}});
+  add({"OutputIsInputAbsolute", "the output is the left depth, absolute, on the command line",
+       [](TinyScene& s, std::vector<std::string>& a) {
+         a.push_back("OutputVirtualViewImageName=" + s.path("left_depth.yuv").string());
+       },
+       1, {"is also an input"}});
+  add({"OutputIsCameraFile", "the output is the camera file", setKey("OutputVirtualViewImageName", "cameras.txt"), 1,
+       {"is also an input"}});
+  add({"OutputIsLinkToInput", "the output is a symbolic link to the right texture",
+       [](TinyScene& s, std::vector<std::string>&) {
+         fs::create_symlink("right.yuv", s.path("alias.yuv"));
+         s.set("OutputVirtualViewImageName", "alias.yuv");
+       },
+       1, {"is also an input"}});
+  add({"OutputIsHardLinkToInput", "the output is a hard link to the left texture",
+       [](TinyScene& s, std::vector<std::string>&) {
+         fs::create_hard_link(s.path("left.yuv"), s.path("hard.yuv"));
+         s.set("OutputVirtualViewImageName", "hard.yuv");
+       },
+       1, {"is also an input"}});
+  add({"OutputThroughLinkedFolder", "the output is the left texture through a linked folder",
+       [](TinyScene& s, std::vector<std::string>&) {
+         fs::create_directory_symlink(".", s.path("here"));
+         s.set("OutputVirtualViewImageName", "here/left.yuv");
+       },
+       1, {"is also an input"}});
+  add({"OutputFolderMissing", "the output folder does not exist",
+       setKey("OutputVirtualViewImageName", "no_such_folder/virtual.yuv"), 1,
+       {"output folder", "no_such_folder' does not exist"}, kNoOutput});
+  add({"OutputFolderIsAFile", "the output folder is a file", setKey("OutputVirtualViewImageName", "left.yuv/virtual.yuv"),
+       1, {"left.yuv' is not a folder"}, kNoOutput});
+  add({"OutputFolderNotWritable", "the output folder cannot hold new files (/proc)",
+       setKey("OutputVirtualViewImageName", "/proc/vs_virtual.yuv"), 1,
+       {"/proc/vs_virtual.yuv: cannot create the output file in folder '/proc'"}, kNoOutput});
+  add({"OutputFolderReadOnly", "a read-only output folder (skipped as root)",
+       [](TinyScene& s, std::vector<std::string>&) {
+         fs::create_directory(s.path("readonly"));
+         fs::permissions(s.path("readonly"), fs::perms::owner_read | fs::perms::owner_exec);
+         s.set("OutputVirtualViewImageName", "readonly/virtual.yuv");
+       },
+       1, {"cannot create the output file", "Permission denied"}, kNoOutput, true});
+  add({"OutputIsAFolder", "the output path is a folder",
+       [](TinyScene& s, std::vector<std::string>&) {
+         fs::create_directory(s.path("out_folder"));
+         s.set("OutputVirtualViewImageName", "out_folder");
+       },
+       1, {"output path is a folder, not a file"}, kNoOutput});
+  add({"ReportIsInput", "the CSV report is the camera file", setKey("ReportFile", "cameras.txt"), 1,
+       {"ReportFile", "is also an input"}, kNoOutput});
+  add({"ReportIsOutput", "the CSV report is the output sequence", setKey("ReportFile", "virtual.yuv"), 1,
+       {"ReportFile", "is the output"}, kNoOutput});
+  add({"ReportIsVirtualDepth", "the CSV report is the virtual depth output",
+       [](TinyScene& s, std::vector<std::string>&) {
+         s.set("OutputVirtualDepthMapName", "virtual_depth.yuv");
+         s.set("ReportFile", "virtual_depth.yuv");
+       },
+       1, {"ReportFile", "is the output depth sequence (OutputVirtualDepthMapName)"}, kNoOutput});
+  add({"VirtualDepthIsOutput", "the virtual depth output is the virtual view output, spelled differently",
+       setKey("OutputVirtualDepthMapName", "./sub/../virtual.yuv"), 1,
+       {"OutputVirtualDepthMapName and OutputVirtualViewImageName are the same file"}, kNoOutput});
+  add({"VirtualDepthIsInput", "the virtual depth output is the left depth input",
+       setKey("OutputVirtualDepthMapName", "left_depth.yuv"), 1,
+       {"OutputVirtualDepthMapName", "is also an input"}, kNoOutput});
+  return cases;
+}
+
+void PrintTo(const BadInputCase& c, std::ostream* out) { *out << c.name << " (" << c.description << ")"; }
+
+class BadInput : public ::testing::TestWithParam<BadInputCase> {};
+
+TEST_P(BadInput, RefusedWithMessageAndNoDamage) {
+  const BadInputCase& c = GetParam();
+  if (c.needsNonRoot && geteuid() == 0)
+    GTEST_SKIP() << "running as root: file permissions do not stop root; the folder-as-file cases cover unreadable "
+                    "input";
+  const fs::path root = test::scratchDir("bad_input_" + c.name);
+  const fs::path runDir = root / "run";
+  fs::create_directories(runDir);
+  TinyScene scene(root / "scene");
+  scene.writeAll();
+  std::vector<std::string> arguments{scene.configPath().string()};
+  c.build(scene, arguments);
+  scene.writeConfig();
+
+  const std::map<std::string, Digest> before = snapshot(scene.dir);
+  std::string command;
+  for (const std::string& argument : arguments) command += (command.empty() ? "" : " ") + test::quoted(argument);
+  const auto start = std::chrono::steady_clock::now();
+  const test::ToolResult result = test::runTool("ViewSyn", command, runDir, scene.dir);
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const std::map<std::string, Digest> after = snapshot(scene.dir);
+
+  SCOPED_TRACE(c.description);
+  EXPECT_EQ(result.exitCode, c.exitCode) << "stderr:\n" << result.err;
+  if (c.exitCode == 1) {
+    EXPECT_EQ(result.err.rfind("ViewSyn: error: ", 0), 0u) << result.err;
+  }
+  // The usage (exit code 2 without an argument) is printed to stdout like --help; messages to stderr.
+  const std::string& shown = c.name == "NoArguments" ? result.out : result.err;
+  for (const std::string& message : c.messages)
+    EXPECT_NE(shown.find(message), std::string::npos) << "expected: " << message << "\nstderr:\n" << result.err;
+  // Said in a few lines, however much is wrong.
+  EXPECT_LT(result.err.size(), 16384u);
+
+  // Every file that was there is unchanged.
+  for (const auto& [path, content] : before) {
+    const auto now = after.find(path);
+    if (now == after.end()) {
+      ADD_FAILURE() << path << " was removed";
+      continue;
+    }
+    EXPECT_TRUE(now->second == content) << path << " changed: " << content.size << " -> " << now->second.size
+                                        << " bytes";
+  }
+  // Every file the run made is a sequence of whole frames (a report, if any, is text).
+  const uint64_t frameBytes = scene.textureFormat().frameBytes();
+  for (const auto& [path, content] : after) {
+    if (before.count(path) || fs::path(path).extension() == ".csv") continue;
+    EXPECT_EQ(content.size % frameBytes, 0u) << path << " holds a partial frame: " << content.size << " bytes";
+  }
+  const fs::path output = scene.outputPath();
+  const bool outputIsNew = !before.count(output.string());
+  if (c.outputFrames == kNoOutput) {
+    EXPECT_FALSE(outputIsNew && fs::exists(output)) << output << " was created";
+  }
+  if (c.outputFrames >= 0) {
+    ASSERT_TRUE(fs::exists(output)) << output;
+    EXPECT_EQ(fs::file_size(output), uint64_t(c.outputFrames) * frameBytes) << output;
+  }
+
+  if (c.maxSeconds > 0) {
+    EXPECT_LT(seconds, c.maxSeconds) << "the refusal took " << seconds << " s";
+  }
+  if (c.maxRssMiB > 0) {
+    // Once more, measured on its own: the peak resident memory of the refusal.
+    const test::ProcessStats stats = test::runMeasured("ViewSyn", arguments, runDir / "peak_rss.txt");
+    ASSERT_TRUE(stats.measured);
+    EXPECT_EQ(stats.exitCode, c.exitCode);
+    EXPECT_LT(stats.maxRssKiB, c.maxRssMiB * 1024) << "peak RSS " << stats.maxRssKiB / 1024 << " MiB";
+    if (c.maxSeconds > 0) {
+      EXPECT_LT(stats.seconds, c.maxSeconds);
+    }
+  }
+  // Leave nothing unreadable behind for the next run's clean-up.
+  std::error_code ec;
+  for (const char* name : {"left.yuv", "readonly"}) fs::permissions(scene.path(name), fs::perms::owner_all, ec);
+}
+
+INSTANTIATE_TEST_SUITE_P(Catalogue, BadInput, ::testing::ValuesIn(catalogue()),
+                         [](const ::testing::TestParamInfo<BadInputCase>& info) { return info.param.name; });
+
+TEST(BadInputCatalogue, HasAtLeastFortyCasesWithUniqueNames) {
+  const std::vector<BadInputCase> cases = catalogue();
+  EXPECT_GE(cases.size(), 40u);
+  std::map<std::string, int> names;
+  for (const BadInputCase& c : cases) EXPECT_EQ(++names[c.name], 1) << c.name;
+}
+
+// The scene the catalogue breaks is valid: ViewSyn synthesizes it with exit code 0.
+TEST(BadInputCatalogue, TheUnbrokenSceneRuns) {
+  const fs::path root = test::scratchDir("bad_input_valid");
+  TinyScene scene(root / "scene");
+  scene.writeAll();
+  const std::map<std::string, Digest> before = snapshot(scene.dir);
+  const test::ToolResult result = test::runTool("ViewSyn", test::quoted(scene.configPath().string()), root, scene.dir);
+  EXPECT_EQ(result.exitCode, 0) << result.err;
+  ASSERT_TRUE(fs::exists(scene.outputPath()));
+  EXPECT_EQ(fs::file_size(scene.outputPath()), 3 * scene.textureFormat().frameBytes());
+  for (const auto& [path, content] : before) EXPECT_TRUE(digest(path) == content) << path;
+}
+
+// Key=Value arguments resolve paths against the working folder; a removed working folder is bad
+// input like any other, not an uncaught std::filesystem::filesystem_error (which aborted ViewSyn).
+TEST(BadInputCatalogue, RemovedWorkingFolderIsNoCrash) {
+  const fs::path root = test::scratchDir("bad_input_removed_cwd");
+  TinyScene scene(root / "scene");
+  scene.writeAll();
+  const fs::path gone = root / "gone";
+  fs::create_directories(gone);
+  const test::ToolResult result =
+      test::runTool("ViewSyn",
+                    "\"$(rmdir " + test::quoted(gone.string()) + ")\"" + test::quoted(scene.configPath().string()) +
+                        " LeftViewImageName=left.yuv",
+                    root, gone);
+  EXPECT_EQ(result.exitCode, 1) << result.err;
+  EXPECT_NE(result.err.find("left.yuv: cannot open"), std::string::npos) << result.err;
+  EXPECT_FALSE(fs::exists(scene.outputPath()));
+}
+
+// A config saved by Notepad starts with a UTF-8 byte order mark; it is read like any other.
+TEST(BadInputCatalogue, ConfigWithByteOrderMarkIsRead) {
+  const fs::path root = test::scratchDir("bad_input_bom");
+  TinyScene scene(root / "scene");
+  scene.writeAll();
+  writeFile(scene.configPath(), "\xEF\xBB\xBF" + readFile(scene.configPath()));
+  const test::ToolResult result =
+      test::runTool("ViewSyn", "--check " + test::quoted(scene.configPath().string()), root, scene.dir);
+  EXPECT_EQ(result.exitCode, 0) << result.err;
+  EXPECT_NE(result.out.find("configuration OK"), std::string::npos) << result.out;
+}
+
+}  // namespace
+}  // namespace vs
