@@ -143,3 +143,21 @@ TEST(Json, ParsesAndEscapes) {
 
 }  // namespace
 }  // namespace vs
+
+namespace vs {
+namespace {
+
+// Found by FuzzCameraJson: a Resolution beyond int was converted with undefined behaviour.
+TEST(CameraJson, ResolutionMustBeASmallInteger) {
+  try {
+    parseCameraJson(R"({"cameras": [{"Name": "v", "Position": [0,0,0], "Rotation": [0,0,0], "Focal": [1,1],
+                        "Principle_point": [0,0], "Resolution": [2.2e43, 5]}]})",
+                    "r.json");
+    FAIL() << "a Resolution of 2.2e43 must be refused";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("\"Resolution\" must hold two integers in 1..65536"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace vs

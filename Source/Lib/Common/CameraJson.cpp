@@ -151,6 +151,9 @@ CameraFile parseCameraJson(const std::string& text, const std::string& source) {
     camera.K[1][2] = principal[1] - 0.5;
     if (entry.find("Resolution")) {
       const std::vector<double> resolution = reader.numbers("Resolution", 2);
+      for (double r : resolution)
+        if (r != std::floor(r) || r < 1 || r > 65536)
+          reader.fail(*entry.find("Resolution"), "camera '" + camera.name + "' \"Resolution\" must hold two integers in 1..65536");
       info.width = int(resolution[0]);
       info.height = int(resolution[1]);
     }
