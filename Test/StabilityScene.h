@@ -38,30 +38,6 @@ inline void recordFigure(const std::string& name, double value) {
             << ": " << name << " = " << text << std::endl;
 }
 
-// Checks that fail today because of a bug listed in doc/stability.md ("Bugs found"). While the bug is
-// there the test ends as skipped, naming it and what failed, so the suite stays green and the figure
-// is still printed; once the bug is fixed the check passes and the test passes. Everything else in
-// such a test is an ordinary EXPECT: a regression there still fails it.
-class KnownBug {
-public:
-  explicit KnownBug(std::string bug) : bug_(std::move(bug)) {}
-  void check(bool ok, const std::string& what) {
-    if (!ok) failures_ += (failures_.empty() ? "" : "; ") + what;
-  }
-  bool hit() const { return !failures_.empty(); }
-  std::string message() const { return "known bug: " + bug_ + " -- failing now: " + failures_; }
-
-private:
-  std::string bug_;
-  std::string failures_;
-};
-
-// Ends the test as skipped when `bug` was hit (after its ordinary checks have run).
-#define VS_SKIP_IF_KNOWN_BUG(bug) \
-  do {                             \
-    if ((bug).hit()) GTEST_SKIP() << (bug).message(); \
-  } while (0)
-
 // A SceneGen scene (doc/scenegen.md) rendered in process from any camera: texture as SceneGen writes it
 // (8-bit 4:2:0, BT.601) and exact depth, quantised here with any range, DepthType 0 or 1.
 class GeneratedScene {

@@ -1,5 +1,6 @@
 // MeshRender without OpenGL: mesh from depth, the camera matrices (evaluated in double the way OpenGL
 // applies them) and the PLY file.
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -16,6 +17,7 @@
 #include "Common/Camera.h"
 #include "Common/Depth.h"
 #include "Common/Frame.h"
+#include "Common/Options.h"
 #include "Mesh/DepthMesh.h"
 #include "Mesh/MeshPly.h"
 #include "Mesh/MeshProjection.h"
@@ -187,6 +189,76 @@ TEST(MeshDepth, DiscontinuitiesDropTrianglesAndMarkTheirVertices) {
   options.discontinuityThreshold = step * 1.01;
   vs::DepthMeshBuilder(camera, range, 8, 6, options).build(depth, mesh);
   EXPECT_EQ(mesh.droppedTriangles, 0u);
+}
+
+// A plane seen at a grazing angle: its levels rise by 20 a row (more than the threshold allows in
+// relative depth near the far end) but evenly, so its triangles stay; the same rows with one uneven
+// step (a second surface) lose the triangles across that step only.
+TEST(MeshDepth, EvenlySteppingLevelsAreOnePlaneWhateverTheRelativeStep) {
+  const vs::Camera camera = skewedCamera({0, 0, 0}, 0, 0, 0);
+  const vs::DepthRange range = range8(100, 10000);
+  vs::Plane depth(6, 8);
+  for (int y = 0; y < 8; ++y)
+    for (int x = 0; x < 6; ++x) depth.at(x, y) = uint16_t(10 + 20 * y + (y % 2));  // rounding: +-1
+  vs::MeshOptions options;
+  options.discontinuityThreshold = 0.05;
+  ASSERT_GT(1.0 - vs::levelToZ(31, range) / vs::levelToZ(10, range), 0.05);  // relative steps too large
+  vs::DepthMesh mesh;
+  vs::DepthMeshBuilder(camera, range, 6, 8, options).build(depth, mesh);
+  EXPECT_EQ(mesh.droppedTriangles, 0u);
+  EXPECT_TRUE(mesh.points.empty());
+
+  for (int y = 4; y < 8; ++y)
+    for (int x = 0; x < 6; ++x) depth.at(x, y) = uint16_t(depth.at(x, y) + 30);  // a step between rows 3 and 4
+  vs::DepthMeshBuilder(camera, range, 6, 8, options).build(depth, mesh);
+  // Grid rows -0.5, 0..7, 7.5: only the row of quads between pixel rows 3 and 4 (grid rows 4, 5) loses
+  // its triangles, 2 per quad, 7 quads.
+  EXPECT_EQ(mesh.droppedTriangles, size_t(2 * (mesh.columns - 1)));
+  for (size_t t = 0; t < mesh.triangles.size(); t += 3) {
+    const uint32_t rowsOf[3] = {mesh.triangles[t] / uint32_t(mesh.columns), mesh.triangles[t + 1] / uint32_t(mesh.columns),
+                                mesh.triangles[t + 2] / uint32_t(mesh.columns)};
+    const uint32_t top = std::min({rowsOf[0], rowsOf[1], rowsOf[2]});
+    EXPECT_NE(top, 4u) << "triangle " << t / 3 << " spans the step";
+  }
+  // DepthType 1 levels are not affine on a plane: the rule is off, the grazing rows are dropped.
+  options.depthType = vs::kDepthTypeWorld;
+  for (int y = 0; y < 8; ++y)
+    for (int x = 0; x < 6; ++x) depth.at(x, y) = uint16_t(10 + 20 * y + (y % 2));
+  vs::DepthMeshBuilder(camera, range, 6, 8, options).build(depth, mesh);
+  EXPECT_GT(mesh.droppedTriangles, 0u);
+}
+
+// A vertex left without a kept triangle is drawn as a point, unless every valid neighbour is nearer
+// (a speck of background seen through the depth map).
+TEST(MeshDepth, OrphanVerticesAreDrawnAsPointsUnlessBehindAllAround) {
+  const vs::Camera camera = skewedCamera({0, 0, 0}, 0, 0, 0);
+  const vs::DepthRange range = range8(100, 300);
+  vs::MeshOptions options;
+  options.discontinuityThreshold = 0.01;
+  auto gridIndex = [](const vs::DepthMesh& mesh, int x, int y) { return uint32_t((y + 1) * mesh.columns + x + 1); };
+  auto drawnAsPoint = [](const vs::DepthMesh& mesh, uint32_t i) {
+    return std::find(mesh.points.begin(), mesh.points.end(), i) != mesh.points.end();
+  };
+  vs::Plane depth(9, 9, 100);
+  depth.at(2, 2) = 250;  // nearer than all around: a thin foreground sample
+  depth.at(6, 6) = 10;   // farther than all around
+  for (int x = 0; x < 9; ++x) depth.at(x, 4) = uint16_t(x == 4 ? 175 : 100);  // between a near and a far neighbour
+  depth.at(4, 3) = 250;
+  vs::DepthMesh mesh;
+  vs::DepthMeshBuilder(camera, range, 9, 9, options).build(depth, mesh);
+  for (size_t t = 0; t < mesh.triangles.size(); ++t)
+    for (uint32_t orphan : {gridIndex(mesh, 2, 2), gridIndex(mesh, 6, 6), gridIndex(mesh, 4, 4)})
+      ASSERT_NE(mesh.triangles[t], orphan);
+  EXPECT_TRUE(drawnAsPoint(mesh, gridIndex(mesh, 2, 2)));
+  EXPECT_TRUE(drawnAsPoint(mesh, gridIndex(mesh, 4, 4)));
+  EXPECT_FALSE(drawnAsPoint(mesh, gridIndex(mesh, 6, 6)));
+}
+
+// Code that builds meshes without a config (tests, tools) gets MeshRender's own default threshold.
+TEST(MeshDepth, DefaultThresholdIsTheOptionTables) {
+  const vs::OptionSpec* spec = vs::meshRenderOptionTable().find("MeshDiscontinuityThreshold");
+  ASSERT_NE(spec, nullptr);
+  EXPECT_EQ(vs::MeshOptions{}.discontinuityThreshold, std::stod(spec->defaultValue));
 }
 
 TEST(MeshDepth, MissingDepthLevelDropsItsVertices) {

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "Common/Error.h"
 
@@ -26,6 +27,9 @@ inline bool sameSurface(double qa, double qb, double threshold) {
   const double lo = std::min(qa, qb), hi = std::max(qa, qb);
   return lo >= (1.0 - threshold) * hi;
 }
+
+// Second difference of depth levels along a grid line that still counts as one plane (planar()).
+constexpr int kPlanarLevelSlack = 2;
 
 inline double relativeStep(double qa, double qb) {
   const double hi = std::max(qa, qb);
@@ -94,15 +98,18 @@ void DepthMeshBuilder::build(const Plane& depth, DepthMesh& mesh) const {
   mesh.points.clear();
   mesh.droppedTriangles = 0;
   std::vector<double> cameraInverseZ(count, 0.0);
+  std::vector<int> level(count, 0);  // depth level of each valid vertex
 
   const bool world = options_.depthType == kDepthTypeWorld;
+  // Levels are affine in the image on a plane only for camera depth (DepthType 0).
+  const bool planarEdges = options_.depthType == kDepthTypeCamera;
   const double centreZ = reference_.t.z;
   for (int r = 0; r < rows; ++r) {
     const uint16_t* depthRow = depth.row(pixelV_[size_t(r)]);
     for (int c = 0; c < columns; ++c) {
       const size_t i = size_t(r) * columns + c;
-      const uint16_t level = depthRow[pixelU_[size_t(c)]];
-      double w = level < inverseZ_.size() ? inverseZ_[level] : std::nan("");
+      const uint16_t sampleLevel = depthRow[pixelU_[size_t(c)]];
+      double w = sampleLevel < inverseZ_.size() ? inverseZ_[sampleLevel] : std::nan("");
       if (std::isnan(w)) continue;
       // referenceVertex() without recomputing the ray per vertex: the same formula, D_z cached.
       double a = 1.0;
@@ -123,14 +130,61 @@ void DepthMeshBuilder::build(const Plane& depth, DepthMesh& mesh) const {
       vertex[3] = float(w);
       mesh.valid[i] = 1;
       cameraInverseZ[i] = w / a;
+      level[i] = sampleLevel;
     }
   }
 
   const double threshold = options_.discontinuityThreshold;
+  // A grid edge from vertex a to vertex b lies on a plane when it belongs to four valid vertices in a
+  // row on its line (a and b, and two more before, after, or one on each side) whose depth levels
+  // step evenly: a plane's levels are affine in the image (DepthType 0), so there the steps differ
+  // by at most kPlanarLevelSlack (rounding of the levels). A surface seen at a grazing angle steps by
+  // a large relative depth from sample to sample, yet is one surface; a step between two surfaces is
+  // not even with the steps beside it.
+  auto planar = [&](uint32_t a, uint32_t b) {
+    const int ra = int(a / uint32_t(columns)), ca = int(a % uint32_t(columns));
+    const int dr = int(b / uint32_t(columns)) - ra, dc = int(b % uint32_t(columns)) - ca;
+    int line[6];  // levels at a + k d, k = -2 .. 3; INT_MIN where not a valid vertex
+    for (int k = -2; k <= 3; ++k) {
+      const int r = ra + k * dr, c = ca + k * dc;
+      const bool inside = r >= 0 && c >= 0 && r < rows && c < columns;
+      const size_t i = inside ? size_t(r) * columns + c : 0;
+      line[k + 2] = inside && mesh.valid[i] ? level[i] : std::numeric_limits<int>::min();
+    }
+    const int step = line[3] - line[2];
+    for (int first = 0; first <= 2; ++first) {  // windows line[first .. first + 3], all hold a and b
+      bool even = true;
+      for (int k = first; k < first + 3 && even; ++k)
+        even = line[k] != std::numeric_limits<int>::min() && line[k + 1] != std::numeric_limits<int>::min() &&
+               std::abs((line[k + 1] - line[k]) - step) <= kPlanarLevelSlack;
+      if (even) return true;
+    }
+    return false;
+  };
+  // 0: two surfaces; 1: within the threshold; 2: on a plane (planar()).
+  auto connection = [&](uint32_t a, uint32_t b) {
+    if (sameSurface(cameraInverseZ[a], cameraInverseZ[b], threshold)) return 1;
+    return planarEdges && planar(a, b) ? 2 : 0;
+  };
+  auto diagonal = [&](uint32_t a, uint32_t b) {
+    return a / uint32_t(columns) != b / uint32_t(columns) && a % uint32_t(columns) != b % uint32_t(columns);
+  };
+  // A triangle is kept when its three edges are connected. Its diagonal edge also counts as connected
+  // when the other two are and one of them lies on a plane: the diagonal's own line may leave the grid
+  // (near the picture's border) before it holds four vertices.
+  auto kept = [&](uint32_t a, uint32_t b, uint32_t c) {
+    const uint32_t edges[3][2] = {{a, b}, {b, c}, {c, a}};
+    int link[3];
+    for (int e = 0; e < 3; ++e) link[e] = connection(edges[e][0], edges[e][1]);
+    for (int e = 0; e < 3; ++e) {
+      if (link[e] || !diagonal(edges[e][0], edges[e][1])) continue;
+      const int other1 = link[(e + 1) % 3], other2 = link[(e + 2) % 3];
+      if (other1 && other2 && (other1 == 2 || other2 == 2)) link[e] = 2;
+    }
+    return link[0] && link[1] && link[2];
+  };
   auto emit = [&](uint32_t a, uint32_t b, uint32_t c) {
-    if (sameSurface(cameraInverseZ[a], cameraInverseZ[b], threshold) &&
-        sameSurface(cameraInverseZ[b], cameraInverseZ[c], threshold) &&
-        sameSurface(cameraInverseZ[a], cameraInverseZ[c], threshold)) {
+    if (kept(a, b, c)) {
       mesh.triangles.insert(mesh.triangles.end(), {a, b, c});
       return;
     }
@@ -168,12 +222,26 @@ void DepthMeshBuilder::build(const Plane& depth, DepthMesh& mesh) const {
       }
     }
 
-  // Border vertices of kept triangles are also drawn as points (see the header).
+  // Border vertices of kept triangles, and valid vertices without a kept triangle unless nothing
+  // around them is farther, are also drawn as points (see the header).
+  // True when no valid vertex among the 8 around vertex i is farther.
+  auto farthestAround = [&](size_t i) {
+    const int r = int(i / size_t(columns)), c = int(i % size_t(columns));
+    for (int dr = -1; dr <= 1; ++dr)
+      for (int dc = -1; dc <= 1; ++dc) {
+        const int nr = r + dr, nc = c + dc;
+        if ((dr || dc) && nr >= 0 && nc >= 0 && nr < rows && nc < columns) {
+          const size_t k = size_t(nr) * columns + nc;
+          if (mesh.valid[k] && cameraInverseZ[k] < cameraInverseZ[i]) return false;
+        }
+      }
+    return true;
+  };
   std::vector<uint8_t> used(count, 0);
   for (uint32_t index : mesh.triangles) used[index] = 1;
   mesh.points.clear();
   for (size_t i = 0; i < count; ++i)
-    if (used[i] && mesh.boundary[i] > 0.0f) mesh.points.push_back(uint32_t(i));
+    if (used[i] ? mesh.boundary[i] > 0.0f : mesh.valid[i] && !farthestAround(i)) mesh.points.push_back(uint32_t(i));
 }
 
 }  // namespace vs

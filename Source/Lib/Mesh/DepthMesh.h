@@ -15,10 +15,14 @@
 // OpenGL's clip-space w handles it (doc/meshrender.md, "Camera").
 //
 // Each grid quad gives two triangles, split along the diagonal whose ends have the closer depths (or the
-// one that avoids the quad's only invalid vertex). A triangle is dropped when its vertices' camera
-// depths differ by more than the threshold: 1 - z_min / z_max > MeshDiscontinuityThreshold. Vertices at
-// MissingDepthLevel, behind the camera, or whose ray misses a DepthType 1 plane are invalid and drop
-// every triangle they belong to.
+// one that avoids the quad's only invalid vertex). A triangle is dropped when two of its vertices'
+// camera depths differ by more than the threshold, 1 - z_min / z_max > MeshDiscontinuityThreshold,
+// unless that edge continues a plane: with DepthType 0, when the edge belongs to four vertices in a
+// row on its grid line whose depth levels step evenly (within 2 levels, the rounding of the levels).
+// A plane seen at a grazing angle, like a floor towards the horizon, steps by a large relative depth
+// from sample to sample and would otherwise lose all its triangles. Vertices at MissingDepthLevel,
+// behind the camera, or whose ray misses a DepthType 1 plane are invalid and drop every triangle they
+// belong to.
 //
 // The vertices on the border of what is kept (those of a kept triangle that also belong to a dropped
 // one) are listed as points too, and drawn as one-pixel points after the triangles. A mesh ends at
@@ -26,7 +30,12 @@
 // area ends; rendered as it is, a silhouette pixel whose centre falls on the mesh border is covered or
 // not depending on the rasteriser's tie rule (a reference view rendered into itself would lose about
 // half of them). The point covers the pixel nearest to the projected vertex, as ViewSyn's point splat
-// does. Vertices without any kept triangle (isolated depth samples, mostly noise) are not drawn.
+// does. A point's fragments read the texture where their own pixel centre looks at the point's depth
+// (GlMeshRenderer), so a reference rendered into itself is reproduced exactly.
+// Vertices without any kept triangle (orphans: samples of a curved surface seen at a grazing angle,
+// thin structures, noise) are drawn as points too, unless no valid neighbour among the 8 around is
+// farther: such a sample is a speck of background seen through a gap of the depth map (or a noisy
+// one) and, drawn, would show through in every disocclusion (Cloth2 of Middlebury 2006: -1.6 dB).
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -40,7 +49,7 @@ namespace vs {
 struct MeshOptions {
   int depthType = 0;                     // DepthType: 0 camera z, 1 world z
   int gridStep = 1;                      // MeshGridStep: vertex spacing in pixels
-  double discontinuityThreshold = 0.05;  // MeshDiscontinuityThreshold: relative depth step that drops a triangle
+  double discontinuityThreshold = 0.02;  // MeshDiscontinuityThreshold: relative depth step that drops a triangle
   int missingDepthLevel = -1;            // MissingDepthLevel: vertices at this level are dropped; -1 off
 };
 
@@ -51,7 +60,7 @@ struct DepthMesh {
   std::vector<float> boundary;         // 1 float a vertex: 1 where it belongs to a dropped triangle
   std::vector<uint8_t> valid;          // 1 a vertex: a finite point in front of the reference camera
   std::vector<uint32_t> triangles;     // 3 vertex indices a triangle
-  std::vector<uint32_t> points;        // border vertices of kept triangles, drawn as one-pixel points
+  std::vector<uint32_t> points;        // border vertices of kept triangles and orphans, drawn as points
   size_t droppedTriangles = 0;         // triangles left out (discontinuity or invalid vertex)
 
   size_t vertexCount() const { return size_t(columns) * size_t(rows); }

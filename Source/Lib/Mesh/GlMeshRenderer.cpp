@@ -27,11 +27,13 @@ uniform mat4 clipFromReference;
 out vec3 referencePixel;
 out vec2 inverseDepthRatio;
 out float edge;
+flat out vec2 pointClipZW;
 void main() {
   gl_Position = clipFromReference * vertex;
   referencePixel = vertex.xyz;
   inverseDepthRatio = vec2(vertex.w, gl_Position.w);
   edge = boundary;
+  pointClipZW = gl_Position.zw;
 }
 )";
 
@@ -45,6 +47,10 @@ const char* const kFragmentShader = R"(#version 330 core
 in vec3 referencePixel;
 in vec2 inverseDepthRatio;
 in float edge;
+flat in vec2 pointClipZW;
+uniform int drawingPoints;  // 1: a point; its fragments look up where their own centre looks
+uniform mat4 referenceFromClip;
+uniform vec2 viewportSize;
 uniform sampler2D referenceTexture;
 uniform vec2 texelMap;      // texel position = texelMap.x * reference pixel + texelMap.y
 uniform int exactBilinear;  // 1: bilinear at the exact position; 0: the kernels below
@@ -85,11 +91,49 @@ vec4 sampleTexture(vec2 p) {
 }
 void main() {
   vec2 reference = referencePixel.xy / referencePixel.z;
+  if (drawingPoints == 1) {
+    // The fragment centre's ray at the point's depth: the clip position (ndc w, z, w) taken back to
+    // the reference's homogeneous pixel form (a u, a v, a, w).
+    vec2 ndc = 2.0 * gl_FragCoord.xy / viewportSize - 1.0;
+    vec4 back = referenceFromClip * vec4(ndc * pointClipZW.y, pointClipZW.x, pointClipZW.y);
+    if (back.z > 0.0) reference = back.xy / back.z;
+  }
   float inverseDepth = max(inverseDepthRatio.x / inverseDepthRatio.y, 0.0);
   colourAndDepth = vec4(sampleTexture(reference * texelMap.x + texelMap.y).rgb, inverseDepth);
   referenceAndFlags = vec4(reference, edge > 0.0 ? 1.0 : 0.0, 1.0);
 }
 )";
+
+// Inverse of a 4x4 matrix by Gauss-Jordan elimination with partial pivoting, in double; false when
+// it is singular (a pivot below 1e-12 of the largest entry).
+bool inverse(const Mat4& a, Mat4& result) {
+  double m[4][8];
+  double largest = 0.0;
+  for (int r = 0; r < 4; ++r)
+    for (int c = 0; c < 4; ++c) {
+      m[r][c] = a.m[r][c];
+      m[r][c + 4] = r == c ? 1.0 : 0.0;
+      largest = std::max(largest, std::fabs(a.m[r][c]));
+    }
+  if (!(largest > 0.0) || !std::isfinite(largest)) return false;
+  for (int c = 0; c < 4; ++c) {
+    int pivot = c;
+    for (int r = c + 1; r < 4; ++r)
+      if (std::fabs(m[r][c]) > std::fabs(m[pivot][c])) pivot = r;
+    if (!(std::fabs(m[pivot][c]) > 1e-12 * largest)) return false;
+    for (int k = 0; k < 8; ++k) std::swap(m[c][k], m[pivot][k]);
+    const double scale = 1.0 / m[c][c];
+    for (int k = 0; k < 8; ++k) m[c][k] *= scale;
+    for (int r = 0; r < 4; ++r) {
+      if (r == c || m[r][c] == 0.0) continue;
+      const double factor = m[r][c];
+      for (int k = 0; k < 8; ++k) m[r][k] -= factor * m[c][k];
+    }
+  }
+  for (int r = 0; r < 4; ++r)
+    for (int c = 0; c < 4; ++c) result.m[r][c] = m[r][c + 4];
+  return true;
+}
 
 GLuint compileShader(const GlFunctions& gl, GLenum type, const char* source) {
   const GLuint shader = gl.CreateShader(type);
@@ -116,7 +160,8 @@ struct GlMeshRenderer::Impl {
   GLsizei pointCount = 0;
   std::vector<uint32_t> indices;  // triangles, then points
   GLuint framebuffer = 0, colourBuffers[2] = {0, 0}, depthBuffer = 0;
-  GLint clipLocation = -1, texelMapLocation = -1, exactBilinearLocation = -1, precisionLocation = -1, tapsLocation = -1,
+  GLint clipLocation = -1, referenceFromClipLocation = -1, viewportLocation = -1, drawingPointsLocation = -1,
+        texelMapLocation = -1, exactBilinearLocation = -1, precisionLocation = -1, tapsLocation = -1,
         firstTapLocation = -1, kernelLocation = -1;
   int framebufferWidth = 0, framebufferHeight = 0;
   GLsizei triangleIndexCount = 0;  // indices of the triangles at the start of `indices`
@@ -148,13 +193,17 @@ struct GlMeshRenderer::Impl {
       throw InputError(std::string("the OpenGL driver cannot link MeshRender's shaders: ") + log);
     }
     clipLocation = gl.GetUniformLocation(program, "clipFromReference");
+    referenceFromClipLocation = gl.GetUniformLocation(program, "referenceFromClip");
+    viewportLocation = gl.GetUniformLocation(program, "viewportSize");
+    drawingPointsLocation = gl.GetUniformLocation(program, "drawingPoints");
     texelMapLocation = gl.GetUniformLocation(program, "texelMap");
     exactBilinearLocation = gl.GetUniformLocation(program, "exactBilinear");
     precisionLocation = gl.GetUniformLocation(program, "kernelPrecision");
     tapsLocation = gl.GetUniformLocation(program, "taps");
     firstTapLocation = gl.GetUniformLocation(program, "firstTap");
     kernelLocation = gl.GetUniformLocation(program, "kernel");
-    VS_CHECK(clipLocation >= 0 && texelMapLocation >= 0 && exactBilinearLocation >= 0 && precisionLocation >= 0 &&
+    VS_CHECK(clipLocation >= 0 && referenceFromClipLocation >= 0 && viewportLocation >= 0 && drawingPointsLocation >= 0 &&
+             texelMapLocation >= 0 && exactBilinearLocation >= 0 && precisionLocation >= 0 &&
              tapsLocation >= 0 && firstTapLocation >= 0 && kernelLocation >= 0);
     gl.UseProgram(program);
     gl.Uniform1i(exactBilinearLocation, 1);
@@ -349,12 +398,21 @@ void GlMeshRenderer::render(const Mat4& clip, const RenderGrid& grid, const Texe
   float matrix[16];
   toGlMatrix(clip, matrix);
   gl.UniformMatrix4fv(s.clipLocation, 1, GL_FALSE, matrix);
+  // Points look up the texture along their fragments' own rays (the shader's drawingPoints); where the
+  // matrix cannot be inverted they keep the vertex's position.
+  Mat4 back;
+  const bool invertible = inverse(clip, back);
+  toGlMatrix(back, matrix);
+  gl.UniformMatrix4fv(s.referenceFromClipLocation, 1, GL_FALSE, matrix);
+  gl.Uniform2f(s.viewportLocation, float(grid.width), float(grid.height));
+  gl.Uniform1i(s.drawingPointsLocation, 0);
   gl.Uniform2f(s.texelMapLocation, float(texelMap.scale), float(texelMap.offset));
   gl.ActiveTexture(GL_TEXTURE0);
   gl.BindTexture(GL_TEXTURE_2D, s.texture);
   gl.BindVertexArray(s.vertexArray);
   if (s.triangleIndexCount > 0) gl.DrawElements(GL_TRIANGLES, s.triangleIndexCount, GL_UNSIGNED_INT, nullptr);
   // One-pixel points (the default point size) after the triangles: the depth test keeps the nearer.
+  gl.Uniform1i(s.drawingPointsLocation, invertible ? 1 : 0);
   if (s.pointCount > 0)
     gl.DrawElements(GL_POINTS, s.pointCount, GL_UNSIGNED_INT,
                     reinterpret_cast<const void*>(size_t(s.triangleIndexCount) * sizeof(uint32_t)));

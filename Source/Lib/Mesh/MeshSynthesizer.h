@@ -25,7 +25,7 @@ namespace vs {
 
 // MeshRender's own keys (section "Mesh" of meshRenderOptionTable()).
 struct MeshSettings {
-  double discontinuityThreshold = 0.05;  // MeshDiscontinuityThreshold
+  double discontinuityThreshold = MeshOptions{}.discontinuityThreshold;  // MeshDiscontinuityThreshold
   int gridStep = 1;                      // MeshGridStep: 1, 2, 4 or 8
   std::string plyPath;                   // MeshPlyOutput; empty: none
 };
