@@ -148,11 +148,13 @@ void addSynthesisOptions(OptionTable& table) {
              intOption("SplattingOption", 2, 0, 2, "2", "0: no splatting; 1: splat every pixel; 2: splat only near depth boundaries"),
              intOption("BoundaryGrowth", 40, 0, 1000, "40", "Width in pixels by which boundary areas grow (SplattingOption 2)"),
              intOption("MergingOption", 2, 0, 2, "2", "0: z-buffer only; 1: averaging only; 2: adaptive z-buffer and averaging"),
-             intOption("DepthThreshold", 75, 0, 255, "75", "Depth difference (8-bit levels) that separates layers (MergingOption 2)"),
+             intOption("DepthThreshold", -1, -1, 255, "75",
+                       "Depth difference (8-bit levels) within which the views are mixed (MergingOption 2); -1: "
+                       "DepthBlendDifference, as in general mode"),
              intOption("HoleCountThreshold", 30, 0, 49, "30", "Hole count that decides between views (MergingOption 2)"),
              intOption("TemporalImprovementOption", 1, 0, 1, "1", "1: keep static background stable over time"),
              intOption("WarpEnhancementOption", 1, 0, 1, "1", "1: use depth edges to correct warping along boundaries"),
-             intOption("CleanNoiseOption", 1, 0, 1, "1", "1: remove isolated noise pixels after merging"),
+             intOption("CleanNoiseOption", 0, 0, 1, "1", "1: remove isolated noise pixels after merging"),
          });
   addAll(table, "Run",
          {

@@ -21,11 +21,11 @@ struct OneDOptions {
   int splatting = 2;            // 0 off, 1 every pixel, 2 near depth boundaries only
   int boundaryGrowth = 40;      // pixels a boundary area grows by (splatting 2)
   int merging = 2;              // 0 z-buffer, 1 averaging, 2 adaptive
-  int depthThreshold = 75;      // 8-bit depth levels separating layers (merging 2)
+  int depthThreshold = -1;      // 8-bit depth levels within which views are mixed (merging 2); -1: DepthBlendDifference
   int holeCountThreshold = 30;  // (merging 2)
   bool temporalImprovement = true;
   bool warpEnhancement = true;
-  bool cleanNoise = true;
+  bool cleanNoise = false;
 };
 
 constexpr size_t kMaxReferenceViews = 16;

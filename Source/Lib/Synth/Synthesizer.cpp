@@ -151,10 +151,11 @@ Synthesizer::Synthesizer(const Scene& scene, SynthesisMode mode)
   blendOptions_.depthTolerance = levels(s.depthBlendDifference);
   if (parallel_) {
     // VSRS's 1D MergingOption: 0 z-buffer only (one level of tolerance), 1 averaging only,
-    // 2 adaptive: mixed within DepthThreshold levels, hole counting decides between views.
+    // 2 adaptive: mixed within DepthThreshold levels (by default DepthBlendDifference's, so that the
+    // 1D path blends as the general one does), hole counting decides between views.
     if (s.oneD.merging == 0) blendOptions_.depthTolerance = levels(1);
     else if (s.oneD.merging == 1) blendOptions_.depthTolerance = HUGE_VAL;
-    else blendOptions_.depthTolerance = levels(s.oneD.depthThreshold);
+    else if (s.oneD.depthThreshold >= 0) blendOptions_.depthTolerance = levels(s.oneD.depthThreshold);
   }
   blendOptions_.nearestViewOnly = s.viewBlending == 1;
   fillOptions_.backgroundFirst = s.ivsrsInpaint;
