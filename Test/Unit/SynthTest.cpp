@@ -4,6 +4,9 @@
 
 #include <cmath>
 #include <numeric>
+#include <random>
+
+#include <opencv2/photo.hpp>
 
 #include "Common/Metrics.h"
 #include "Synth/HoleFill.h"
@@ -266,6 +269,52 @@ TEST(HoleFill, HolesTakeTheBackgroundNeverTheForeground) {
   options.emptyValue[0] = 16;
   fillHoles(empty, options);
   for (float v : empty.colour[0]) EXPECT_EQ(v, 16.0f);
+}
+
+// fillHoles inpaints groups of holes apart, each in a crop (HoleFill.cpp): the result must be exactly
+// OpenCV's inpainting of the whole picture, also with groups just far enough apart to be split,
+// groups next to the picture's border and one large hole.
+TEST(HoleFill, InpaintingGroupByGroupEqualsInpaintingTheWholePicture) {
+  const int w = 160, h = 96;
+  std::mt19937 random(7);
+  std::uniform_real_distribution<float> colour(0.0f, 255.0f);
+  for (int trial = 0; trial < 4; ++trial) {
+    BlendedLayer layer;
+    layer.reset(w, h, 2);
+    for (size_t i = 0; i < layer.hole.size(); ++i) {
+      layer.hole[i] = 0;
+      layer.inverseDepth[i] = 0.01;
+      for (int c = 0; c < 2; ++c) layer.colour[c][i] = colour(random);
+    }
+    auto hole = [&](int x, int y) {
+      if (x >= 0 && y >= 0 && x < w && y < h) layer.hole[size_t(y) * w + x] = 1;
+    };
+    std::uniform_int_distribution<int> px(-3, w + 2), py(-3, h + 2), length(1, 14 + 10 * trial);
+    for (int k = 0; k < 40; ++k) {  // slivers, dots and blobs, some across the border
+      const int x = px(random), y = py(random), l = length(random);
+      for (int t = 0; t < l; ++t) hole(x + (k % 3 == 0 ? t : 0), y + (k % 3 == 1 ? t : 0));
+      if (k % 3 == 2)
+        for (int dy = 0; dy < l / 2; ++dy)
+          for (int dx = 0; dx < l / 2; ++dx) hole(x + dx, y + dy);
+    }
+    for (int y = 40; y < 60; ++y)  // two holes exactly at and just past the splitting distance
+      for (int x : {20, 20 + 2 * (3 + 2) + 1 + trial % 2}) hole(x, y);
+    std::vector<uint8_t> mask = layer.hole;
+    cv::Mat maskMat(h, w, CV_8UC1, mask.data());
+    std::vector<float> expected[2];
+    for (int c = 0; c < 2; ++c) {
+      cv::Mat channel(h, w, CV_32FC1, layer.colour[c].data()), inpainted;
+      cv::inpaint(channel, maskMat, inpainted, 3, cv::INPAINT_TELEA);
+      expected[c].assign(inpainted.ptr<float>(), inpainted.ptr<float>() + size_t(w) * h);
+    }
+    HoleFillOptions options;
+    options.backgroundFirst = false;
+    options.inpaintRadius = 3;
+    ASSERT_GT(fillHoles(layer, options), 0u);
+    for (int c = 0; c < 2; ++c)
+      for (size_t i = 0; i < expected[c].size(); ++i)
+        ASSERT_EQ(layer.colour[c][i], expected[c][i]) << "trial " << trial << " channel " << c << " sample " << i;
+  }
 }
 
 }  // namespace
