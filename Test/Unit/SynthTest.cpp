@@ -271,6 +271,27 @@ TEST(HoleFill, HolesTakeTheBackgroundNeverTheForeground) {
   for (float v : empty.colour[0]) EXPECT_EQ(v, 16.0f);
 }
 
+// The 1D path's row sampler is sample() with an integer y, bit for bit: every Precision and Filter,
+// positions inside, at and beyond the borders (also negative), rows at the top and bottom edge and
+// outside the plane.
+TEST(SubPixelSampler, RowSamplingEqualsTwoDimensionalSamplingOnWholeRows) {
+  Plane plane(23, 7);
+  std::mt19937 random(11);
+  for (uint16_t& v : plane.samples) v = uint16_t(random() % 1024);
+  std::uniform_real_distribution<double> position(-4.0, 27.0);
+  for (int precision : {1, 2, 4})
+    for (int filter : {0, 1, 2}) {
+      const SubPixelSampler sampler(precision, filter);
+      for (int k = 0; k < 2000; ++k) {
+        const double x = k < 64 ? -4.0 + k * 0.125 : position(random);  // the first: every phase, and ties
+        for (long long y : {-2LL, 0LL, 1LL, 3LL, 6LL, 9LL}) {
+          const float a = sampler.sample(plane, x, double(y)), b = sampler.sampleRow(plane, x, y);
+          ASSERT_EQ(a, b) << "Precision " << precision << " Filter " << filter << " x " << x << " y " << y;
+        }
+      }
+    }
+}
+
 // fillHoles inpaints groups of holes apart, each in a crop (HoleFill.cpp): the result must be exactly
 // OpenCV's inpainting of the whole picture, also with groups just far enough apart to be split,
 // groups next to the picture's border and one large hole.

@@ -3,6 +3,7 @@
 
 #include "Common/Error.h"
 #include "Synth/Layer.h"
+#include "Synth/Parallel.h"
 
 namespace vs {
 
@@ -66,12 +67,14 @@ void blendLayers(const std::vector<const WarpedLayer*>& views, const BlendOption
   const int width = views[0]->width, height = views[0]->height, channels = views[0]->channels;
   for (const WarpedLayer* view : views) VS_CHECK(view->width == width && view->height == height && view->channels == channels);
   out.reset(width, height, channels);
-  const size_t n = size_t(width) * size_t(height), viewCount = views.size();
+  const size_t viewCount = views.size();
   int dominant = -1;
   for (size_t k = 0; k < viewCount; ++k)
     if (options.weights[k] >= 1.0) dominant = int(k);
 
-  for (size_t i = 0; i < n; ++i) {
+  // Every sample on its own: rows in parallel.
+  parallelRanges(height, [&](int rowBegin, int rowEnd) {
+  for (size_t i = size_t(rowBegin) * width; i < size_t(rowEnd) * width; ++i) {
     if (dominant >= 0 && views[size_t(dominant)]->valid(i)) {
       const WarpedLayer& view = *views[size_t(dominant)];
       for (int c = 0; c < channels; ++c) out.colour[c][i] = view.colour[c][i];
@@ -117,6 +120,7 @@ void blendLayers(const std::vector<const WarpedLayer*>& views, const BlendOption
     }
     out.hole[i] = 0;
   }
+  });
 }
 
 }  // namespace vs

@@ -23,7 +23,9 @@ void directionalFill(const BlendedLayer& layer, const HoleFillOptions& options, 
   for (int k = 0; k < layer.channels; ++k) estimate[k].assign(n, 0.0f);
   background.assign(n, HUGE_VAL);
   found.assign(n, 0);
-  for (int y = 0; y < h; ++y)
+  // Each hole sample writes only its own estimate: rows in parallel.
+  parallelRanges(h, [&](int rowBegin, int rowEnd) {
+  for (int y = rowBegin; y < rowEnd; ++y)
     for (int x = 0; x < w; ++x) {
       const size_t i = size_t(y) * w + x;
       if (!layer.hole[i]) continue;
@@ -59,6 +61,7 @@ void directionalFill(const BlendedLayer& layer, const HoleFillOptions& options, 
       background[i] = farthest;
       found[i] = 1;
     }
+  });
 }
 
 // The inpainting mask: the holes, plus valid samples of a nearer surface than the hole's background

@@ -21,6 +21,7 @@ double cubic(double x) {  // Keys, a = -0.5
 
 SubPixelSampler::SubPixelSampler(int precision, int filter) : precision_(precision) {
   VS_CHECK(precision == 1 || precision == 2 || precision == 4);
+  precisionShift_ = precision == 1 ? 0 : precision == 2 ? 1 : 2;
   VS_CHECK(filter >= 0 && filter <= 2);
   if (filter == 0) {
     taps_ = 2;
@@ -60,12 +61,38 @@ SubPixelSampler::SubPixelSampler(int precision, int filter) : precision_(precisi
   }
 }
 
+float SubPixelSampler::sampleRow(const Plane& plane, double x, long long y) const {
+  // sample() with phase 0 vertically: only the row of weight exactly 1 contributes, and
+  // 0 + 1 * rowSum is rowSum. The horizontal pass is sample()'s own: all taps inside the plane (zero
+  // weights add +0), clamped taps of non-zero weight at its border.
+  long long ix;
+  int px;
+  gridPosition(x, ix, px);
+  const long long maxX = plane.width - 1;
+  const uint16_t* row = plane.row(int(std::clamp(y, 0LL, (long long)plane.height - 1)));
+  if (px == 0) return float(row[std::clamp(ix, 0LL, maxX)]);
+  const float* kx = kernel(px);
+  const long long left = ix + first_;
+  float rowSum = 0.0f;
+  if (left >= 0 && left + taps_ - 1 <= maxX) {
+    const uint16_t* taps = row + left;
+    for (int tx = 0; tx < taps_; ++tx) rowSum += kx[tx] * float(taps[tx]);
+    return rowSum;
+  }
+  for (int tx = 0; tx < taps_; ++tx) {
+    if (kx[tx] == 0.0f) continue;
+    rowSum += kx[tx] * float(row[std::clamp(ix + first_ + tx, 0LL, maxX)]);
+  }
+  return rowSum;
+}
+
 float SubPixelSampler::sample(const Plane& plane, double x, double y) const {
   // Round to the 1/precision grid. floor() of the scaled position keeps negative positions right
   // (truncation towards zero would move them the wrong way).
-  const double gx = std::floor(x * precision_ + 0.5), gy = std::floor(y * precision_ + 0.5);
-  const long long ix = (long long)std::floor(gx / precision_), iy = (long long)std::floor(gy / precision_);
-  const int px = int(gx - double(ix) * precision_), py = int(gy - double(iy) * precision_);
+  long long ix, iy;
+  int px, py;
+  gridPosition(x, ix, px);
+  gridPosition(y, iy, py);
   const float* kx = kernel(px);
   const float* ky = kernel(py);
   const long long maxX = plane.width - 1, maxY = plane.height - 1;

@@ -4,6 +4,8 @@
 #include <chrono>
 #include <cmath>
 #include <cstddef>
+#include <cstdint>
+#include <cstring>
 
 #include "Common/Depth.h"
 #include "Common/Error.h"
@@ -212,6 +214,10 @@ void Synthesizer::markReferenceEdges(ViewState& view, const Plane& depth) {
 }
 
 void Synthesizer::warpDepth(ViewState& view, const Plane& depth) {
+  if (parallel_) {
+    warpDepthRows(view, depth);
+    return;
+  }
   const int w = depth.width, h = depth.height;
   const size_t n = size_t(w) * size_t(h);
   view.warpedX.resize(n);
@@ -237,8 +243,7 @@ void Synthesizer::warpDepth(ViewState& view, const Plane& depth) {
   const int outW = outputFormat_.width, outH = outputFormat_.height;
   view.luma.reset(outW, outH, rgb_ ? 3 : 1);
   zbuffer_.reset(size_t(outW) * outH, kNoDepth);
-  if (parallel_) rasteriseRows(view, w, h);
-  else rasteriseTriangles(view, w, h);
+  rasteriseTriangles(view, w, h);
   // Every sample also lands as a point, so thin foreground keeps its width.
   parallelRanges(h, [&](int y0, int y1) {
     for (size_t i = size_t(y0) * w; i < size_t(y1) * w; ++i) {
@@ -249,7 +254,6 @@ void Synthesizer::warpDepth(ViewState& view, const Plane& depth) {
     }
   });
   zbuffer_.copyTo(view.luma.inverseDepth);
-  if (parallel_ && scene_.settings.oneD.cleanNoise) cleanIsolatedSamples(view.luma);
   closeCracks(view.luma.inverseDepth, outW, outH, discontinuity_);
 }
 
@@ -280,43 +284,90 @@ void Synthesizer::rasteriseTriangles(ViewState& view, int w, int h) {
   });
 }
 
-void Synthesizer::rasteriseRows(ViewState& view, int w, int h) {
-  // 1D: rows map to rows, so the depth grid is rasterised as segments between horizontal neighbours
-  // on one surface. SplattingOption 0 draws none (points only), 1 all, 2 only within BoundaryGrowth
-  // samples of a reference depth edge.
+void Synthesizer::warpDepthRows(ViewState& view, const Plane& depth) {
+  // 1D: rows map to rows, so each thread warps whole rows straight into the layer: samples move along
+  // the row by the disparity of their level, the depth grid is rasterised as segments between
+  // horizontal neighbours on one surface, and every sample also lands as a point. SplattingOption 0
+  // draws no segments (points only), 1 all, 2 only within BoundaryGrowth samples of a reference depth
+  // edge. The z-buffer keeps the larger inverse depth, compared as AtomicMaxBuffer compares (the bit
+  // patterns as signed integers), so this gives exactly what the general path's buffer would.
+  const int w = depth.width, h = depth.height;
+  const int outW = outputFormat_.width, outH = outputFormat_.height;
   const OneDOptions& oneD = scene_.settings.oneD;
-  if (oneD.splatting == 0) return;
-  const int outW = view.luma.width;
-  parallelRanges(std::min(h, view.luma.height), [&](int y0, int y1) {
-  std::vector<uint8_t> nearBoundary(size_t(w), 1);
-  for (int y = y0; y < y1; ++y) {
-    const size_t row = size_t(y) * w;
-    if (oneD.splatting == 2) {
-      std::fill(nearBoundary.begin(), nearBoundary.end(), uint8_t(0));
-      for (int x = 0; x < w; ++x)
-        if (view.referenceStep[row + x])
-          for (int k = std::max(0, x - oneD.boundaryGrowth); k <= std::min(w - 1, x + oneD.boundaryGrowth); ++k) nearBoundary[size_t(k)] = 1;
-    }
-    const size_t out = size_t(y) * outW;  // rows map to rows: only this thread writes row y
-    for (int x = 0; x + 1 < w; ++x) {
-      const size_t i = row + x;
-      const double w0 = view.warpedW[i], w1 = view.warpedW[i + 1];
-      if (w0 < 0 || w1 < 0 || std::fabs(w0 - w1) > discontinuity_ || !(nearBoundary[size_t(x)] || nearBoundary[size_t(x) + 1])) continue;
-      double x0 = view.warpedX[i], x1 = view.warpedX[i + 1], a = w0, b = w1;
-      if (x1 < x0) {
-        std::swap(x0, x1);
-        std::swap(a, b);
-      }
-      int first, last;
-      if (!coveredRange(x0, x1, outW, first, last)) continue;
-      const double span = x1 - x0;
-      for (int px = first; px <= last; ++px) {
-        const double t = span > 0 ? (px - x0) / span : 0.0;
-        zbuffer_.raise(out + size_t(px), a + t * (b - a));
-      }
-    }
+  view.luma.reset(outW, outH, rgb_ ? 3 : 1);
+  // Inverse camera depth per level, NaN where forward() refuses the level (missing, behind, infinite).
+  std::vector<double>& rowDepth = view.levelToRowDepth;
+  rowDepth.resize(view.levelToInverseDepth.size());
+  for (size_t level = 0; level < rowDepth.size(); ++level) {
+    double x, y, wv;
+    const double inverseDepth = view.levelToInverseDepth[level];
+    rowDepth[level] = !std::isnan(inverseDepth) && view.projection.forward(0.0, 0.0, inverseDepth, x, y, wv)
+                          ? wv : std::nan("");
   }
+  auto raise = [](double& cell, double value) {
+    int64_t a, b;
+    std::memcpy(&a, &value, sizeof a);
+    std::memcpy(&b, &cell, sizeof b);
+    if (a > b) cell = value;
+  };
+  parallelRanges(std::min(h, outH), [&](int y0, int y1) {
+    std::vector<double> xs(static_cast<size_t>(w)), ws(static_cast<size_t>(w));
+    std::vector<uint8_t> nearBoundary(size_t(w), 1);
+    for (int y = y0; y < y1; ++y) {
+      const uint16_t* levels = depth.row(y);
+      for (int x = 0; x < w; ++x) {
+        const double wv = levels[x] < rowDepth.size() ? rowDepth[levels[x]] : std::nan("");
+        const double target = std::isnan(wv) ? wv : view.projection.rowTarget(x, wv);
+        ws[size_t(x)] = std::isfinite(target) ? wv : kNoDepth;
+        xs[size_t(x)] = target;
+      }
+      double* z = view.luma.inverseDepth.data() + size_t(y) * outW;
+      if (oneD.splatting != 0) {
+        const size_t row = size_t(y) * w;
+        if (oneD.splatting == 2) {
+          // Within BoundaryGrowth samples of a reference depth edge: the nearest edge on the left,
+          // then on the right.
+          const int growth = oneD.boundaryGrowth;
+          const uint8_t* step = view.referenceStep.data() + row;
+          for (int x = 0, last = -1; x < w; ++x) {
+            if (step[x]) last = x;
+            nearBoundary[size_t(x)] = last >= 0 && x - last <= growth;
+          }
+          for (int x = w - 1, next = -1; x >= 0; --x) {
+            if (step[x]) next = x;
+            if (next >= 0 && next - x <= growth) nearBoundary[size_t(x)] = 1;
+          }
+        }
+        for (int x = 0; x + 1 < w; ++x) {
+          const double w0 = ws[size_t(x)], w1 = ws[size_t(x) + 1];
+          if (w0 < 0 || w1 < 0 || std::fabs(w0 - w1) > discontinuity_ ||
+              !(nearBoundary[size_t(x)] || nearBoundary[size_t(x) + 1]))
+            continue;
+          double x0 = xs[size_t(x)], x1 = xs[size_t(x) + 1], a = w0, b = w1;
+          if (x1 < x0) {
+            std::swap(x0, x1);
+            std::swap(a, b);
+          }
+          int first, last;
+          if (!coveredRange(x0, x1, outW, first, last)) continue;
+          const double span = x1 - x0;
+          for (int px = first; px <= last; ++px) {
+            const double t = span > 0 ? (px - x0) / span : 0.0;
+            raise(z[px], a + t * (b - a));
+          }
+        }
+      }
+      // Every sample also lands as a point, so thin foreground keeps its width.
+      for (int x = 0; x < w; ++x) {
+        if (ws[size_t(x)] < 0) continue;
+        const double px = std::floor(xs[size_t(x)] + 0.5);
+        if (px < 0 || px >= outW) continue;
+        raise(z[size_t(px)], ws[size_t(x)]);
+      }
+    }
   });
+  if (oneD.cleanNoise) cleanIsolatedSamples(view.luma);
+  closeCracks(view.luma.inverseDepth, outW, outH, discontinuity_);
 }
 
 void Synthesizer::cleanIsolatedSamples(WarpedLayer& layer) {
@@ -356,6 +407,29 @@ void Synthesizer::flagCrowdedHoles(WarpedLayer& layer) {
 void Synthesizer::warpTexture(ViewState& view, const std::vector<const Plane*>& planes) {
   WarpedLayer& layer = view.luma;
   const int refW = planes[0]->width, refH = planes[0]->height;
+  if (parallel_) {
+    // Rows map to rows: the look-up stays in row y (as backward() gives v = y).
+    parallelRanges(std::min(layer.height, refH), [&](int y0, int y1) {
+      for (int y = y0; y < y1; ++y) {
+        const uint8_t* edges = view.referenceEdge.data() + size_t(y) * refW;
+        for (int x = 0; x < layer.width; ++x) {
+          const size_t i = size_t(y) * layer.width + x;
+          if (layer.inverseDepth[i] < 0) continue;
+          const double u = view.projection.rowSource(x, layer.inverseDepth[i]);
+          if (!std::isfinite(u) || u < -0.5 || u > refW - 0.5) {
+            layer.inverseDepth[i] = kNoDepth;
+            continue;
+          }
+          for (int c = 0; c < layer.channels; ++c) layer.colour[c][i] = sampler_.sampleRow(*planes[size_t(c)], u, y);
+          layer.edge[i] = edges[std::clamp(int(std::floor(u + 0.5)), 0, refW - 1)];
+        }
+      }
+    });
+    // Rows below the reference (an output taller than it) look up nothing.
+    for (size_t i = size_t(std::min(layer.height, refH)) * layer.width; i < layer.inverseDepth.size(); ++i)
+      layer.inverseDepth[i] = kNoDepth;
+    return;
+  }
   parallelRanges(layer.height, [&](int y0, int y1) {
   for (int y = y0; y < y1; ++y)
     for (int x = 0; x < layer.width; ++x) {
@@ -500,8 +574,13 @@ void Synthesizer::warpChroma(ViewState& view, const Frame& texture) {
       const size_t c = size_t(j) * cw + i;
       layer.inverseDepth[c] = inverseDepth;
       layer.edge[c] = edge;
-      layer.colour[0][c] = sampler_.sample(texture.planes[1], cu, cv);
-      layer.colour[1][c] = sampler_.sample(texture.planes[2], cu, cv);
+      if (parallel_) {  // cv is the integer j: rows map to rows
+        layer.colour[0][c] = sampler_.sampleRow(texture.planes[1], cu, j);
+        layer.colour[1][c] = sampler_.sampleRow(texture.planes[2], cu, j);
+      } else {
+        layer.colour[0][c] = sampler_.sample(texture.planes[1], cu, cv);
+        layer.colour[1][c] = sampler_.sample(texture.planes[2], cu, cv);
+      }
     }
   });
 }

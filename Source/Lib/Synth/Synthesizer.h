@@ -68,6 +68,7 @@ private:
     explicit ViewState(ViewProjection p) : projection(p) {}
     ViewProjection projection;
     std::vector<double> levelToInverseDepth;  // per depth level; NaN for the missing level
+    std::vector<double> levelToRowDepth;      // 1D: inverse camera depth per level; NaN: not warped
     WarpedLayer luma;                         // or RGB in ColorSpace 1
     WarpedLayer chroma;                       // U, V at chroma resolution (ColorSpace 0 with colour)
     std::vector<double> warpedX, warpedY, warpedW;  // forward-projected reference samples
@@ -77,7 +78,7 @@ private:
   };
 
   void warpDepth(ViewState& view, const Plane& depth);
-  void rasteriseRows(ViewState& view, int width, int height);
+  void warpDepthRows(ViewState& view, const Plane& depth);
   void rasteriseTriangles(ViewState& view, int width, int height);
   void cleanIsolatedSamples(WarpedLayer& layer);
   void flagCrowdedHoles(WarpedLayer& layer);

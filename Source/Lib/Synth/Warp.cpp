@@ -6,16 +6,9 @@ namespace vs {
 
 namespace {
 
-// Pixel positions are kept to 2^-30 px (1e-9), far finer than the quarter pel the filters resolve.
-// Rounding off the last bits makes positions that are mathematically equal bit-equal too, so that a
-// change of units or of world origin (which perturbs the last bits) cannot flip a rounding decision
-// at a tie, such as a warped sample landing exactly between two pixel centres.
 constexpr double kMaxPixelRadius = 1e9;  // projections farther than this from pixel (0, 0) are dropped
 
-inline double snap(double position) {
-  constexpr double grid = 1073741824.0;  // 2^30: multiplying and dividing by it are exact
-  return std::nearbyint(position * grid) / grid;
-}
+inline double snap(double position) { return ViewProjection::snapPosition(position); }
 
 }  // namespace
 
@@ -44,7 +37,7 @@ bool ViewProjection::forward(double u, double v, double inverseDepth, double& x,
     // DepthType 1 here has the camera z axis along world z (checked by the plan): z_cam = Z - C_z.
     const double w = depthType_ == 1 ? inverseDepth / (1.0 - centreZ_ * inverseDepth) : inverseDepth;
     if (!(w >= 0.0) || !std::isfinite(w)) return false;
-    x = snap(rowScale_ * u + rowOffset_ + rowShift_ * w);
+    x = rowTarget(u, w);
     y = v;
     wv = w;
     return std::isfinite(x);
@@ -75,7 +68,7 @@ bool ViewProjection::forward(double u, double v, double inverseDepth, double& x,
 
 bool ViewProjection::backward(double x, double y, double wv, double& u, double& v) const {
   if (parallel_) {
-    u = snap((x - rowOffset_ - rowShift_ * wv) / rowScale_);
+    u = rowSource(x, wv);
     v = y;
     return std::isfinite(u);
   }

@@ -10,6 +10,8 @@
 //
 // Depth is carried as the inverse virtual-camera depth wv = 1 / z_virtual: larger is nearer, 0 is
 // infinitely far, and it interpolates linearly across a planar triangle in screen space.
+#include <cmath>
+
 #include "Common/Camera.h"
 #include "Common/Geometry.h"
 
@@ -31,6 +33,21 @@ public:
   bool backward(double x, double y, double wv, double& u, double& v) const;
 
   bool parallel() const { return parallel_; }
+  // The parallel forms, inline for the 1D path's row loops: the same values forward() and backward()
+  // give when parallel(). rowTarget's inverseDepth is the inverse camera depth (DepthType 0).
+  double rowTarget(double u, double inverseDepth) const {
+    return snapPosition(rowScale_ * u + rowOffset_ + rowShift_ * inverseDepth);
+  }
+  double rowSource(double x, double wv) const { return snapPosition((x - rowOffset_ - rowShift_ * wv) / rowScale_); }
+
+  // Pixel positions are kept to 2^-30 px (1e-9), far finer than the quarter pel the filters resolve.
+  // Rounding off the last bits makes positions that are mathematically equal bit-equal too, so that a
+  // change of units or of world origin (which perturbs the last bits) cannot flip a rounding decision
+  // at a tie, such as a warped sample landing exactly between two pixel centres.
+  static double snapPosition(double position) {
+    constexpr double grid = 1073741824.0;  // 2^30: multiplying and dividing by it are exact
+    return std::nearbyint(position * grid) / grid;
+  }
 
 private:
   int depthType_;
