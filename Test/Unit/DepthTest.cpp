@@ -298,3 +298,41 @@ TEST(DepthTest, DepthType1RejectsParallelRaysAndPointsBehind) {
   vs::backProjectDepth(forward, 10.0, 10.0, kInf, 1, ok);
   EXPECT_FALSE(ok);
 }
+
+// MissingDepthFill: runs of the missing level between two valid samples take the farther one's level
+// (rows first, then columns for what is left); runs reaching the border both ways stay missing.
+TEST(DepthTest, MissingRunsTakeTheFartherBoundingLevel) {
+  const vs::DepthRange range{10.0, 100.0, 8};
+  const std::vector<double> inverseZ = vs::inverseZTable(range);
+  vs::Plane depth(7, 4, 0);
+  const uint16_t rows[4][7] = {
+      {0, 0, 0, 0, 0, 0, 0},          // all missing: the column pass fills what it can
+      {90, 0, 0, 200, 0, 40, 0},      // two bounded runs (farther: 90, then 40) and one at the border
+      {0, 0, 50, 50, 50, 0, 0},       // runs at both borders
+      {120, 120, 0, 120, 120, 120, 7}};
+  for (int y = 0; y < 4; ++y)
+    for (int x = 0; x < 7; ++x) depth.at(x, y) = rows[y][x];
+  vs::Plane out;
+  std::vector<uint8_t> filled;
+  const size_t count = vs::fillMissingDepthRuns(depth, 0, inverseZ, out, filled);
+  // Rows: (1..2, 1) between 90 and 200 -> 90; (4, 1) between 200 and 40 -> 40; (3, 0) between 120s.
+  // Columns, for what is left: x 0..5 of row 2 lie between row 1 and row 3 -> the farther of the two;
+  // column 6 has missing samples above row 3 only, row 0 has nothing above: they stay.
+  const uint16_t fixed[4][7] = {
+      {0, 0, 0, 0, 0, 0, 0},
+      {90, 90, 90, 200, 40, 40, 0},
+      {90, 90, 50, 50, 50, 40, 0},
+      {120, 120, 120, 120, 120, 120, 7}};
+  size_t marked = 0;
+  for (int y = 0; y < 4; ++y)
+    for (int x = 0; x < 7; ++x) {
+      EXPECT_EQ(out.at(x, y), fixed[y][x]) << x << ", " << y;
+      EXPECT_EQ(filled[size_t(y) * 7 + x] != 0, depth.at(x, y) == 0 && fixed[y][x] != 0) << x << ", " << y;
+      marked += filled[size_t(y) * 7 + x];
+    }
+  EXPECT_EQ(count, marked);
+  EXPECT_EQ(depth.at(1, 1), 0);  // the input is untouched
+  // Off: a copy.
+  EXPECT_EQ(vs::fillMissingDepthRuns(depth, -1, inverseZ, out, filled), 0u);
+  EXPECT_TRUE(out.samples == depth.samples);
+}

@@ -53,6 +53,48 @@ TEST(Synth, OccludingSquareIsPlacedAndItsDisocclusionFilledFromTheOtherView) {
   EXPECT_NEAR(output.planes[0].at(u, v), truth.planes[0].at(u, v), 2);
 }
 
+// MissingDepthLevel with MissingDepthFill: a patch of the background with unknown depth in both
+// references (as Middlebury's occlusion areas are) is warped with its neighbours' background depth,
+// which puts it where it belongs; without the fill it is a hole left to the hole filler, and as the
+// far plane it lands in the wrong place.
+TEST(Synth, MissingDepthFillWarpsUnknownBackgroundWithTheBackgroundsDepth) {
+  AnalyticScene analytic;
+  analytic.square = true;
+  analytic.width = 96;
+  analytic.range = DepthRange{50.0, 200.0, 8};
+  const Camera left = analytic.camera("left", -6), virtualCamera = analytic.camera("virtual", 1), right = analytic.camera("right", 6);
+  Scene scene = analytic.scene(left, virtualCamera, right);
+  std::vector<Frame> textures(2);
+  std::vector<Plane> depths(2);
+  std::vector<ReferenceFrame> references;
+  const Camera* cameras[2] = {&left, &right};
+  for (int k = 0; k < 2; ++k) {
+    analytic.render(*cameras[k], textures[k], depths[k]);
+    // Unknown depth on the background plane, right of the square in both views: 12 x 16 samples.
+    for (int y = 16; y < 32; ++y)
+      for (int x = 70; x < 82; ++x) {
+        ASSERT_EQ(depths[k].at(x, y), depths[k].at(69, y));  // on the plane
+        depths[k].at(x, y) = 0;
+      }
+    references.push_back(ReferenceFrame{&textures[k], &depths[k]});
+  }
+  const Frame truth = truthOf(analytic, virtualCamera);
+  auto synthesize = [&](const Scene& s) {
+    Frame output;
+    StageTimes times;
+    Synthesizer(s).synthesize(references, output, times);
+    return psnrY(truth, output);
+  };
+  const double asFarPlane = synthesize(scene);
+  scene.settings.missingDepthLevel = 0;
+  const double holes = synthesize(scene);
+  scene.settings.missingDepthFill = true;
+  const double filled = synthesize(scene);
+  EXPECT_GT(filled, asFarPlane + 3.0) << "far plane " << asFarPlane;
+  EXPECT_GT(filled, holes + 1.0) << "holes " << holes;
+  EXPECT_GT(filled, 35.0);
+}
+
 // VSRS 4.2: "the virtual camera equal to the left camera" must give back the left view exactly.
 TEST(Synth, VirtualCameraOnAReferenceReproducesItBitExactlyForEveryPrecisionAndFilter) {
   AnalyticScene analytic;

@@ -1,6 +1,7 @@
 #include "Common/Depth.h"
 
 #include <cmath>
+#include <cstddef>
 #include <cstdio>
 #include <limits>
 
@@ -133,6 +134,52 @@ Vec3 backProjectDepth(const Camera& camera, double u, double v, double depthValu
   Vec3 X = camera.t + worldRay(camera, u, v) * zCam;
   X.z = depthValue;  // on the plane by definition; no rounding off it
   return X;
+}
+
+namespace {
+
+// Fills the runs of `missing` along one line of samples (n samples, `stride` apart) that have a valid
+// sample at both ends with the farther end's level.
+size_t fillLine(uint16_t* line, uint8_t* mark, int n, ptrdiff_t stride, uint16_t missing,
+                const std::vector<double>& inverseZ) {
+  auto inverse = [&](uint16_t level) { return level < inverseZ.size() ? inverseZ[level] : 0.0; };
+  size_t count = 0;
+  for (int k = 0; k < n;) {
+    if (line[k * stride] != missing) {
+      ++k;
+      continue;
+    }
+    int end = k;
+    while (end < n && line[end * stride] == missing) ++end;
+    if (k > 0 && end < n) {
+      const uint16_t before = line[(k - 1) * stride], after = line[end * stride];
+      const uint16_t farther = inverse(after) < inverse(before) ? after : before;
+      for (int j = k; j < end; ++j) {
+        line[j * stride] = farther;
+        mark[j * stride] = 1;
+      }
+      count += size_t(end - k);
+    }
+    k = end;
+  }
+  return count;
+}
+
+}  // namespace
+
+size_t fillMissingDepthRuns(const Plane& depth, int missingLevel, const std::vector<double>& inverseZ, Plane& out,
+                            std::vector<uint8_t>& filled) {
+  out = depth;
+  filled.assign(depth.samples.size(), 0);
+  if (missingLevel < 0 || depth.samples.empty()) return 0;
+  const uint16_t missing = uint16_t(missingLevel);
+  const int w = depth.width, h = depth.height;
+  size_t count = 0;
+  for (int y = 0; y < h; ++y)
+    count += fillLine(out.samples.data() + size_t(y) * w, filled.data() + size_t(y) * w, w, 1, missing, inverseZ);
+  for (int x = 0; x < w; ++x)
+    count += fillLine(out.samples.data() + x, filled.data() + x, h, w, missing, inverseZ);
+  return count;
 }
 
 }  // namespace vs

@@ -5,11 +5,14 @@
 //   1/Z = (L / Lmax) (1/Znear - 1/Zfar) + 1/Zfar        with 1/inf = 0, so Zfar may be +inf.
 // What Z is depends on DepthType: 0, the z coordinate in the camera's own frame; 1, the world z
 // coordinate of the point (the pixel's ray meets the world plane z = Z).
+#include <cstddef>
+#include <cstdint>
 #include <limits>
 #include <string>
 #include <vector>
 
 #include "Common/Camera.h"
+#include "Common/Frame.h"
 #include "Common/Geometry.h"
 
 namespace vs {
@@ -61,5 +64,14 @@ double depthToCameraZ(const Camera& camera, double u, double v, double depthValu
 // the result's z is exactly depthValue. ok is false (and the result meaningless) where depthToCameraZ
 // fails and for infinite depth, which has no finite world point.
 Vec3 backProjectDepth(const Camera& camera, double u, double v, double depthValue, int depthType, bool& ok);
+
+// MissingDepthFill 1 (doc/algorithms.md, "Depth"): in a copy of `depth`, every run of
+// `missingLevel` samples along a row that has a valid sample at both ends takes the level of the
+// farther end (the smaller of the two 1/Z in `inverseZ`, the map's level table): a sample one camera
+// saw without a depth is mostly background its neighbour hid from the other camera. Then the same
+// along the columns for what is still missing. Runs that reach the picture's border both ways keep
+// the missing level. `filled` (same size) marks the samples given a level. Returns their number.
+size_t fillMissingDepthRuns(const Plane& depth, int missingLevel, const std::vector<double>& inverseZ, Plane& out,
+                            std::vector<uint8_t>& filled);
 
 }  // namespace vs

@@ -142,6 +142,9 @@ void addSynthesisOptions(OptionTable& table) {
                        "1: fill remaining holes from the background side, then inpaint (iVSRS); 0: plain OpenCV inpainting"),
              intOption("MissingDepthLevel", -1, -1, 65535, "-",
                        "Depth level meaning 'no depth' (MPEG-I uses 0); such samples are not warped. -1: off, as in VSRS"),
+             intOption("MissingDepthFill", 0, 0, 1, "-",
+                       "1: a run of MissingDepthLevel samples along a row between two valid samples takes the "
+                       "farther one's level and is warped (marked unreliable); 0: missing samples are not warped"),
          });
   addAll(table, "1D mode",
          {

@@ -209,6 +209,7 @@ SynthesisSettings readSynthesisSettings(const Config& config) {
   s.depthBlendDifference = int(config.getInt("DepthBlendDifference"));
   s.ivsrsInpaint = config.getInt("IvsrsInpaint") != 0;
   s.missingDepthLevel = int(config.getInt("MissingDepthLevel"));
+  s.missingDepthFill = config.getInt("MissingDepthFill") != 0;
   if (s.missingDepthLevel > s.depthFormat.maxValue())
     problems.add(where + ": MissingDepthLevel " + std::to_string(s.missingDepthLevel) + " is above the largest " +
                  std::to_string(s.depthFormat.bitDepth) + "-bit depth level " + std::to_string(s.depthFormat.maxValue()));

@@ -65,6 +65,7 @@ struct SynthesisSettings {
   int depthBlendDifference = 5;              // depth levels
   bool ivsrsInpaint = true;
   int missingDepthLevel = -1;                // -1 off
+  bool missingDepthFill = false;             // MissingDepthFill: runs between valid samples take the farther level
   OneDOptions oneD;
   int threads = 0;                           // 0 all cores
   std::string reportPath;                    // CSV report; empty: none

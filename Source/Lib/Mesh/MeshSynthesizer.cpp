@@ -67,7 +67,7 @@ MeshSynthesizer::MeshSynthesizer(const Scene& scene, const MeshSettings& setting
   options.missingDepthLevel = s.missingDepthLevel;
   for (const ReferenceView& reference : s.references) {
     ViewState view{DepthMeshBuilder(reference.camera, reference.depthRange, s.depthFormat.width, s.depthFormat.height, options),
-                   false, {}, {}, {}, {}};
+                   false, {}, {}, {}, {}, {}, {}};
     InverseDepthRange range;
     view.depthRangeBounded = sceneInverseDepthRange(reference.camera, reference.depthRange, s.depthType,
                                                     s.depthFormat.width, s.depthFormat.height, scene.virtualCamera, range);
@@ -103,7 +103,9 @@ std::vector<std::string> MeshSynthesizer::plan() const {
                 settings_.gridStep, settings_.discontinuityThreshold);
   lines.push_back(line);
   if (s.missingDepthLevel >= 0)
-    lines.push_back("depth level " + std::to_string(s.missingDepthLevel) + " is missing depth: its vertices are dropped");
+    lines.push_back("depth level " + std::to_string(s.missingDepthLevel) + " is missing depth: " +
+                    (s.missingDepthFill ? "runs between valid samples take the farther level, the rest are dropped"
+                                        : "its vertices are dropped"));
   for (size_t k = 0; k < views_.size(); ++k)
     lines.push_back(s.references[k].label + " view: depth-buffer planes " +
                     (views_[k].depthRangeBounded ? "from the scene's depth range" : "from each frame's mesh (the depth range is unbounded in the virtual camera)"));
@@ -141,7 +143,13 @@ void MeshSynthesizer::synthesize(const std::vector<ReferenceFrame>& references, 
     const Frame& texture = *references[k].texture;
 
     auto start = std::chrono::steady_clock::now();
-    view.builder.build(*references[k].depth, view.mesh);
+    const Plane* depth = references[k].depth;
+    if (s.missingDepthLevel >= 0 && s.missingDepthFill) {
+      fillMissingDepthRuns(*depth, s.missingDepthLevel, inverseZTable(reference.depthRange), view.filledDepth,
+                           view.filledSamples);
+      depth = &view.filledDepth;
+    }
+    view.builder.build(*depth, view.mesh);
     renderer_.uploadMesh(view.mesh);
     const InverseDepthRange planes = view.depthRangeBounded
                                          ? view.planes

@@ -62,6 +62,8 @@ private:
     DepthMesh mesh;
     WarpedLayer luma;                // Y, or R, G, B with ColorSpace 1
     WarpedLayer chroma;              // U, V at chroma resolution
+    Plane filledDepth;               // MissingDepthFill: the depth map with missing runs filled
+    std::vector<uint8_t> filledSamples;
   };
 
   const Scene& scene_;

@@ -97,7 +97,11 @@ Plan makePlan(const Scene& scene) {
   plan.lines.push_back(plan.chroma ? "chroma: warped at its own sample positions" : "chroma: off (4:0:0)");
   plan.lines.push_back(std::string("holes: ") + (s.ivsrsInpaint ? "background-side fill and depth-aware inpainting" : "OpenCV inpainting") +
                        ", on frames that have holes");
-  if (s.missingDepthLevel >= 0) plan.lines.push_back("depth level " + std::to_string(s.missingDepthLevel) + " is missing depth: not warped");
+  if (s.missingDepthLevel >= 0)
+    plan.lines.push_back("depth level " + std::to_string(s.missingDepthLevel) + " is missing depth: " +
+                         (s.missingDepthFill ? "runs between valid samples along a row take the farther level "
+                                               "(unreliable), the rest are not warped"
+                                             : "not warped"));
   if (s.boundaryNoiseRemoval) plan.lines.push_back("boundary noise removal: on");
   return plan;
 }

@@ -647,9 +647,21 @@ void Synthesizer::synthesize(const std::vector<ReferenceFrame>& references, Fram
   VS_CHECK(references.size() == views_.size());
   output.reset(outputFormat_);
   auto start = std::chrono::steady_clock::now();
+  const SynthesisSettings& s = scene_.settings;
   for (size_t k = 0; k < views_.size(); ++k) {
-    markReferenceEdges(views_[k], *references[k].depth);
-    warpDepth(views_[k], *references[k].depth);
+    ViewState& view = views_[k];
+    const Plane* depth = references[k].depth;
+    if (s.missingDepthLevel >= 0 && s.missingDepthFill) {
+      // Missing runs between valid samples take the farther level; the inverse-depth table has NaN
+      // at the missing level, which fillMissingDepthRuns never picks (both ends are valid).
+      fillMissingDepthRuns(*depth, s.missingDepthLevel, view.levelToInverseDepth, view.filledDepth, view.filledSamples);
+      depth = &view.filledDepth;
+    }
+    markReferenceEdges(view, *depth);
+    // Estimated depth is unreliable: where another view has a real one on the same surface, it wins.
+    if (depth == &view.filledDepth)
+      for (size_t i = 0; i < view.referenceEdge.size(); ++i) view.referenceEdge[i] |= view.filledSamples[i];
+    warpDepth(view, *depth);
   }
   times.depthWarp += seconds(start);
 

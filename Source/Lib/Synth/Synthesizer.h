@@ -75,6 +75,8 @@ private:
     std::vector<uint8_t> referenceStep;             // reference samples at a depth discontinuity
     std::vector<uint8_t> referenceEdge;             // the same, dilated by one sample: mixed colours
     std::vector<uint8_t> referenceStepRows;         // scratch of the dilation
+    Plane filledDepth;                              // MissingDepthFill: the depth map with runs filled
+    std::vector<uint8_t> filledSamples;             // the samples given a level there
   };
 
   void warpDepth(ViewState& view, const Plane& depth);
