@@ -518,6 +518,13 @@ std::vector<BadInputCase> catalogue() {
   add({"VirtualDepthIsInput", "the virtual depth output is the left depth input",
        setKey("OutputVirtualDepthMapName", "left_depth.yuv"), 1,
        {"OutputVirtualDepthMapName", "is also an input"}, kNoOutput});
+  add({"VirtualDepthDiskFull", "the virtual depth output's disk is full (/dev/full)",
+       setKey("OutputVirtualDepthMapName", "/dev/full"), 1,
+       {"/dev/full: writing frame 0 failed", "(frame 0; 1 whole frames were written to", ", 0 to /dev/full)"}, 1});
+  // Every output is checked before any is created: the view output is not even created here.
+  add({"VirtualDepthFolderMissing", "the virtual depth output's folder does not exist",
+       setKey("OutputVirtualDepthMapName", "no_such_folder/depth.yuv"), 1,
+       {"output folder", "no_such_folder' does not exist"}, kNoOutput});
   return cases;
 }
 

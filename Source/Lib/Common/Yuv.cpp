@@ -171,24 +171,29 @@ void YuvReader::readLuma(int64_t frameIndex, Plane& luma) {
 // ---------------------------------------------------------------------------------------------------
 // YuvWriter
 
-YuvWriter::YuvWriter(std::string path, const FrameFormat& format, const std::vector<std::string>& inputPaths)
-    : path_(std::move(path)), format_(format) {
-  if (path_.empty()) throw InputError("output file name is empty");
-  checkFormat(format_, path_);
-  // Every check comes before the open: opening truncates, and an input must never be truncated.
+void YuvWriter::checkOutput(const std::string& path, const FrameFormat& format, const std::vector<std::string>& inputPaths) {
+  if (path.empty()) throw InputError("output file name is empty");
+  checkFormat(format, path);
   for (const std::string& input : inputPaths) {
-    if (!input.empty() && sameFile(path_, input))
-      throw InputError(path_ + ": output file is the same file as input '" + input +
-                       "'; refusing to overwrite an input");
+    if (!input.empty() && sameFile(path, input))
+      throw InputError(path + ": output file is the same file as input '" + input + "'; refusing to overwrite an input");
   }
   std::error_code ec;
-  const fs::path absolutePath = fs::absolute(path_, ec);
+  const fs::path absolutePath = fs::absolute(path, ec);
   const fs::path folder = absolutePath.parent_path();
   if (!fs::exists(folder, ec))
-    throw InputError(path_ + ": output folder '" + folder.string() + "' does not exist");
+    throw InputError(path + ": output folder '" + folder.string() + "' does not exist");
   if (!fs::is_directory(folder, ec))
-    throw InputError(path_ + ": output folder '" + folder.string() + "' is not a folder");
-  if (fs::is_directory(absolutePath, ec)) throw InputError(path_ + ": output path is a folder, not a file");
+    throw InputError(path + ": output folder '" + folder.string() + "' is not a folder");
+  if (fs::is_directory(absolutePath, ec)) throw InputError(path + ": output path is a folder, not a file");
+}
+
+YuvWriter::YuvWriter(std::string path, const FrameFormat& format, const std::vector<std::string>& inputPaths)
+    : path_(std::move(path)), format_(format) {
+  // Every check comes before the open: opening truncates, and an input must never be truncated.
+  checkOutput(path_, format_, inputPaths);
+  std::error_code ec;
+  const fs::path folder = fs::absolute(path_, ec).parent_path();
 
   // Unbuffered: append() hands each frame to the OS in one write, and nothing is left in a buffer to
   // reach the file after a failed write has been cut back.

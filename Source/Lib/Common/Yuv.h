@@ -58,6 +58,11 @@ public:
   // reason) when the file cannot be created.
   YuvWriter(std::string path, const FrameFormat& format, const std::vector<std::string>& inputPaths = {});
 
+  // The constructor's checks alone, without creating the file: a run with several outputs checks them
+  // all before it truncates any.
+  static void checkOutput(const std::string& path, const FrameFormat& format,
+                          const std::vector<std::string>& inputPaths = {});
+
   const std::string& path() const { return path_; }
   const FrameFormat& format() const { return format_; }
   int64_t framesWritten() const { return framesWritten_; }

@@ -121,16 +121,19 @@ RunSummary runSequence(const std::string& toolName, const Config& config, const 
   }
   if (truth) limit(*truth);
 
-  std::vector<std::string> inputs = s.inputPaths();
-  YuvWriter writer(s.outputPath, s.textureFormat, inputs);
-  std::unique_ptr<YuvWriter> depthWriter;
+  // Every output is checked before any is created: a refused run truncates nothing.
+  const std::vector<std::string> inputs = s.inputPaths();
   FrameFormat virtualDepthFormat = s.depthFormat;
   virtualDepthFormat.bitDepth = s.virtualDepthRange.bitDepth;
+  std::vector<std::string> notDepth = inputs;
+  notDepth.push_back(s.outputPath);
+  YuvWriter::checkOutput(s.outputPath, s.textureFormat, inputs);
+  if (!s.virtualDepthPath.empty()) YuvWriter::checkOutput(s.virtualDepthPath, virtualDepthFormat, notDepth);
+  YuvWriter writer(s.outputPath, s.textureFormat, inputs);
+  std::unique_ptr<YuvWriter> depthWriter;
   Frame virtualDepthFrame(virtualDepthFormat);
   if (!s.virtualDepthPath.empty()) {
-    if (s.virtualDepthPath == s.outputPath) throw InputError("OutputVirtualDepthMapName and OutputVirtualViewImageName are the same file");
-    inputs.push_back(s.outputPath);
-    depthWriter = std::make_unique<YuvWriter>(s.virtualDepthPath, virtualDepthFormat, inputs);
+    depthWriter = std::make_unique<YuvWriter>(s.virtualDepthPath, virtualDepthFormat, notDepth);
     virtualDepthFrame.fill(0);
   }
   std::FILE* report = nullptr;
@@ -152,7 +155,7 @@ RunSummary runSequence(const std::string& toolName, const Config& config, const 
   PsnrAccumulator accumulator(s.textureFormat.bitDepth, s.textureFormat.chroma != ChromaFormat::Yuv400);
   RunSummary summary;
   say("\n");
-  for (int64_t f = 0; f < available; ++f) {
+  for (int64_t f = 0; f < available; ++f) try {
     const int64_t frameIndex = s.startFrame + f;
     StageTimes times;
     auto start = std::chrono::steady_clock::now();
@@ -189,6 +192,12 @@ RunSummary runSequence(const std::string& toolName, const Config& config, const 
                    truth ? formatPsnr(psnr.y).c_str() : "", truth ? formatPsnr(psnr.u).c_str() : "",
                    truth ? formatPsnr(psnr.v).c_str() : "", truth ? formatPsnr(psnr.yuv).c_str() : "", times.read,
                    times.depthWarp, times.textureWarp, times.blend, times.holeFill, times.write, times.total());
+  } catch (const InputError& e) {
+    // Say what is on disk: the writers keep whole frames only.
+    std::string written = std::to_string(writer.framesWritten()) + " whole frames were written to " + s.outputPath;
+    if (depthWriter)
+      written += ", " + std::to_string(depthWriter->framesWritten()) + " to " + s.virtualDepthPath;
+    throw InputError(std::string(e.what()) + " (frame " + std::to_string(s.startFrame + f) + "; " + written + ")");
   }
 
   const double frames = double(summary.framesWritten);
