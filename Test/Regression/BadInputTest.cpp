@@ -559,8 +559,8 @@ TEST_P(BadInput, RefusedWithMessageAndNoDamage) {
   if (c.exitCode == 1) {
     EXPECT_EQ(result.err.rfind("ViewSyn: error: ", 0), 0u) << result.err;
   }
-  // The usage (exit code 2 without an argument) is printed to stdout like --help; messages to stderr.
-  const std::string& shown = c.name == "NoArguments" ? result.out : result.err;
+  // Without an argument the usage is the error message: on stderr (--help prints it on stdout).
+  const std::string& shown = result.err;
   for (const std::string& message : c.messages)
     EXPECT_NE(shown.find(message), std::string::npos) << "expected: " << message << "\nstderr:\n" << result.err;
   // Said in a few lines, however much is wrong.

@@ -1,10 +1,9 @@
 // ViewSyn: VSRS-compatible view synthesis. `ViewSyn FILE.cfg [Key=Value ...]`; see --help.
 #include <cstdio>
-#include <cstring>
-#include <exception>
 #include <string>
 #include <vector>
 
+#include "Common/CommandLine.h"
 #include "Common/Config.h"
 #include "Common/Error.h"
 #include "Common/Options.h"
@@ -13,8 +12,8 @@
 
 namespace {
 
-void printUsage(const vs::OptionTable& table) {
-  std::printf(
+void printUsage(std::FILE* out, const vs::OptionTable& table) {
+  std::fprintf(out,
       "ViewSyn %s: synthesizes a virtual camera view from two reference views with depth (VSRS 4.x configs).\n\n"
       "Usage:\n"
       "  ViewSyn FILE.cfg [Key=Value ...]          synthesize every frame; Key=Value overrides the file\n"
@@ -25,43 +24,22 @@ void printUsage(const vs::OptionTable& table) {
       "Exit codes: 0 success, 1 bad input (the message says which file, line or key), 2 bad usage.\n"
       "The manual: doc/manual.md. Keys (type and range; default; meaning):\n",
       VS_VERSION);
-  std::fputs(table.helpText().c_str(), stdout);
+  std::fputs(table.helpText().c_str(), out);
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
   const vs::OptionTable table = vs::viewSynOptionTable();
-  std::vector<std::string> args(argv + 1, argv + argc);
-  if (args.empty()) {
-    printUsage(table);
-    return 2;
-  }
-  if (args[0] == "--help" || args[0] == "-h") {
-    printUsage(table);
-    return 0;
-  }
-  if (args[0] == "--help-markdown") {
-    std::fputs(table.markdownTable().c_str(), stdout);
-    return 0;
-  }
-  bool checkOnly = false;
-  if (args[0] == "--check") {
-    checkOnly = true;
-    args.erase(args.begin());
-    if (args.empty()) {
-      std::fprintf(stderr, "ViewSyn: --check needs a config file\n");
-      return 2;
-    }
-  }
-  if (args[0].rfind("--", 0) == 0) {
-    std::fprintf(stderr, "ViewSyn: unknown option '%s' (see ViewSyn --help)\n", args[0].c_str());
-    return 2;
-  }
-  try {
+  vs::CommandLineTool tool;
+  tool.name = "ViewSyn";
+  tool.table = &table;
+  tool.printUsage = [&](std::FILE* out) { printUsage(out, table); };
+  tool.hasCheck = true;
+  tool.run = [&](const std::vector<std::string>& args, bool check) {
     const std::vector<std::string> overrides(args.begin() + 1, args.end());
     const vs::Config config = vs::Config::load(table, args[0], overrides);
-    if (checkOnly) {
+    if (check) {
       const vs::Scene scene = vs::loadScene(config);
       std::printf("ViewSyn %s --check %s\n\n%s\n", VS_VERSION, args[0].c_str(), config.effectiveText().c_str());
       for (const std::string& warning : scene.warnings) std::printf("warning: %s\n", warning.c_str());
@@ -70,11 +48,6 @@ int main(int argc, char** argv) {
     }
     vs::runViewSyn(config);
     return 0;
-  } catch (const vs::InputError& e) {
-    std::fprintf(stderr, "ViewSyn: error: %s\n", e.what());
-    return 1;
-  } catch (const std::bad_alloc&) {
-    std::fprintf(stderr, "ViewSyn: error: out of memory\n");
-    return 1;
-  }
+  };
+  return vs::runCommandLine(argc, argv, tool);
 }

@@ -75,10 +75,12 @@ void readReferenceViews(const Config& config, SynthesisSettings& s, const std::s
                    std::to_string(names.size()));
       return false;
     };
-    const bool ok = sameLength("ReferenceViewImageNames", textures, false) &
-                    sameLength("ReferenceDepthMapNames", depths, false) &
-                    sameLength("ReferenceNearestDepthValues", nears, true) &
-                    sameLength("ReferenceFarthestDepthValues", fars, true);
+    // Every list is checked (each reports its own problem) before they are combined.
+    const bool texturesOk = sameLength("ReferenceViewImageNames", textures, false);
+    const bool depthsOk = sameLength("ReferenceDepthMapNames", depths, false);
+    const bool nearsOk = sameLength("ReferenceNearestDepthValues", nears, true);
+    const bool farsOk = sameLength("ReferenceFarthestDepthValues", fars, true);
+    const bool ok = texturesOk && depthsOk && nearsOk && farsOk;
     if (nears.empty() != fars.empty())
       problems.add(where + ": give both ReferenceNearestDepthValues and ReferenceFarthestDepthValues, or neither");
     if (!ok) return;

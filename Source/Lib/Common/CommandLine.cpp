@@ -1,0 +1,50 @@
+#include "Common/CommandLine.h"
+
+#include <exception>
+#include <new>
+
+#include "Common/Error.h"
+
+namespace vs {
+
+int runCommandLine(int argc, char** argv, const CommandLineTool& tool) {
+  std::vector<std::string> args(argv + 1, argv + argc);
+  if (args.empty()) {
+    tool.printUsage(stderr);
+    return 2;
+  }
+  if (args[0] == "--help" || args[0] == "-h") {
+    tool.printUsage(stdout);
+    return 0;
+  }
+  if (args[0] == "--help-markdown" && tool.table) {
+    std::fputs(tool.table->markdownTable().c_str(), stdout);
+    return 0;
+  }
+  bool check = false;
+  if (tool.hasCheck && args[0] == "--check") {
+    check = true;
+    args.erase(args.begin());
+    if (args.empty()) {
+      std::fprintf(stderr, "%s: --check needs a config file\n", tool.name.c_str());
+      return 2;
+    }
+  }
+  if (args[0].rfind("--", 0) == 0) {
+    std::fprintf(stderr, "%s: unknown option '%s' (see %s --help)\n", tool.name.c_str(), args[0].c_str(),
+                 tool.name.c_str());
+    return 2;
+  }
+  try {
+    return tool.run(args, check);
+  } catch (const InputError& e) {
+    std::fprintf(stderr, "%s: error: %s\n", tool.name.c_str(), e.what());
+  } catch (const std::bad_alloc&) {
+    std::fprintf(stderr, "%s: error: out of memory\n", tool.name.c_str());
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "%s: error: %s\n", tool.name.c_str(), e.what());
+  }
+  return 1;
+}
+
+}  // namespace vs

@@ -1,0 +1,32 @@
+#pragma once
+// The command line every config-driven executable shares (ViewSyn, MeshRender, SceneGen):
+//   TOOL --help | -h          the usage and every key, on stdout; exit 0
+//   TOOL --help-markdown      the keys as Markdown tables (the manuals' source); exit 0
+//   TOOL --check FILE ...     where the tool has a check: run it instead of the tool
+//   TOOL ARGS ...             the tool
+// No argument prints the usage on stderr and exits 2, as does an unknown --option. Bad input
+// (InputError) is reported as "TOOL: error: ..." on stderr with exit 1, and so is running out of
+// memory or any other failure a library reports with an exception: the run never ends in an
+// uncaught exception.
+#include <cstdio>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "Common/Config.h"
+
+namespace vs {
+
+struct CommandLineTool {
+  std::string name;
+  const OptionTable* table = nullptr;          // for --help-markdown
+  std::function<void(std::FILE*)> printUsage;  // usage text and the keys
+  // Runs the tool on the arguments after the options; `check` is true for --check (only offered when
+  // `hasCheck`). Returns the exit code.
+  std::function<int(const std::vector<std::string>& args, bool check)> run;
+  bool hasCheck = false;
+};
+
+int runCommandLine(int argc, char** argv, const CommandLineTool& tool);
+
+}  // namespace vs
