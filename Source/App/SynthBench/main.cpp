@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <iostream>
 #include <sstream>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -120,7 +121,9 @@ int main(int argc, char** argv) {
           const std::string name = scene.filename().string();
           if (!allScenes && name != "Art" && name != "Books" && name != "Aloe") continue;
           cases.push_back({name + " general", (scene / "synth_view3_general.cfg").string(), {}});
-          cases.push_back({name + " 1D", (scene / "synth_view3_1d.cfg").string(), {}});
+          // The same settings on the 1D path: the paths' speeds compared (issue: 1D vs general).
+          cases.push_back({name + " general as 1D", (scene / "synth_view3_general.cfg").string(), {"SynthesisMode=1"}});
+          cases.push_back({name + " 1D config", (scene / "synth_view3_1d.cfg").string(), {}});
         }
       }
     } else if (real) {
@@ -130,6 +133,7 @@ int main(int argc, char** argv) {
     std::printf("%-28s %3s %8s %8s %8s %8s %8s %8s %9s %9s %7s\n", "case", "thr", "read", "d.warp", "t.warp", "blend",
                 "holes", "write", "s/frame", "s/MP", "fps");
     const vs::OptionTable table = vs::viewSynOptionTable();
+    std::map<std::string, double> medians;  // "case|threads" -> median s/frame, for the ratios below
     for (const Case& c : cases)
       for (int threads : threadCounts) {
         std::vector<std::string> overrides = c.overrides;
@@ -147,11 +151,31 @@ int main(int argc, char** argv) {
           megapixels = double(config.getInt("SourceWidth")) * double(config.getInt("SourceHeight")) / 1e6;
         }
         const double total = median(stage[6]);
+        medians[c.name + "|" + std::to_string(threads)] = total;
+        medians[c.name + "|warp|" + std::to_string(threads)] = median(stage[1]) + median(stage[2]);
         std::printf("%-28s %3d %8.4f %8.4f %8.4f %8.4f %8.4f %8.4f %9.4f %9.4f %7.1f\n", c.name.c_str(), threads,
                     median(stage[0]), median(stage[1]), median(stage[2]), median(stage[3]), median(stage[4]),
                     median(stage[5]), total, total / megapixels, 1.0 / total);
         std::fflush(stdout);
       }
+    // The 1D path against the general path on the same settings and data: whole frame, and the two
+    // warp stages alone (blending and hole filling are shared).
+    bool header = false;
+    for (const Case& c : cases) {
+      const std::string suffix = " general as 1D";
+      if (c.name.size() <= suffix.size() || c.name.compare(c.name.size() - suffix.size(), suffix.size(), suffix) != 0)
+        continue;
+      const std::string general = c.name.substr(0, c.name.size() - suffix.size()) + " general";
+      for (int threads : threadCounts) {
+        const std::string t = std::to_string(threads);
+        if (!medians.count(general + "|" + t)) continue;
+        if (!header) std::printf("\n%-28s %3s %14s %14s\n", "general / 1D path", "thr", "whole frame", "warp stages");
+        header = true;
+        std::printf("%-28s %3d %13.2fx %13.2fx\n", general.c_str(), threads,
+                    medians[general + "|" + t] / medians[c.name + "|" + t],
+                    medians[general + "|warp|" + t] / medians[c.name + "|warp|" + t]);
+      }
+    }
     return 0;
   } catch (const vs::InputError& e) {
     std::fprintf(stderr, "SynthBench: error: %s\n", e.what());
