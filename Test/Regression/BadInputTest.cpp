@@ -633,6 +633,31 @@ TEST(BadInputCatalogue, TheUnbrokenSceneRuns) {
   for (const auto& [path, content] : before) EXPECT_TRUE(digest(path) == content) << path;
 }
 
+// The frame loop reads the next frame while it synthesizes the current one: frame k of a whole-
+// sequence run is exactly what a run of that frame alone (StartFrame=k) gives.
+TEST(BadInputCatalogue, ReadingAheadKeepsEveryFrameInPlace) {
+  const fs::path root = test::scratchDir("read_ahead");
+  TinyScene scene(root / "scene");
+  scene.writeAll();
+  const test::ToolResult whole = test::runTool("ViewSyn", test::quoted(scene.configPath().string()), root, scene.dir);
+  ASSERT_EQ(whole.exitCode, 0) << whole.err;
+  const std::string sequence = readFile(scene.outputPath());
+  const size_t frameBytes = size_t(scene.textureFormat().frameBytes());
+  ASSERT_EQ(sequence.size(), 3 * frameBytes);
+  for (int k = 0; k < 3; ++k) {
+    const fs::path single = root / ("frame" + std::to_string(k) + ".yuv");
+    const test::ToolResult one = test::runTool(
+        "ViewSyn",
+        test::quoted(scene.configPath().string()) + " StartFrame=" + std::to_string(k) +
+            " TotalNumberOfFrames=1 OutputVirtualViewImageName=" + test::quoted(single.string()),
+        root, scene.dir);
+    ASSERT_EQ(one.exitCode, 0) << one.err;
+    EXPECT_TRUE(readFile(single) == sequence.substr(size_t(k) * frameBytes, frameBytes)) << "frame " << k;
+  }
+  // The frames differ (the texture drifts), so a frame read into the wrong buffer would show.
+  EXPECT_FALSE(sequence.substr(0, frameBytes) == sequence.substr(frameBytes, frameBytes));
+}
+
 // Key=Value arguments resolve paths against the working folder; a removed working folder is bad
 // input like any other, not an uncaught std::filesystem::filesystem_error (which aborted ViewSyn).
 TEST(BadInputCatalogue, RemovedWorkingFolderIsNoCrash) {

@@ -1,9 +1,12 @@
 #include "Synth/Run.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <functional>
+#include <future>
 #include <memory>
 
 #include <opencv2/core/utility.hpp>
@@ -149,9 +152,39 @@ RunSummary runSequence(const std::string& toolName, const Config& config, const 
     }
   } closer{report};
 
-  std::vector<Frame> textureFrames(textures.size());
-  std::vector<Plane> depthPlanes(depths.size());
-  Frame output, truthFrame;
+  // Two sets of input buffers: while one frame is synthesized, the next one is read on another
+  // thread (reading is file I/O and unpacking; the synthesis keeps the cores busy).
+  struct Inputs {
+    std::vector<Frame> textures;
+    std::vector<Plane> depths;
+    Frame truth;
+    double seconds = 0;
+  };
+  Inputs slots[2];
+  for (Inputs& slot : slots) {
+    slot.textures.resize(textures.size());
+    slot.depths.resize(depths.size());
+  }
+  auto readInputs = [&](int64_t frameIndex, Inputs& slot) {
+    const auto start = std::chrono::steady_clock::now();
+    for (size_t k = 0; k < textures.size(); ++k) {
+      textures[k]->read(frameIndex, slot.textures[k]);
+      depths[k]->readLuma(frameIndex, slot.depths[k]);
+    }
+    if (truth) truth->read(frameIndex, slot.truth);
+    slot.seconds = seconds(start);
+  };
+  std::future<void> nextRead;
+  if (available > 0) nextRead = std::async(std::launch::async, readInputs, s.startFrame, std::ref(slots[0]));
+  // A frame's read that is still running when the loop leaves early (an error) is waited for here,
+  // before the buffers it fills go away.
+  struct ReadWaiter {
+    std::future<void>& read;
+    ~ReadWaiter() {
+      if (read.valid()) read.wait();
+    }
+  } waiter{nextRead};
+  Frame output;
   PsnrAccumulator accumulator(s.textureFormat.bitDepth, s.textureFormat.chroma != ChromaFormat::Yuv400);
   RunSummary summary;
   say("\n");
@@ -159,14 +192,15 @@ RunSummary runSequence(const std::string& toolName, const Config& config, const 
     const int64_t frameIndex = s.startFrame + f;
     StageTimes times;
     auto start = std::chrono::steady_clock::now();
+    nextRead.get();  // rethrows a read error
+    Inputs& current = slots[f % 2];
+    // Read time: what the read took on its own thread, or the wait for it when that is longer.
+    times.read = std::max(seconds(start), f == 0 ? current.seconds : 0.0);
+    if (f + 1 < available)
+      nextRead = std::async(std::launch::async, readInputs, frameIndex + 1, std::ref(slots[(f + 1) % 2]));
     std::vector<ReferenceFrame> references(textures.size());
-    for (size_t k = 0; k < textures.size(); ++k) {
-      textures[k]->read(frameIndex, textureFrames[k]);
-      depths[k]->readLuma(frameIndex, depthPlanes[k]);
-      references[k] = ReferenceFrame{&textureFrames[k], &depthPlanes[k]};
-    }
-    if (truth) truth->read(frameIndex, truthFrame);
-    times.read = seconds(start);
+    for (size_t k = 0; k < textures.size(); ++k) references[k] = ReferenceFrame{&current.textures[k], &current.depths[k]};
+    const Frame& truthFrame = current.truth;
     renderer.render(references, output, times);
     start = std::chrono::steady_clock::now();
     writer.append(output);
