@@ -256,7 +256,8 @@ TEST(MeshDepth, OrphanVerticesAreDrawnAsPointsUnlessBehindAllAround) {
 
 // Code that builds meshes without a config (tests, tools) gets MeshRender's own default threshold.
 TEST(MeshDepth, DefaultThresholdIsTheOptionTables) {
-  const vs::OptionSpec* spec = vs::meshRenderOptionTable().find("MeshDiscontinuityThreshold");
+  const vs::OptionTable table = vs::meshRenderOptionTable();
+  const vs::OptionSpec* spec = table.find("MeshDiscontinuityThreshold");
   ASSERT_NE(spec, nullptr);
   EXPECT_EQ(vs::MeshOptions{}.discontinuityThreshold, std::stod(spec->defaultValue));
 }
