@@ -189,8 +189,8 @@ void MeshSynthesizer::synthesize(const std::vector<ReferenceFrame>& references, 
   times.blend += seconds(start);
 
   start = std::chrono::steady_clock::now();
-  fillHoles(blendedLuma_, fillOptions_);
-  if (hasChroma_ && !rgb_) fillHoles(blendedChroma_, chromaFillOptions_);
+  fillHoles(blendedLuma_, fillOptions_, &lumaFill_);
+  if (hasChroma_ && !rgb_) fillHoles(blendedChroma_, chromaFillOptions_, &chromaFill_);
   times.holeFill += seconds(start);
 
   const int maxValue = outputFormat_.maxValue();

@@ -78,6 +78,7 @@ private:
   HoleFillOptions fillOptions_, chromaFillOptions_;
   std::vector<ViewState> views_;
   BlendedLayer blendedLuma_, blendedChroma_;
+  HoleFillScratch lumaFill_, chromaFill_;  // reused every frame
   Frame rgbReference_, rgbOutput_;
   size_t holesAfterBlend_ = 0;
   bool plyWritten_ = false;

@@ -91,10 +91,13 @@ void backgroundOnlyMask(const BlendedLayer& layer, const std::vector<double>& ba
 // whole-picture one, at a cost that follows each group's size instead of all the holes' (OpenCV's
 // queue is a sorted list whose inserts walk it: over the whole picture the cost grows with the square
 // of the number of hole samples).
-void inpaint(BlendedLayer& layer, std::vector<uint8_t>& mask, int radius, std::vector<float> result[3]) {
+void inpaint(BlendedLayer& layer, std::vector<uint8_t>& mask, int radius, std::vector<float> result[3],
+             HoleFillScratch& scratch) {
   const cv::Mat maskMat(layer.height, layer.width, CV_8UC1, mask.data());
   const int reach = radius + 2;
-  cv::Mat grown, groups, stats, centroids;
+  cv::Mat& grown = scratch.grown;
+  cv::Mat& groups = scratch.groups;
+  cv::Mat stats, centroids;
   cv::dilate(maskMat, grown, cv::getStructuringElement(cv::MORPH_RECT, cv::Size(2 * reach + 1, 2 * reach + 1)));
   const int groupCount = cv::connectedComponentsWithStats(grown, groups, stats, centroids, 8, CV_32S);
   for (int k = 0; k < layer.channels; ++k) result[k] = layer.colour[k];
@@ -120,7 +123,7 @@ void inpaint(BlendedLayer& layer, std::vector<uint8_t>& mask, int radius, std::v
 
 }  // namespace
 
-size_t fillHoles(BlendedLayer& layer, const HoleFillOptions& options) {
+size_t fillHoles(BlendedLayer& layer, const HoleFillOptions& options, HoleFillScratch* scratch) {
   const size_t holes = layer.holeCount();
   if (holes == 0) return 0;
   const size_t n = layer.hole.size();
@@ -129,25 +132,23 @@ size_t fillHoles(BlendedLayer& layer, const HoleFillOptions& options) {
     std::fill(layer.hole.begin(), layer.hole.end(), uint8_t(0));
     return holes;
   }
-  std::vector<float> inpainted[3];
+  HoleFillScratch local;
+  HoleFillScratch& s = scratch ? *scratch : local;
   if (!options.backgroundFirst) {
-    std::vector<uint8_t> mask = layer.hole;
-    inpaint(layer, mask, options.inpaintRadius, inpainted);
+    s.mask = layer.hole;
+    inpaint(layer, s.mask, options.inpaintRadius, s.inpainted, s);
     for (int k = 0; k < layer.channels; ++k)
       for (size_t i = 0; i < n; ++i)
-        if (layer.hole[i]) layer.colour[k][i] = inpainted[k][i];
+        if (layer.hole[i]) layer.colour[k][i] = s.inpainted[k][i];
   } else {
-    std::vector<float> directional[3];
-    std::vector<double> background;
-    std::vector<uint8_t> found, mask;
-    directionalFill(layer, options, directional, background, found);
-    backgroundOnlyMask(layer, background, options.depthTolerance, options.inpaintRadius + 1, mask);
-    inpaint(layer, mask, options.inpaintRadius, inpainted);
+    directionalFill(layer, options, s.directional, s.background, s.found);
+    backgroundOnlyMask(layer, s.background, options.depthTolerance, options.inpaintRadius + 1, s.mask);
+    inpaint(layer, s.mask, options.inpaintRadius, s.inpainted, s);
     for (size_t i = 0; i < n; ++i) {
       if (!layer.hole[i]) continue;
       for (int k = 0; k < layer.channels; ++k)
-        layer.colour[k][i] = found[i] ? 0.5f * (directional[k][i] + inpainted[k][i]) : inpainted[k][i];
-      if (found[i]) layer.inverseDepth[i] = background[i];
+        layer.colour[k][i] = s.found[i] ? 0.5f * (s.directional[k][i] + s.inpainted[k][i]) : s.inpainted[k][i];
+      if (s.found[i]) layer.inverseDepth[i] = s.background[i];
     }
   }
   std::fill(layer.hole.begin(), layer.hole.end(), uint8_t(0));

@@ -11,6 +11,10 @@
 // direction reaches take the inpainted value. IvsrsInpaint 0: OpenCV Telea inpainting of the holes
 // alone, as VSRS does. A layer without any valid sample is filled with `emptyValue`.
 #include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include <opencv2/core/mat.hpp>
 
 #include "Synth/Layer.h"
 
@@ -24,8 +28,17 @@ struct HoleFillOptions {
   int maxReach = 256;           // samples a directional search looks along
 };
 
+// Working buffers of fillHoles, kept by a caller that fills every frame so that nothing is allocated
+// per frame once they have grown to the picture's size.
+struct HoleFillScratch {
+  std::vector<float> directional[3], inpainted[3];
+  std::vector<double> background;
+  std::vector<uint8_t> found, mask;
+  cv::Mat grown, groups;  // the inpainting's groups of holes (HoleFill.cpp)
+};
+
 // Fills every hole of `layer` (hole mask cleared, inverse depth set to the background's where
-// known). Returns the number of samples that were holes.
-size_t fillHoles(BlendedLayer& layer, const HoleFillOptions& options);
+// known). Returns the number of samples that were holes. `scratch`: reused buffers (nullptr: local).
+size_t fillHoles(BlendedLayer& layer, const HoleFillOptions& options, HoleFillScratch* scratch = nullptr);
 
 }  // namespace vs

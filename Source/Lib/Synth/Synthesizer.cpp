@@ -387,7 +387,8 @@ void Synthesizer::flagCrowdedHoles(WarpedLayer& layer) {
   // MergingOption 2's hole counting: a sample with more than HoleCountThreshold holes in its 7x7
   // neighbourhood is unreliable; where another view agrees and is not, that view is used.
   const int w = layer.width, h = layer.height, threshold = scene_.settings.oneD.holeCountThreshold;
-  std::vector<int> integral(size_t(w + 1) * (h + 1), 0);
+  std::vector<int>& integral = integralScratch_;
+  integral.assign(size_t(w + 1) * (h + 1), 0);
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x)
       integral[size_t(y + 1) * (w + 1) + x + 1] = (layer.inverseDepth[size_t(y) * w + x] < 0 ? 1 : 0) +
@@ -452,7 +453,8 @@ void Synthesizer::removeBoundaryNoise(WarpedLayer& layer) {
   // Samples on a reference depth edge within two samples of this view's own hole carry foreground
   // colour bled onto background: drop them, so the other view or the hole filler supplies them.
   const int w = layer.width, h = layer.height;
-  std::vector<uint8_t> drop(size_t(w) * h, 0);
+  std::vector<uint8_t>& drop = dropScratch_;
+  drop.assign(size_t(w) * h, 0);
   parallelRanges(h, [&](int y0, int y1) {
     for (int y = y0; y < y1; ++y)
       for (int x = 0; x < w; ++x) {
@@ -505,13 +507,15 @@ void Synthesizer::rejectOccludedInOtherViews() {
   // view that has any.
   const size_t n = size_t(outputFormat_.width) * size_t(outputFormat_.height);
   const int width = outputFormat_.width;
-  std::vector<uint8_t> validCount(n, 0);
+  std::vector<uint8_t>& validCount = validCount_;
+  validCount.assign(n, 0);
   for (const ViewState& view : views_)
     for (size_t i = 0; i < n; ++i) validCount[i] += view.luma.valid(i) ? 1 : 0;
-  std::vector<std::vector<uint8_t>> reject(views_.size());
+  std::vector<std::vector<uint8_t>>& reject = rejectScratch_;
+  reject.resize(views_.size());
   for (size_t k = 0; k < views_.size(); ++k)
     reject[k].assign(n, blendOptions_.weights[k] >= 1.0 ? 0 : 1);  // 1: still a candidate
-  std::vector<double> farthest;
+  std::vector<double>& farthest = farthestScratch_;
   for (size_t o = 0; o < views_.size(); ++o) {
     farthestNeighbourDepth(views_[o].luma, farthest);
     for (size_t k = 0; k < views_.size(); ++k) {
@@ -703,11 +707,11 @@ void Synthesizer::synthesize(const std::vector<ReferenceFrame>& references, Fram
     lumaHoles = blendedLuma_.hole;
     chromaHoles = blendedChroma_.hole;
   }
-  fillHoles(blendedLuma_, fillOptions_);
+  fillHoles(blendedLuma_, fillOptions_, &lumaFill_);
   if (!rgb_ && hasChroma_) {
     HoleFillOptions chromaFill = fillOptions_;
     chromaFill.emptyValue[0] = chromaFill.emptyValue[1] = fillOptions_.emptyValue[1];
-    fillHoles(blendedChroma_, chromaFill);
+    fillHoles(blendedChroma_, chromaFill, &chromaFill_);
   }
   if (temporal) keepStaticFill(references, lumaHoles, chromaHoles);
   times.holeFill += seconds(start);

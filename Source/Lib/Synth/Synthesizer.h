@@ -105,6 +105,12 @@ private:
   std::vector<ViewState> views_;
   AtomicMaxBuffer zbuffer_;  // depth warp target, shared by the threads of one view's warp
   BlendedLayer blendedLuma_, blendedChroma_;
+  // Per-frame working buffers, kept so that a sequence allocates nothing once they have grown.
+  HoleFillScratch lumaFill_, chromaFill_;
+  std::vector<uint8_t> validCount_, dropScratch_;
+  std::vector<std::vector<uint8_t>> rejectScratch_;
+  std::vector<double> farthestScratch_;
+  std::vector<int> integralScratch_;
   std::vector<Frame> rgbReferences_;
   FrameStats stats_;
   // 1D TemporalImprovementOption: the previous frame's depth, texture luma, holes and filled output.
