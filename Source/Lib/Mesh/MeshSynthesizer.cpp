@@ -17,13 +17,6 @@ double seconds(std::chrono::steady_clock::time_point since) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - since).count();
 }
 
-// Rounds a blended colour to a sample in [0, maxValue] (NaN -> 0).
-uint16_t roundToSample(float value, int maxValue) {
-  if (!(value > 0.0f)) return 0;
-  const float rounded = std::floor(value + 0.5f);
-  return rounded >= float(maxValue) ? uint16_t(maxValue) : uint16_t(rounded);
-}
-
 class MeshFrameRenderer : public FrameRenderer {
 public:
   MeshFrameRenderer(const Scene& scene, const MeshSettings& settings) : synthesizer_(scene, settings) {}
@@ -193,21 +186,7 @@ void MeshSynthesizer::synthesize(const std::vector<ReferenceFrame>& references, 
   if (hasChroma_ && !rgb_) fillHoles(blendedChroma_, chromaFillOptions_, &chromaFill_);
   times.holeFill += seconds(start);
 
-  const int maxValue = outputFormat_.maxValue();
-  if (rgb_) {
-    rgbOutput_.reset(FrameFormat{outputFormat_.width, outputFormat_.height, outputFormat_.bitDepth, ChromaFormat::Yuv444});
-    for (int c = 0; c < 3; ++c)
-      for (size_t i = 0; i < rgbOutput_.planes[c].samples.size(); ++i)
-        rgbOutput_.planes[c].samples[i] = roundToSample(blendedLuma_.colour[c][i], maxValue);
-    rgbToYuv(rgbOutput_, output);
-    return;
-  }
-  for (size_t i = 0; i < output.planes[0].samples.size(); ++i)
-    output.planes[0].samples[i] = roundToSample(blendedLuma_.colour[0][i], maxValue);
-  if (hasChroma_)
-    for (int c = 0; c < 2; ++c)
-      for (size_t i = 0; i < output.planes[c + 1].samples.size(); ++i)
-        output.planes[c + 1].samples[i] = roundToSample(blendedChroma_.colour[c][i], maxValue);
+  roundLayersToFrame(blendedLuma_, blendedChroma_, rgb_, rgbOutput_, output);
 }
 
 int runMeshRender(const Config& config) {

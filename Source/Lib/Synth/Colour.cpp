@@ -78,4 +78,32 @@ void rgbToYuv(const Frame& rgb, Frame& yuv) {
     }
 }
 
+namespace {
+
+uint16_t roundToSample(float value, int maxValue) {
+  if (!(value > 0.0f)) return 0;  // also NaN
+  const float rounded = std::floor(value + 0.5f);
+  return rounded >= float(maxValue) ? uint16_t(maxValue) : uint16_t(rounded);
+}
+
+void roundInto(const std::vector<float>& colour, int maxValue, Plane& plane) {
+  for (size_t i = 0; i < plane.samples.size(); ++i) plane.samples[i] = roundToSample(colour[i], maxValue);
+}
+
+}  // namespace
+
+void roundLayersToFrame(const BlendedLayer& luma, const BlendedLayer& chroma, bool rgb, Frame& rgbScratch, Frame& output) {
+  const FrameFormat& format = output.format;
+  const int maxValue = format.maxValue();
+  if (rgb) {
+    rgbScratch.reset(FrameFormat{format.width, format.height, format.bitDepth, ChromaFormat::Yuv444});
+    for (int c = 0; c < 3; ++c) roundInto(luma.colour[c], maxValue, rgbScratch.planes[c]);
+    rgbToYuv(rgbScratch, output);
+    return;
+  }
+  roundInto(luma.colour[0], maxValue, output.planes[0]);
+  if (format.chroma != ChromaFormat::Yuv400)
+    for (int c = 0; c < 2; ++c) roundInto(chroma.colour[c], maxValue, output.planes[c + 1]);
+}
+
 }  // namespace vs

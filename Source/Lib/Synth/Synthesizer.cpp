@@ -25,12 +25,6 @@ double seconds(std::chrono::steady_clock::time_point since) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - since).count();
 }
 
-uint16_t toSample(float value, int maxValue) {
-  if (!(value > 0.0f)) return 0;  // also NaN
-  const float rounded = std::floor(value + 0.5f);
-  return rounded >= float(maxValue) ? uint16_t(maxValue) : uint16_t(rounded);
-}
-
 // Pixel-centre range [first, last] covered by [lo, hi] within [0, size - 1]; false when empty.
 inline bool coveredRange(double lo, double hi, int size, int& first, int& last) {
   if (hi < -1e-9 || lo > size - 1 + 1e-9) return false;
@@ -716,21 +710,7 @@ void Synthesizer::synthesize(const std::vector<ReferenceFrame>& references, Fram
   if (temporal) keepStaticFill(references, lumaHoles, chromaHoles);
   times.holeFill += seconds(start);
 
-  const int maxValue = outputFormat_.maxValue();
-  if (rgb_) {
-    Frame rgb(FrameFormat{outputFormat_.width, outputFormat_.height, outputFormat_.bitDepth, ChromaFormat::Yuv444});
-    for (int c = 0; c < 3; ++c)
-      for (size_t i = 0; i < rgb.planes[c].samples.size(); ++i)
-        rgb.planes[c].samples[i] = toSample(blendedLuma_.colour[c][i], maxValue);
-    rgbToYuv(rgb, output);
-    return;
-  }
-  for (size_t i = 0; i < output.planes[0].samples.size(); ++i)
-    output.planes[0].samples[i] = toSample(blendedLuma_.colour[0][i], maxValue);
-  if (hasChroma_)
-    for (int c = 0; c < 2; ++c)
-      for (size_t i = 0; i < output.planes[c + 1].samples.size(); ++i)
-        output.planes[c + 1].samples[i] = toSample(blendedChroma_.colour[c][i], maxValue);
+  roundLayersToFrame(blendedLuma_, blendedChroma_, rgb_, rgbOutput_, output);
 }
 
 }  // namespace vs

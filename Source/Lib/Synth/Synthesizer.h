@@ -112,6 +112,7 @@ private:
   std::vector<double> farthestScratch_;
   std::vector<int> integralScratch_;
   std::vector<Frame> rgbReferences_;
+  Frame rgbOutput_;  // ColorSpace 1: the rounded R, G, B before conversion
   FrameStats stats_;
   // 1D TemporalImprovementOption: the previous frame's depth, texture luma, holes and filled output.
   std::vector<Plane> previousDepth_, previousLuma_;
