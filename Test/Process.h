@@ -22,12 +22,14 @@ struct ToolResult {
 inline std::string quoted(const std::string& text) { return "'" + text + "'"; }
 
 // Runs `Bin/<tool> <arguments>` (arguments are passed to the shell as written: quote them) with the
-// working directory `workDir`; stderr goes through a file in `scratch`.
+// working directory `workDir` and `environment` (shell assignments such as "VAR=value ", or empty)
+// before the command; stderr goes through a file in `scratch`.
 inline ToolResult runTool(const std::string& tool, const std::string& arguments, const std::filesystem::path& scratch,
-                          const std::filesystem::path& workDir = {}) {
+                          const std::filesystem::path& workDir = {}, const std::string& environment = "") {
   ToolResult result;
   const std::filesystem::path errPath = scratch / (tool + "_stderr.txt");
-  std::string command = quoted((binDir() / tool).string()) + " " + arguments + " 2>" + quoted(errPath.string()) + " </dev/null";
+  std::string command = environment + " " + quoted((binDir() / tool).string()) + " " + arguments + " 2>" +
+                        quoted(errPath.string()) + " </dev/null";
   if (!workDir.empty()) command = "cd " + quoted(workDir.string()) + " && " + command;
   FILE* pipe = popen(command.c_str(), "r");
   if (!pipe) return result;

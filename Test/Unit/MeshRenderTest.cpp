@@ -27,11 +27,9 @@
 #include "Mesh/MeshProjection.h"
 #include "Mesh/MeshSynthesizer.h"
 #include "Synth/Warp.h"
+#include "Process.h"
 #include "TestPaths.h"
 
-#if defined(__unix__)
-#include <sys/wait.h>
-#endif
 
 namespace fs = std::filesystem;
 
@@ -385,31 +383,10 @@ TEST(MeshRenderGl, TwoViewSynthesisMatchesTheTruth) {
 
 // --- The executable -------------------------------------------------------------------------------
 
-struct ToolResult {
-  int exitCode = -1;
-  std::string out, err;
-};
+using vs::test::ToolResult;
 
 ToolResult runMeshRender(const std::string& arguments, const fs::path& scratch, const std::string& environment = "") {
-  ToolResult result;
-  const fs::path errPath = scratch / "stderr.txt";
-  const std::string command = environment + " '" + (vs::test::binDir() / "MeshRender").string() + "' " + arguments +
-                              " 2>'" + errPath.string() + "'";
-  FILE* pipe = popen(command.c_str(), "r");
-  if (!pipe) return result;
-  char chunk[4096];
-  size_t got = 0;
-  while ((got = std::fread(chunk, 1, sizeof chunk, pipe)) > 0) result.out.append(chunk, got);
-  const int status = pclose(pipe);
-#if defined(__unix__)
-  result.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-#else
-  result.exitCode = status;
-#endif
-  std::stringstream err;
-  err << std::ifstream(errPath).rdbuf();
-  result.err = err.str();
-  return result;
+  return vs::test::runTool("MeshRender", arguments, scratch, {}, environment);
 }
 
 // Writes the plane scene as files (YUV, camera file, config) the way a user has them.

@@ -19,11 +19,9 @@
 #include "Common/Yuv.h"
 #include "Scene/SceneGen.h"
 #include "Scene/Scenes.h"
+#include "Process.h"
 #include "TestPaths.h"
 
-#if defined(__unix__)
-#include <sys/wait.h>
-#endif
 
 namespace vs {
 namespace {
@@ -300,31 +298,10 @@ TEST(SceneGenOutputTest, ManualDocumentsEveryKeyAndScene) {
 // ---------------------------------------------------------------------------------------------------
 // The executable.
 
-struct ToolResult {
-  int exitCode = -1;
-  std::string out;
-  std::string err;
-};
+using test::ToolResult;
 
 ToolResult runSceneGenTool(const std::string& arguments, const fs::path& scratch) {
-  ToolResult result;
-  const fs::path errPath = scratch / "stderr.txt";
-  const std::string command =
-      "'" + (test::binDir() / "SceneGen").string() + "' " + arguments + " 2>'" + errPath.string() + "'";
-  FILE* pipe = popen(command.c_str(), "r");
-  if (!pipe) return result;
-  char chunk[4096];
-  size_t got = 0;
-  while ((got = std::fread(chunk, 1, sizeof chunk, pipe)) > 0) result.out.append(chunk, got);
-  const int status = pclose(pipe);
-#if defined(__unix__)
-  result.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-#else
-  result.exitCode = status;
-#endif
-  std::ifstream errFile(errPath);
-  result.err.assign((std::istreambuf_iterator<char>(errFile)), {});
-  return result;
+  return test::runTool("SceneGen", arguments, scratch);
 }
 
 TEST(SceneGenOutputTest, ExecutableRendersFromAConfigFileAndReportsBadInput) {
