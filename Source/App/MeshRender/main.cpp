@@ -47,9 +47,7 @@ int main(int argc, char** argv) {
     if (check) {
       const vs::Scene scene = vs::loadScene(config);
       vs::readMeshSettings(config);
-      std::printf("MeshRender %s --check %s\n\n%s\n", VS_VERSION, args[0].c_str(), config.effectiveText().c_str());
-      for (const std::string& warning : scene.warnings) std::printf("warning: %s\n", warning.c_str());
-      std::printf("%s\n", vs::describeCameras(scene).c_str());
+      vs::printConfigCheck("MeshRender", args[0], config, scene);
       const vs::EglContext context;
       std::printf("OpenGL: %s\nconfiguration OK\n", context.description().c_str());
       return 0;

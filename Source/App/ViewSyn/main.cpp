@@ -40,10 +40,8 @@ int main(int argc, char** argv) {
     const std::vector<std::string> overrides(args.begin() + 1, args.end());
     const vs::Config config = vs::Config::load(table, args[0], overrides);
     if (check) {
-      const vs::Scene scene = vs::loadScene(config);
-      std::printf("ViewSyn %s --check %s\n\n%s\n", VS_VERSION, args[0].c_str(), config.effectiveText().c_str());
-      for (const std::string& warning : scene.warnings) std::printf("warning: %s\n", warning.c_str());
-      std::printf("%s\nconfiguration OK\n", vs::describeCameras(scene).c_str());
+      vs::printConfigCheck("ViewSyn", args[0], config, vs::loadScene(config));
+      std::printf("configuration OK\n");
       return 0;
     }
     vs::runViewSyn(config);

@@ -47,4 +47,11 @@ int runCommandLine(int argc, char** argv, const CommandLineTool& tool) {
   return 1;
 }
 
+void printConfigCheck(const std::string& toolName, const std::string& configPath, const Config& config,
+                      const Scene& scene) {
+  std::printf("%s %s --check %s\n\n%s\n", toolName.c_str(), VS_VERSION, configPath.c_str(), config.effectiveText().c_str());
+  for (const std::string& warning : scene.warnings) std::printf("warning: %s\n", warning.c_str());
+  std::printf("%s\n", describeCameras(scene).c_str());
+}
+
 }  // namespace vs

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "Common/Config.h"
+#include "Common/Scene.h"
 
 namespace vs {
 
@@ -28,5 +29,10 @@ struct CommandLineTool {
 };
 
 int runCommandLine(int argc, char** argv, const CommandLineTool& tool);
+
+// What --check prints for a config-driven synthesis tool: the tool, the config's effective text, the
+// scene's warnings and its cameras (the caller adds what only it checks, then "configuration OK").
+void printConfigCheck(const std::string& toolName, const std::string& configPath, const Config& config,
+                      const Scene& scene);
 
 }  // namespace vs
