@@ -13,10 +13,6 @@ namespace vs {
 
 namespace {
 
-double seconds(std::chrono::steady_clock::time_point since) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - since).count();
-}
-
 class MeshFrameRenderer : public FrameRenderer {
 public:
   MeshFrameRenderer(const Scene& scene, const MeshSettings& settings) : synthesizer_(scene, settings) {}
@@ -147,7 +143,7 @@ void MeshSynthesizer::synthesize(const std::vector<ReferenceFrame>& references, 
     const InverseDepthRange planes = view.depthRangeBounded
                                          ? view.planes
                                          : clipPlanes(meshInverseDepthRange(view.mesh, reference.camera, scene_.virtualCamera));
-    times.depthWarp += seconds(start);
+    times.depthWarp += secondsSince(start);
 
     start = std::chrono::steady_clock::now();
     if (rgb_) {
@@ -163,7 +159,7 @@ void MeshSynthesizer::synthesize(const std::vector<ReferenceFrame>& references, 
       renderer_.render(meshClipMatrix(reference.camera, scene_.virtualCamera, chromaGrid_, planes), chromaGrid_,
                        chromaTexels_, view.chroma);
     }
-    times.textureWarp += seconds(start);
+    times.textureWarp += secondsSince(start);
 
     if (!plyWritten_ && !settings_.plyPath.empty())
       writeMeshPly(plyPathForView(settings_.plyPath, reference.label), view.mesh, reference.camera, texture);
@@ -179,12 +175,12 @@ void MeshSynthesizer::synthesize(const std::vector<ReferenceFrame>& references, 
   blendLayers(lumaLayers, blendOptions_, blendedLuma_);
   if (hasChroma_ && !rgb_) blendLayers(chromaLayers, blendOptions_, blendedChroma_);
   holesAfterBlend_ = blendedLuma_.holeCount();
-  times.blend += seconds(start);
+  times.blend += secondsSince(start);
 
   start = std::chrono::steady_clock::now();
   fillHoles(blendedLuma_, fillOptions_, &lumaFill_);
   if (hasChroma_ && !rgb_) fillHoles(blendedChroma_, chromaFillOptions_, &chromaFill_);
-  times.holeFill += seconds(start);
+  times.holeFill += secondsSince(start);
 
   roundLayersToFrame(blendedLuma_, blendedChroma_, rgb_, rgbOutput_, output);
 }

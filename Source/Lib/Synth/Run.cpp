@@ -21,10 +21,6 @@ namespace vs {
 
 namespace {
 
-double seconds(std::chrono::steady_clock::time_point since) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - since).count();
-}
-
 // ViewSyn's middle box: what the plan decided, a copy or the synthesizer on the chosen path.
 class ViewSynRenderer : public FrameRenderer {
 public:
@@ -172,7 +168,7 @@ RunSummary runSequence(const std::string& toolName, const Config& config, const 
       depths[k]->readLuma(frameIndex, slot.depths[k]);
     }
     if (truth) truth->read(frameIndex, slot.truth);
-    slot.seconds = seconds(start);
+    slot.seconds = secondsSince(start);
   };
   std::future<void> nextRead;
   if (available > 0) nextRead = std::async(std::launch::async, readInputs, s.startFrame, std::ref(slots[0]));
@@ -195,7 +191,7 @@ RunSummary runSequence(const std::string& toolName, const Config& config, const 
     nextRead.get();  // rethrows a read error
     Inputs& current = slots[f % 2];
     // Read time: what the read took on its own thread, or the wait for it when that is longer.
-    times.read = std::max(seconds(start), f == 0 ? current.seconds : 0.0);
+    times.read = std::max(secondsSince(start), f == 0 ? current.seconds : 0.0);
     if (f + 1 < available)
       nextRead = std::async(std::launch::async, readInputs, frameIndex + 1, std::ref(slots[(f + 1) % 2]));
     std::vector<ReferenceFrame> references(textures.size());
@@ -209,7 +205,7 @@ RunSummary runSequence(const std::string& toolName, const Config& config, const 
         throw InputError(toolName + " cannot write OutputVirtualDepthMapName");
       depthWriter->append(virtualDepthFrame);
     }
-    times.write = seconds(start);
+    times.write = secondsSince(start);
     summary.times += times;
     ++summary.framesWritten;
     say("frame %lld: %.4f s", (long long)frameIndex, times.total());

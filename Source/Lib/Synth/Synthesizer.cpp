@@ -21,10 +21,6 @@ constexpr double kDiscontinuityLevels8 = 8.0;
 // surface the other view shows around that spot (rejectOccludedInOtherViews).
 constexpr double kBehindHoleSteps = 3.0;
 
-double seconds(std::chrono::steady_clock::time_point since) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - since).count();
-}
-
 // Pixel-centre range [first, last] covered by [lo, hi] within [0, size - 1]; false when empty.
 inline bool coveredRange(double lo, double hi, int size, int& first, int& last) {
   if (hi < -1e-9 || lo > size - 1 + 1e-9) return false;
@@ -111,6 +107,17 @@ Synthesizer::Synthesizer(const Scene& scene, SynthesisMode mode)
     ViewState view(ViewProjection(reference.camera, scene.virtualCamera, s.depthType, parallel_));
     view.levelToInverseDepth = inverseZTable(reference.depthRange);
     if (s.missingDepthLevel >= 0) view.levelToInverseDepth[size_t(s.missingDepthLevel)] = std::nan("");
+    if (parallel_) {
+      // The 1D warp's inverse camera depth per level, NaN where forward() refuses the level (missing,
+      // behind, infinite): on a rectified pair it does not depend on the pixel.
+      view.levelToRowDepth.resize(view.levelToInverseDepth.size());
+      for (size_t level = 0; level < view.levelToRowDepth.size(); ++level) {
+        double x, y, wv;
+        const double inverseDepth = view.levelToInverseDepth[level];
+        view.levelToRowDepth[level] =
+            !std::isnan(inverseDepth) && view.projection.forward(0.0, 0.0, inverseDepth, x, y, wv) ? wv : std::nan("");
+      }
+    }
     const double farInverse = std::isinf(reference.depthRange.zfar) ? 0.0 : 1.0 / reference.depthRange.zfar;
     inverseRange += std::fabs(1.0 / reference.depthRange.znear - farInverse);
     distances.push_back(norm(reference.camera.centre() - scene.virtualCamera.centre()));
@@ -289,15 +296,7 @@ void Synthesizer::warpDepthRows(ViewState& view, const Plane& depth) {
   const int outW = outputFormat_.width, outH = outputFormat_.height;
   const OneDOptions& oneD = scene_.settings.oneD;
   view.luma.reset(outW, outH, rgb_ ? 3 : 1);
-  // Inverse camera depth per level, NaN where forward() refuses the level (missing, behind, infinite).
-  std::vector<double>& rowDepth = view.levelToRowDepth;
-  rowDepth.resize(view.levelToInverseDepth.size());
-  for (size_t level = 0; level < rowDepth.size(); ++level) {
-    double x, y, wv;
-    const double inverseDepth = view.levelToInverseDepth[level];
-    rowDepth[level] = !std::isnan(inverseDepth) && view.projection.forward(0.0, 0.0, inverseDepth, x, y, wv)
-                          ? wv : std::nan("");
-  }
+  const std::vector<double>& rowDepth = view.levelToRowDepth;
   auto raise = [](double& cell, double value) {
     int64_t a, b;
     std::memcpy(&a, &value, sizeof a);
@@ -661,7 +660,7 @@ void Synthesizer::synthesize(const std::vector<ReferenceFrame>& references, Fram
       for (size_t i = 0; i < view.referenceEdge.size(); ++i) view.referenceEdge[i] |= view.filledSamples[i];
     warpDepth(view, *depth);
   }
-  times.depthWarp += seconds(start);
+  times.depthWarp += secondsSince(start);
 
   start = std::chrono::steady_clock::now();
   if (rgb_) rgbReferences_.resize(views_.size());
@@ -681,7 +680,7 @@ void Synthesizer::synthesize(const std::vector<ReferenceFrame>& references, Fram
   // Chroma follows the luma decisions: it is warped from the final luma depth.
   if (!rgb_ && hasChroma_)
     for (size_t k = 0; k < views_.size(); ++k) warpChroma(views_[k], *references[k].texture);
-  times.textureWarp += seconds(start);
+  times.textureWarp += secondsSince(start);
 
   start = std::chrono::steady_clock::now();
   std::vector<const WarpedLayer*> lumaLayers, chromaLayers;
@@ -692,7 +691,7 @@ void Synthesizer::synthesize(const std::vector<ReferenceFrame>& references, Fram
   blendLayers(lumaLayers, blendOptions_, blendedLuma_);
   if (!rgb_ && hasChroma_) blendLayers(chromaLayers, blendOptions_, blendedChroma_);
   stats_.holesAfterBlend = blendedLuma_.holeCount();
-  times.blend += seconds(start);
+  times.blend += secondsSince(start);
 
   start = std::chrono::steady_clock::now();
   const bool temporal = parallel_ && scene_.settings.oneD.temporalImprovement;
@@ -708,7 +707,7 @@ void Synthesizer::synthesize(const std::vector<ReferenceFrame>& references, Fram
     fillHoles(blendedChroma_, chromaFill, &chromaFill_);
   }
   if (temporal) keepStaticFill(references, lumaHoles, chromaHoles);
-  times.holeFill += seconds(start);
+  times.holeFill += secondsSince(start);
 
   roundLayersToFrame(blendedLuma_, blendedChroma_, rgb_, rgbOutput_, output);
 }

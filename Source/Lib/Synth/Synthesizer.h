@@ -8,6 +8,7 @@
 //      sub-pixel position its depth gives (Precision, Filter), luma at luma positions and chroma at
 //      chroma positions (no sample replication)
 //   3. blend the views (Layer.h), 4. fill the holes (HoleFill.h), 5. round into the output frame
+#include <chrono>
 #include <memory>
 #include <vector>
 
@@ -34,6 +35,11 @@ struct StageTimes {
     return *this;
   }
 };
+
+// Wall-clock seconds since `start`, for StageTimes.
+inline double secondsSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
 
 // One reference view's frame: texture and depth levels (the luma of the depth file).
 struct ReferenceFrame {
