@@ -95,6 +95,46 @@ TEST(Synth, MissingDepthFillWarpsUnknownBackgroundWithTheBackgroundsDepth) {
   EXPECT_GT(filled, 35.0);
 }
 
+// A one- or two-row line of unknown depth coded as the far plane across a nearer surface (as
+// Middlebury's maps have between touching objects) warps into the crack it leaves in that surface, with
+// far-plane depth and so the colour of the wrong spot. The warped depth closes such slivers like any
+// crack: the line takes the surface's depth and colour. A foreground line on a background is kept.
+TEST(Synth, FarSliversInsideASurfaceAreClosedLikeCracks) {
+  AnalyticScene analytic;
+  analytic.square = true;
+  analytic.width = 96;
+  analytic.squareHalf = 14.0;
+  analytic.range = DepthRange{50.0, 200.0, 8};
+  const Camera left = analytic.camera("left", -3), virtualCamera = analytic.camera("virtual", 0), right = analytic.camera("right", 3);
+  const Scene scene = analytic.scene(left, virtualCamera, right);
+  const Frame truth = truthOf(analytic, virtualCamera);
+  const int squareLevel = int(zToLevelRounded(analytic.squareZ, analytic.range));
+  for (int rows : {1, 2}) {
+    std::vector<Frame> textures(2);
+    std::vector<Plane> depths(2);
+    std::vector<ReferenceFrame> references;
+    const Camera* cameras[2] = {&left, &right};
+    for (int k = 0; k < 2; ++k) {
+      analytic.render(*cameras[k], textures[k], depths[k]);
+      for (int y = 24; y < 24 + rows; ++y)
+        for (int x = 0; x < analytic.width; ++x)
+          if (depths[k].at(x, y) == squareLevel) depths[k].at(x, y) = 0;  // the far plane's level
+      references.push_back(ReferenceFrame{&textures[k], &depths[k]});
+    }
+    Frame output;
+    StageTimes times;
+    Synthesizer(scene).synthesize(references, output, times);
+    // The square covers |u - cx| < 14 at z = 60 in the virtual view: look well inside it.
+    double worst = 0;
+    int compared = 0;
+    for (int y = 24; y < 24 + rows; ++y)
+      for (int x = 36; x <= 59; ++x, ++compared)
+        worst = std::max(worst, std::fabs(double(output.planes[0].at(x, y)) - truth.planes[0].at(x, y)));
+    EXPECT_EQ(compared, 24 * rows);
+    EXPECT_LE(worst, 4.0) << rows << " row(s) of far-plane depth inside the square";
+  }
+}
+
 // VSRS 4.2: "the virtual camera equal to the left camera" must give back the left view exactly.
 TEST(Synth, VirtualCameraOnAReferenceReproducesItBitExactlyForEveryPrecisionAndFilter) {
   AnalyticScene analytic;
