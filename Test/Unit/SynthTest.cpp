@@ -353,6 +353,51 @@ TEST(HoleFill, HolesTakeTheBackgroundNeverTheForeground) {
   for (float v : empty.colour[0]) EXPECT_EQ(v, 16.0f);
 }
 
+// The row-run estimate alone (IvsrsInpaint 1 with only its weight): one colour per run, the mean of
+// the candidates on the farthest surface among the run's ends and the first samples up and down from
+// its middle. Where both ends are foreground, the rays reach the background above the run.
+TEST(HoleFill, RowRunsTakeTheMeanOfTheirFarthestCandidates) {
+  const int w = 11, h = 9;
+  auto layerWith = [&](float aboveColour, double aboveDepth) {
+    BlendedLayer layer;
+    layer.reset(w, h, 1);
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) {
+        const size_t i = size_t(y) * w + x;
+        if (y == 4 && x >= 2 && x <= 8) continue;  // the run: x 2 to 8 of row 4
+        layer.hole[i] = 0;
+        layer.inverseDepth[i] = y < 4 ? aboveDepth : 0.05;
+        layer.colour[0][i] = y < 4 ? aboveColour : 200.0f;
+      }
+    return layer;
+  };
+  HoleFillOptions options;
+  options.depthTolerance = 0.001;
+  options.directionalWeight = options.inpaintWeight = 0.0f;
+  // Ends on the far surface (10 and 30), everything around nearer: the ends' mean on every sample.
+  BlendedLayer ends = layerWith(200.0f, 0.05);
+  ends.colour[0][4 * w + 1] = 10.0f;
+  ends.colour[0][4 * w + 9] = 30.0f;
+  ends.inverseDepth[4 * w + 1] = ends.inverseDepth[4 * w + 9] = 0.01;
+  fillHoles(ends, options);
+  for (int x = 2; x <= 8; ++x) EXPECT_FLOAT_EQ(ends.colour[0][4 * w + x], 20.0f) << x;
+  EXPECT_DOUBLE_EQ(ends.inverseDepth[4 * w + 5], 0.01);
+  // Both ends foreground (200, near); background (60, far) fills the rows above: the run is 60.
+  BlendedLayer above = layerWith(60.0f, 0.01);
+  fillHoles(above, options);
+  for (int x = 2; x <= 8; ++x) EXPECT_FLOAT_EQ(above.colour[0][4 * w + x], 60.0f) << x;
+  // The directional estimate alone, in the first case, leans to the nearer end: not one colour.
+  BlendedLayer directional = layerWith(200.0f, 0.05);
+  directional.colour[0][4 * w + 1] = 10.0f;
+  directional.colour[0][4 * w + 9] = 30.0f;
+  directional.inverseDepth[4 * w + 1] = directional.inverseDepth[4 * w + 9] = 0.01;
+  options.directionalWeight = 1.0f;
+  options.rowRunWeight = 0.0f;
+  fillHoles(directional, options);
+  EXPECT_LT(directional.colour[0][4 * w + 2], 15.0f);
+  EXPECT_GT(directional.colour[0][4 * w + 8], 25.0f);
+}
+
 // The 1D path's row sampler is sample() with an integer y, bit for bit: every Precision and Filter,
 // positions inside, at and beyond the borders (also negative), rows at the top and bottom edge and
 // outside the plane.

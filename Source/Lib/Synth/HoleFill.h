@@ -1,15 +1,19 @@
 #pragma once
 // Filling what no reference view sees (doc/algorithms.md, "Hole filling").
 //
-// Holes are disoccluded background. With IvsrsInpaint 1 two background-only estimates are averaged:
+// Holes are disoccluded background. With IvsrsInpaint 1 three background-only estimates are mixed
+// 2 : 3 : 1 over those that reach a sample:
 //   - directional: each hole sample looks in eight directions for the nearest sample with colour,
 //     keeps those on the farthest surface found (within the depth tolerance) and mixes them by
 //     inverse distance; it keeps texture but copies it in streaks;
+//   - row runs (after iVSRS in VSRS 4.x): each run of holes along a row takes the mean colour of the
+//     candidates on the farthest surface among its ends and the first samples along seven rays up
+//     and down from its middle; one colour per run;
 //   - inpainting: OpenCV's Telea inpainting, with the nearer surface around each hole masked too so
 //     that only background propagates; it is smooth but blurs.
-// Their mean has a lower error than either on the Middlebury scenes (doc/results.md). Samples no
-// direction reaches take the inpainted value. IvsrsInpaint 0: OpenCV Telea inpainting of the holes
-// alone, as VSRS does. A layer without any valid sample is filled with `emptyValue`.
+// The mix has a lower error than any one of them on the Middlebury scenes (doc/algorithms.md).
+// IvsrsInpaint 0: OpenCV Telea inpainting of the holes alone, as VSRS does. A layer without any valid
+// sample is filled with `emptyValue`.
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -26,14 +30,16 @@ struct HoleFillOptions {
   float emptyValue[3] = {0, 0, 0};
   int inpaintRadius = 3;
   int maxReach = 256;           // samples a directional search looks along
+  // IvsrsInpaint 1: weights of the directional, row-run and inpainting estimates in the mix.
+  float directionalWeight = 2.0f, rowRunWeight = 3.0f, inpaintWeight = 1.0f;
 };
 
 // Working buffers of fillHoles, kept by a caller that fills every frame so that nothing is allocated
 // per frame once they have grown to the picture's size.
 struct HoleFillScratch {
-  std::vector<float> directional[3], inpainted[3];
-  std::vector<double> background;
-  std::vector<uint8_t> found, mask;
+  std::vector<float> directional[3], runs[3], inpainted[3];
+  std::vector<double> background, runBackground;
+  std::vector<uint8_t> found, runFound, mask;
   cv::Mat grown, groups;  // the inpainting's groups of holes (HoleFill.cpp)
 };
 

@@ -95,7 +95,12 @@ Plan makePlan(const Scene& scene) {
   }
   plan.lines.push_back(plan.blend ? "blend: two reference views" : "blend: off (one reference view: extrapolation)");
   plan.lines.push_back(plan.chroma ? "chroma: warped at its own sample positions" : "chroma: off (4:0:0)");
-  plan.lines.push_back(std::string("holes: ") + (s.ivsrsInpaint ? "background-side fill and depth-aware inpainting" : "OpenCV inpainting") +
+  plan.lines.push_back(std::string("holes: ") +
+                       (!s.ivsrsInpaint ? "OpenCV inpainting"
+                        : rectified     ? "background-side fill (directional and along rows: the rig is rectified) and "
+                                          "depth-aware inpainting"
+                                        : "background-side fill (directional; not along rows: the rig is not rectified) "
+                                          "and depth-aware inpainting") +
                        ", on frames that have holes");
   if (s.missingDepthLevel >= 0)
     plan.lines.push_back("depth level " + std::to_string(s.missingDepthLevel) + " is missing depth: " +
