@@ -58,6 +58,12 @@ Rectification checkRectification(const Camera& reference, const Camera& virtualC
   return r;
 }
 
+bool rectifiedRig(const Scene& scene) {
+  for (const ReferenceView& view : scene.settings.references)
+    if (!checkRectification(view.camera, scene.virtualCamera, scene.settings.depthType).rectified()) return false;
+  return true;
+}
+
 Plan makePlan(const Scene& scene) {
   const SynthesisSettings& s = scene.settings;
   Plan plan;

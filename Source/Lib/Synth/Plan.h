@@ -27,6 +27,9 @@ struct Rectification {
 
 Rectification checkRectification(const Camera& reference, const Camera& virtualCamera, int depthType);
 
+// Every reference camera forms a rectified pair with the virtual camera.
+bool rectifiedRig(const Scene& scene);
+
 struct Plan {
   SynthesisMode mode = SynthesisMode::General;  // General or Parallel1D, never Auto
   int copyOf = -1;                              // index of the reference view copied, -1: synthesize

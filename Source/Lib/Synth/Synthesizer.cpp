@@ -168,10 +168,7 @@ Synthesizer::Synthesizer(const Scene& scene, SynthesisMode mode)
   // Row runs follow the disocclusions of a rectified rig, which lie along rows. On any other rig they
   // do not (open3d: 33.29 dB with them), and hole filling stays the directional and inpainting
   // estimates mixed 1 : 1 (33.96 dB), the mix the weights of the three were chosen against.
-  bool rectified = true;
-  for (const ReferenceView& reference : s.references)
-    rectified = rectified && checkRectification(reference.camera, scene.virtualCamera, s.depthType).rectified();
-  if (!rectified) {
+  if (!rectifiedRig(scene)) {
     fillOptions_.directionalWeight = fillOptions_.inpaintWeight = 1.0f;
     fillOptions_.rowRunWeight = 0.0f;
   }

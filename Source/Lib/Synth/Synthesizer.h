@@ -63,6 +63,8 @@ public:
   // The last frame's virtual depth (after hole filling) as levels of `range`, with the scene's
   // DepthType; samples nothing covered get level 0.
   void virtualDepth(const DepthRange& range, Plane& levels) const;
+  // Hole filling as this scene gets it (MeshRender fills its holes the same way).
+  const HoleFillOptions& holeFillOptions() const { return fillOptions_; }
   const std::vector<double>& blendWeights() const { return blendOptions_.weights; }
 
   // Inverse-depth tolerance that makes two samples one surface (DepthBlendDifference, in 8-bit levels
