@@ -12,6 +12,7 @@
 
 #include "Common/Config.h"
 #include "Common/Error.h"
+#include "Common/Memory.h"
 #include "Common/Options.h"
 #include "Scene/SceneGen.h"
 #include "Synth/Run.h"
@@ -61,6 +62,7 @@ std::string demoConfig(const fs::path& work, int width, int height) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  vs::keepFreedMemoryForReuse();  // as ViewSyn does (Common/CommandLine.cpp)
   std::vector<std::string> args(argv + 1, argv + argc);
   int runs = 5;
   std::vector<int> threadCounts = {1, 2};

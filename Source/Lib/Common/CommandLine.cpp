@@ -4,10 +4,12 @@
 #include <new>
 
 #include "Common/Error.h"
+#include "Common/Memory.h"
 
 namespace vs {
 
 int runCommandLine(int argc, char** argv, const CommandLineTool& tool) {
+  keepFreedMemoryForReuse();
   std::vector<std::string> args(argv + 1, argv + argc);
   if (args.empty()) {
     tool.printUsage(stderr);
