@@ -98,7 +98,7 @@ TEST(Synth, MissingDepthFillWarpsUnknownBackgroundWithTheBackgroundsDepth) {
 // A one- or two-row line of unknown depth coded as the far plane across a nearer surface (as
 // Middlebury's maps have between touching objects) warps into the crack it leaves in that surface, with
 // far-plane depth and so the colour of the wrong spot. The warped depth closes such slivers like any
-// crack: the line takes the surface's depth and colour. A foreground line on a background is kept.
+// crack: the line takes the surface's depth and colour.
 TEST(Synth, FarSliversInsideASurfaceAreClosedLikeCracks) {
   AnalyticScene analytic;
   analytic.square = true;
