@@ -71,8 +71,7 @@ MeshSynthesizer::MeshSynthesizer(const Scene& scene, const MeshSettings& setting
   blendOptions_.weights = viewSyn.blendWeights();
   blendOptions_.depthTolerance = viewSyn.depthTolerance();
   blendOptions_.nearestViewOnly = s.viewBlending == 1;
-  fillOptions_ = viewSyn.holeFillOptions();  // the estimates' weights for this rig
-  fillOptions_.backgroundFirst = s.ivsrsInpaint;
+  fillOptions_ = viewSyn.holeFillOptions();  // IvsrsInpaint and the estimates' weights for this rig
   fillOptions_.depthTolerance = blendOptions_.depthTolerance;
   const float mid = float(1 << (outputFormat_.bitDepth - 1));
   const float black = float(16 << (outputFormat_.bitDepth - 8));

@@ -13,16 +13,22 @@ namespace vs {
 
 namespace {
 
+// An estimate's buffers for `layer`: colour 0, background HUGE_VAL (none), found 0 everywhere.
+void resetEstimate(const BlendedLayer& layer, std::vector<float> estimate[3], std::vector<double>& background,
+                   std::vector<uint8_t>& found) {
+  const size_t n = layer.hole.size();
+  for (int k = 0; k < layer.channels; ++k) estimate[k].assign(n, 0.0f);
+  background.assign(n, HUGE_VAL);
+  found.assign(n, 0);
+}
+
 // Directional background estimate for every hole sample; `found` is 0 where no direction reached a
 // valid sample. `background` receives the farthest inverse depth found.
 void directionalFill(const BlendedLayer& layer, const HoleFillOptions& options, std::vector<float> estimate[3],
                      std::vector<double>& background, std::vector<uint8_t>& found) {
   static const int directions[8][2] = {{1, 0}, {-1, 0}, {0, 1}, {0, -1}, {1, 1}, {-1, -1}, {1, -1}, {-1, 1}};
   const int w = layer.width, h = layer.height;
-  const size_t n = layer.hole.size();
-  for (int k = 0; k < layer.channels; ++k) estimate[k].assign(n, 0.0f);
-  background.assign(n, HUGE_VAL);
-  found.assign(n, 0);
+  resetEstimate(layer, estimate, background, found);
   // Each hole sample writes only its own estimate: rows in parallel.
   parallelRanges(h, [&](int rowBegin, int rowEnd) {
   for (int y = rowBegin; y < rowEnd; ++y)
@@ -73,10 +79,7 @@ void directionalFill(const BlendedLayer& layer, const HoleFillOptions& options, 
 void rowRunFill(const BlendedLayer& layer, const HoleFillOptions& options, std::vector<float> estimate[3],
                 std::vector<double>& background, std::vector<uint8_t>& found) {
   const int w = layer.width, h = layer.height;
-  const size_t n = layer.hole.size();
-  for (int k = 0; k < layer.channels; ++k) estimate[k].assign(n, 0.0f);
-  background.assign(n, HUGE_VAL);
-  found.assign(n, 0);
+  resetEstimate(layer, estimate, background, found);
   // Each run is one row's: rows in parallel.
   parallelRanges(h, [&](int rowBegin, int rowEnd) {
     for (int y = rowBegin; y < rowEnd; ++y) {
