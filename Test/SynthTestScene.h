@@ -117,17 +117,34 @@ struct AnalyticScene {
   }
 };
 
+// The renders of `scene`'s reference cameras; a test may edit the depths before it synthesizes.
+// frames() points into the two vectors: keep this object where it is while they are in use.
+struct RenderedReferences {
+  std::vector<Frame> textures;
+  std::vector<Plane> depths;
+  std::vector<ReferenceFrame> frames() {
+    std::vector<ReferenceFrame> references;
+    for (size_t k = 0; k < textures.size(); ++k) references.push_back(ReferenceFrame{&textures[k], &depths[k]});
+    return references;
+  }
+};
+
+inline RenderedReferences renderReferences(const AnalyticScene& analytic, const Scene& scene) {
+  RenderedReferences rendered;
+  rendered.textures.resize(scene.settings.references.size());
+  rendered.depths.resize(scene.settings.references.size());
+  for (size_t k = 0; k < rendered.textures.size(); ++k)
+    analytic.render(scene.settings.references[k].camera, rendered.textures[k], rendered.depths[k]);
+  return rendered;
+}
+
 // Synthesizes one frame of `scene` from the references' renders.
 inline Frame synthesizeOnce(const AnalyticScene& analytic, const Scene& scene) {
-  std::vector<Frame> textures(scene.settings.references.size());
-  std::vector<Plane> depths(scene.settings.references.size());
-  std::vector<ReferenceFrame> references;
-  for (size_t k = 0; k < textures.size(); ++k) analytic.render(scene.settings.references[k].camera, textures[k], depths[k]);
-  for (size_t k = 0; k < textures.size(); ++k) references.push_back(ReferenceFrame{&textures[k], &depths[k]});
+  RenderedReferences rendered = renderReferences(analytic, scene);
   Synthesizer synthesizer(scene);
   Frame output;
   StageTimes times;
-  synthesizer.synthesize(references, output, times);
+  synthesizer.synthesize(rendered.frames(), output, times);
   return output;
 }
 

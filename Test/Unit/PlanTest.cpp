@@ -99,11 +99,8 @@ TEST(OneD, ParallelPathMatchesTheAnalyticViewAndTheGeneralPath) {
     analytic.render(oneD.virtualCamera, t, d);
     return t;
   }();
-  std::vector<Frame> textures(2);
-  std::vector<Plane> depths(2);
-  std::vector<ReferenceFrame> refs;
-  for (int k = 0; k < 2; ++k) analytic.render(oneD.settings.references[k].camera, textures[k], depths[k]);
-  for (int k = 0; k < 2; ++k) refs.push_back(ReferenceFrame{&textures[k], &depths[k]});
+  test::RenderedReferences rendered = test::renderReferences(analytic, oneD);
+  const std::vector<ReferenceFrame> refs = rendered.frames();
   Frame parallel, general;
   StageTimes times;
   Synthesizer(oneD, SynthesisMode::Parallel1D).synthesize(refs, parallel, times);
@@ -116,7 +113,7 @@ TEST(OneD, ParallelPathMatchesTheAnalyticViewAndTheGeneralPath) {
   identity.virtualCamera = identity.settings.references[0].camera;
   Frame copy;
   Synthesizer(identity, SynthesisMode::Parallel1D).synthesize(refs, copy, times);
-  EXPECT_TRUE(copy == textures[0]);
+  EXPECT_TRUE(copy == rendered.textures[0]);
 }
 
 // Real data: the shipped general configs run on the 1D path (`SynthesisMode=1`, the 1D keys at their

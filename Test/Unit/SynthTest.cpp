@@ -64,20 +64,15 @@ TEST(Synth, MissingDepthFillWarpsUnknownBackgroundWithTheBackgroundsDepth) {
   analytic.range = DepthRange{50.0, 200.0, 8};
   const Camera left = analytic.camera("left", -6), virtualCamera = analytic.camera("virtual", 1), right = analytic.camera("right", 6);
   Scene scene = analytic.scene(left, virtualCamera, right);
-  std::vector<Frame> textures(2);
-  std::vector<Plane> depths(2);
-  std::vector<ReferenceFrame> references;
-  const Camera* cameras[2] = {&left, &right};
-  for (int k = 0; k < 2; ++k) {
-    analytic.render(*cameras[k], textures[k], depths[k]);
+  test::RenderedReferences rendered = test::renderReferences(analytic, scene);
+  for (Plane& depth : rendered.depths)
     // Unknown depth on the background plane, right of the square in both views: 12 x 16 samples.
     for (int y = 16; y < 32; ++y)
       for (int x = 70; x < 82; ++x) {
-        ASSERT_EQ(depths[k].at(x, y), depths[k].at(69, y));  // on the plane
-        depths[k].at(x, y) = 0;
+        ASSERT_EQ(depth.at(x, y), depth.at(69, y));  // on the plane
+        depth.at(x, y) = 0;
       }
-    references.push_back(ReferenceFrame{&textures[k], &depths[k]});
-  }
+  const std::vector<ReferenceFrame> references = rendered.frames();
   const Frame truth = truthOf(analytic, virtualCamera);
   auto synthesize = [&](const Scene& s) {
     Frame output;
@@ -110,20 +105,14 @@ TEST(Synth, FarSliversInsideASurfaceAreClosedLikeCracks) {
   const Frame truth = truthOf(analytic, virtualCamera);
   const int squareLevel = int(zToLevelRounded(analytic.squareZ, analytic.range));
   for (int rows : {1, 2}) {
-    std::vector<Frame> textures(2);
-    std::vector<Plane> depths(2);
-    std::vector<ReferenceFrame> references;
-    const Camera* cameras[2] = {&left, &right};
-    for (int k = 0; k < 2; ++k) {
-      analytic.render(*cameras[k], textures[k], depths[k]);
+    test::RenderedReferences rendered = test::renderReferences(analytic, scene);
+    for (Plane& depth : rendered.depths)
       for (int y = 24; y < 24 + rows; ++y)
         for (int x = 0; x < analytic.width; ++x)
-          if (depths[k].at(x, y) == squareLevel) depths[k].at(x, y) = 0;  // the far plane's level
-      references.push_back(ReferenceFrame{&textures[k], &depths[k]});
-    }
+          if (depth.at(x, y) == squareLevel) depth.at(x, y) = 0;  // the far plane's level
     Frame output;
     StageTimes times;
-    Synthesizer(scene).synthesize(references, output, times);
+    Synthesizer(scene).synthesize(rendered.frames(), output, times);
     // The square covers |u - cx| < 14 at z = 60 in the virtual view: look well inside it.
     double worst = 0;
     int compared = 0;
