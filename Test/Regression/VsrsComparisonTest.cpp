@@ -1,7 +1,7 @@
 // ViewSyn against VSRS 4.2 on the real data sets, with VSRS's own figures from
 // ../shared/data/vsrs_baseline.csv: the shipped general configs, unchanged, must keep the mean
 // PSNR-Y over the Middlebury 2005/2006 scenes at least 1 dB above VSRS's (view 3 from views 1 and
-// 5), and beat VSRS on the rotated open3d set.
+// 5) with no scene more than 0.3 dB below VSRS's, and beat VSRS on the rotated open3d set.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -42,7 +42,7 @@ double ourPsnrY(const std::filesystem::path& folder, const std::string& config, 
   return runViewSyn(c, nullptr).meanPsnrY;
 }
 
-TEST(VsrsComparison, MiddleburyMeanIsAtLeastOneDecibelAboveVsrsWithTheShippedConfigs) {
+TEST(VsrsComparison, MiddleburyMeanIsAtLeastOneDecibelAboveVsrsAndNoSceneFarBelowWithTheShippedConfigs) {
   const std::filesystem::path data = test::dataDir();
   VS_REQUIRE_DIR(data / "middlebury2005");
   VS_REQUIRE_DIR(data / "middlebury2006");
@@ -56,7 +56,9 @@ TEST(VsrsComparison, MiddleburyMeanIsAtLeastOneDecibelAboveVsrsWithTheShippedCon
       const std::string key = std::string(set) + "/" + entry.path().filename().string() + "/view3/general";
       const auto baseline = vsrs.find(key);
       ASSERT_NE(baseline, vsrs.end()) << key << " is missing from vsrs_baseline.csv";
-      ours += ourPsnrY(entry.path(), "synth_view3_general.cfg", "view3", scratch);
+      const double psnr = ourPsnrY(entry.path(), "synth_view3_general.cfg", "view3", scratch);
+      EXPECT_GE(psnr, baseline->second - 0.3) << key << ": ours " << psnr << " dB, VSRS " << baseline->second << " dB";
+      ours += psnr;
       theirs += baseline->second;
       ++scenes;
     }

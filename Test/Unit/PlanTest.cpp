@@ -71,6 +71,25 @@ TEST(Plan, CopiesWhenTheVirtualCameraIsAReferenceAndSkipsWhatIsNotThere) {
   EXPECT_FALSE(plan.chroma);
 }
 
+// DepthEdgeAlignment needs a second view to judge its moves: the plan says whether it runs and why.
+TEST(Plan, SaysWhetherDepthEdgesAreAlignedAndWhy) {
+  AnalyticScene analytic;
+  auto depthEdgeLine = [](const Plan& plan) {
+    for (const std::string& line : plan.lines)
+      if (line.rfind("depth edges: ", 0) == 0) return line;
+    return std::string("(no depth edges line)");
+  };
+  Scene scene = rigScene(analytic, SynthesisMode::General);
+  EXPECT_NE(depthEdgeLine(makePlan(scene)).find("up to 4 samples away where the nearest other reference view agrees"),
+            std::string::npos)
+      << depthEdgeLine(makePlan(scene));
+  scene.settings.depthEdgeAlignment = 0;
+  EXPECT_NE(depthEdgeLine(makePlan(scene)).find("as given (DepthEdgeAlignment 0)"), std::string::npos);
+  scene.settings.depthEdgeAlignment = 4;
+  scene.settings.references.pop_back();
+  EXPECT_NE(depthEdgeLine(makePlan(scene)).find("as given (one reference view"), std::string::npos);
+}
+
 TEST(Plan, OneReferenceViewIsAValidConfigWithoutAnyRightKey) {
   const std::string text =
       "SourceWidth 64\nSourceHeight 48\nLeftNearestDepthValue 50\nLeftFarthestDepthValue 120\n"

@@ -145,6 +145,9 @@ void addSynthesisOptions(OptionTable& table) {
              intOption("MissingDepthFill", 0, 0, 1, "-",
                        "1: a run of MissingDepthLevel samples along a row between two valid samples takes the "
                        "farther one's level and is warped (marked unreliable); 0: missing samples are not warped"),
+             intOption("DepthEdgeAlignment", 4, 0, 64, "-",
+                       "Samples by which a reference depth edge may move onto its texture edge: the nearer "
+                       "surface's depth grows onto its colour (doc/algorithms.md); 0: off, as in VSRS"),
          });
   addAll(table, "1D mode",
          {

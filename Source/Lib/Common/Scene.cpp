@@ -212,6 +212,7 @@ SynthesisSettings readSynthesisSettings(const Config& config) {
   s.ivsrsInpaint = config.getInt("IvsrsInpaint") != 0;
   s.missingDepthLevel = int(config.getInt("MissingDepthLevel"));
   s.missingDepthFill = config.getInt("MissingDepthFill") != 0;
+  s.depthEdgeAlignment = int(config.getInt("DepthEdgeAlignment"));
   if (s.missingDepthLevel > s.depthFormat.maxValue())
     problems.add(where + ": MissingDepthLevel " + std::to_string(s.missingDepthLevel) + " is above the largest " +
                  std::to_string(s.depthFormat.bitDepth) + "-bit depth level " + std::to_string(s.depthFormat.maxValue()));

@@ -66,6 +66,7 @@ struct SynthesisSettings {
   bool ivsrsInpaint = true;
   int missingDepthLevel = -1;                // -1 off
   bool missingDepthFill = false;             // MissingDepthFill: runs between valid samples take the farther level
+  int depthEdgeAlignment = 4;                // DepthEdgeAlignment: reach in samples; 0 off
   OneDOptions oneD;
   int threads = 0;                           // 0 all cores
   std::string reportPath;                    // CSV report; empty: none

@@ -40,7 +40,8 @@ MeshSynthesizer::MeshSynthesizer(const Scene& scene, const MeshSettings& setting
       settings_(settings),
       outputFormat_(scene.settings.textureFormat),
       rgb_(scene.settings.colorSpace == 1),
-      hasChroma_(scene.settings.textureFormat.chroma != ChromaFormat::Yuv400) {
+      hasChroma_(scene.settings.textureFormat.chroma != ChromaFormat::Yuv400),
+      aligner_(scene.settings) {
   const SynthesisSettings& s = scene.settings;
   lumaGrid_ = lumaGrid(scene.virtualCamera, outputFormat_.width, outputFormat_.height);
   if (hasChroma_ && !rgb_) {
@@ -126,6 +127,9 @@ void MeshSynthesizer::synthesize(const std::vector<ReferenceFrame>& references, 
   VS_CHECK(references.size() == views_.size());
   const SynthesisSettings& s = scene_.settings;
   output.reset(outputFormat_);
+  alignedDepthSamples_ = 0;
+  std::vector<const Plane*> lumas;
+  for (const ReferenceFrame& reference : references) lumas.push_back(&reference.texture->planes[0]);
   for (size_t k = 0; k < views_.size(); ++k) {
     ViewState& view = views_[k];
     const ReferenceView& reference = s.references[k];
@@ -138,6 +142,7 @@ void MeshSynthesizer::synthesize(const std::vector<ReferenceFrame>& references, 
                            view.filledSamples);
       depth = &view.filledDepth;
     }
+    depth = &aligner_.align(k, *depth, lumas, alignedDepthSamples_);
     view.builder.build(*depth, view.mesh);
     renderer_.uploadMesh(view.mesh);
     const InverseDepthRange planes = view.depthRangeBounded

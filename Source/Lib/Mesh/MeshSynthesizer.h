@@ -17,6 +17,7 @@
 #include "Mesh/DepthMesh.h"
 #include "Mesh/GlMeshRenderer.h"
 #include "Mesh/MeshProjection.h"
+#include "Synth/EdgeAlign.h"
 #include "Synth/HoleFill.h"
 #include "Synth/Layer.h"
 #include "Synth/Synthesizer.h"
@@ -53,6 +54,8 @@ public:
   const WarpedLayer& lumaLayer(size_t view) const { return views_[view].luma; }
   const WarpedLayer& chromaLayer(size_t view) const { return views_[view].chroma; }
   size_t holesAfterBlend() const { return holesAfterBlend_; }
+  // Reference depth samples DepthEdgeAlignment moved to the near side in the last frame.
+  size_t alignedDepthSamples() const { return alignedDepthSamples_; }
 
 private:
   struct ViewState {
@@ -76,11 +79,13 @@ private:
   TexelMap chromaTexels_;
   BlendOptions blendOptions_;
   HoleFillOptions fillOptions_, chromaFillOptions_;
+  DepthEdgeAligner aligner_;  // DepthEdgeAlignment, as ViewSyn does it
   std::vector<ViewState> views_;
   BlendedLayer blendedLuma_, blendedChroma_;
   HoleFillScratch lumaFill_, chromaFill_;  // reused every frame
   Frame rgbReference_, rgbOutput_;
   size_t holesAfterBlend_ = 0;
+  size_t alignedDepthSamples_ = 0;
   bool plyWritten_ = false;
 };
 

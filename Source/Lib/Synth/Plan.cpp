@@ -113,6 +113,12 @@ Plan makePlan(const Scene& scene) {
                          (s.missingDepthFill ? "runs between valid samples along a row take the farther level "
                                                "(unreliable), the rest are not warped"
                                              : "not warped"));
+  plan.lines.push_back(std::string("depth edges: ") +
+                       (s.depthEdgeAlignment == 0 ? "as given (DepthEdgeAlignment 0)"
+                        : s.references.size() < 2
+                            ? "as given (one reference view: no second view to judge a move)"
+                            : "moved onto texture edges up to " + std::to_string(s.depthEdgeAlignment) +
+                                  " samples away where the nearest other reference view agrees"));
   if (s.boundaryNoiseRemoval) plan.lines.push_back("boundary noise removal: on");
   return plan;
 }

@@ -17,7 +17,6 @@ namespace vs {
 namespace {
 
 // A depth step of this many 8-bit levels (scaled to the map's bit depth) separates two surfaces.
-constexpr double kDiscontinuityLevels8 = 8.0;
 // A sample seen by one view only is dropped when it lies this many discontinuity steps behind every
 // surface the other view shows around that spot (rejectOccludedInOtherViews).
 constexpr double kBehindHoleSteps = 3.0;
@@ -106,7 +105,8 @@ Synthesizer::Synthesizer(const Scene& scene, SynthesisMode mode)
       outputFormat_(scene.settings.textureFormat),
       rgb_(scene.settings.colorSpace == 1),
       hasChroma_(scene.settings.textureFormat.chroma != ChromaFormat::Yuv400),
-      sampler_(scene.settings.precision, scene.settings.filter) {
+      sampler_(scene.settings.precision, scene.settings.filter),
+      aligner_(scene.settings) {
   const SynthesisSettings& s = scene.settings;
   double inverseRange = 0;
   std::vector<double> distances, angles;
@@ -139,8 +139,8 @@ Synthesizer::Synthesizer(const Scene& scene, SynthesisMode mode)
   // quantised maps differ by whole levels, so a difference never ties with a threshold and a change of
   // units or of world origin cannot flip a decision through rounding.
   auto levels = [&](double levels8) { return (levels8 + 0.5) / 255.0 * inverseRange; };
-  discontinuity_ = levels(kDiscontinuityLevels8);
-  edgeLevelStep_ = std::max(1, int(std::lround(kDiscontinuityLevels8 / 255.0 * s.depthFormat.maxValue())));
+  discontinuity_ = levels(kSurfaceStepLevels8);
+  edgeLevelStep_ = depthEdgeStep(s.depthFormat.maxValue());
   // A view's distance from the virtual camera counts its position and its viewing direction: the
   // angle between optical axes (radians) is scaled by the mean camera distance, so a parallel rig
   // keeps VSRS's baseline weights.
@@ -659,6 +659,9 @@ void Synthesizer::synthesize(const std::vector<ReferenceFrame>& references, Fram
   output.reset(outputFormat_);
   auto start = std::chrono::steady_clock::now();
   const SynthesisSettings& s = scene_.settings;
+  stats_.alignedDepthSamples = 0;
+  std::vector<const Plane*> lumas;
+  for (const ReferenceFrame& reference : references) lumas.push_back(&reference.texture->planes[0]);
   for (size_t k = 0; k < views_.size(); ++k) {
     ViewState& view = views_[k];
     const Plane* depth = references[k].depth;
@@ -668,6 +671,7 @@ void Synthesizer::synthesize(const std::vector<ReferenceFrame>& references, Fram
       fillMissingDepthRuns(*depth, s.missingDepthLevel, view.levelToInverseDepth, view.filledDepth, view.filledSamples);
       depth = &view.filledDepth;
     }
+    depth = &aligner_.align(k, *depth, lumas, stats_.alignedDepthSamples);
     markReferenceEdges(view, *depth);
     // Estimated depth is unreliable: where another view has a real one on the same surface, it wins.
     if (depth == &view.filledDepth)

@@ -17,6 +17,7 @@
 #include "Synth/HoleFill.h"
 #include "Synth/Interpolation.h"
 #include "Synth/Layer.h"
+#include "Synth/EdgeAlign.h"
 #include "Synth/Parallel.h"
 #include "Synth/Warp.h"
 
@@ -49,7 +50,8 @@ struct ReferenceFrame {
 
 // Statistics of the last frame, for the log and tests.
 struct FrameStats {
-  size_t holesAfterBlend = 0;  // luma samples no view covered, filled by the hole filler
+  size_t holesAfterBlend = 0;      // luma samples no view covered, filled by the hole filler
+  size_t alignedDepthSamples = 0;  // reference depth samples DepthEdgeAlignment moved to the near side
 };
 
 class Synthesizer {
@@ -110,6 +112,7 @@ private:
   int edgeLevelStep_;      // depth-level step that marks a reference depth edge
   BlendOptions blendOptions_;
   HoleFillOptions fillOptions_;
+  DepthEdgeAligner aligner_;
   std::vector<ViewState> views_;
   AtomicMaxBuffer zbuffer_;  // depth warp target, shared by the threads of one view's warp
   BlendedLayer blendedLuma_, blendedChroma_;

@@ -1,0 +1,174 @@
+#include "Synth/EdgeAlign.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <vector>
+
+#include "Common/Depth.h"
+#include "Common/Geometry.h"
+#include "Synth/Parallel.h"
+
+namespace vs {
+
+namespace {
+
+// One line of samples: a row, or a column read with the row stride. Reads `depth`, writes `out`.
+struct Line {
+  const uint16_t* depth;
+  const uint16_t* luma;
+  uint16_t* out;
+  ptrdiff_t stride;
+  int n;
+  int u0, v0, du, dv;  // reference pixel of sample i: (u0 + i du, v0 + i dv)
+  int d(int i) const { return depth[i * stride]; }
+  int y(int i) const { return luma[i * stride]; }
+  void set(int i, int level) const { out[i * stride] = uint16_t(level); }
+};
+
+// How unlike sample i of `line` the witness sees its point at depth `level`: the least luma
+// difference over three witness samples along the row around where it lands; -1: no evidence.
+int mismatch(const EdgeWitness& witness, const Line& line, int i, int level) {
+  if (size_t(level) >= witness.inverseDepth->size()) return -1;
+  const double inverse = (*witness.inverseDepth)[size_t(level)];
+  if (std::isnan(inverse)) return -1;
+  double x, y, wv;
+  if (!witness.projection->forward(line.u0 + i * line.du, line.v0 + i * line.dv, inverse, x, y, wv)) return -1;
+  const Plane& luma = *witness.luma;
+  const double cx = std::floor(x + 0.5), cy = std::floor(y + 0.5);
+  if (!(cx >= 0 && cy >= 0 && cx < luma.width && cy < luma.height)) return -1;
+  const int px = int(cx), py = int(cy), colour = line.y(i);
+  int best = std::abs(luma.at(px, py) - colour);
+  if (px > 0) best = std::min(best, std::abs(luma.at(px - 1, py) - colour));
+  if (px + 1 < luma.width) best = std::min(best, std::abs(luma.at(px + 1, py) - colour));
+  return best;
+}
+
+// Whether samples x and x + 1 of a line form a depth edge.
+bool isDepthEdge(int a, int b, const EdgeAlignOptions& o) {
+  return a != o.missingLevel && b != o.missingLevel && std::abs(a - b) >= o.minStep;
+}
+
+// The depth edge between samples x and x + 1 of `line`: moves it onto the texture edge when the tests
+// of EdgeAlign.h hold.
+void alignEdge(const Line& line, int x, const EdgeAlignOptions& o, const EdgeWitness& witness) {
+  const int n = line.n;
+  auto contrast = [&](int p) { return std::abs(line.y(p + 1) - line.y(p)); };
+  const int a = line.d(x), b = line.d(x + 1);
+  const bool nearLeft = a > b;
+  const int nearLevel = std::max(a, b);
+  const int toFar = nearLeft ? 1 : -1;
+  const int nearSample = nearLeft ? x : x + 1;
+  const int atEdge = contrast(x);
+  // The luma edge between samples p and p + 1, k samples from the depth edge towards the far side,
+  // with every sample passed on the far surface (farther by a step, and not missing).
+  int best = 0, bestContrast = atEdge;
+  for (int k = 1; k <= o.reach; ++k) {
+    const int p = x + k * toFar;
+    if (p < 0 || p + 1 >= n) break;
+    const int passed = nearLeft ? p : p + 1;
+    const int level = line.d(passed);
+    if (level == o.missingLevel || nearLevel - level < o.minStep) break;
+    if (contrast(p) > bestContrast) {
+      bestContrast = contrast(p);
+      best = k;
+    }
+  }
+  if (best == 0 || bestContrast < o.minContrast || bestContrast < 2 * atEdge) return;
+  const int p = x + best * toFar;
+  const int lo = std::min(x, p) + 1, hi = std::max(x, p);  // the samples taken over
+  const int farSample = nearLeft ? hi + 1 : lo - 1;        // first far sample beyond the luma edge
+  bool takeOver = true;
+  for (int q = std::min(x, p); q <= std::max(x, p) && takeOver; ++q)
+    takeOver = q == p || 2 * contrast(q) <= bestContrast;
+  for (int s = lo; s <= hi && takeOver; ++s)
+    takeOver = std::abs(line.y(s) - line.y(nearSample)) < std::abs(line.y(s) - line.y(farSample));
+  // The witness must see the band's colours where the near depth puts them better than where their
+  // own depth does, summed over the band; a sample it cannot see either way vetoes the move.
+  long nearError = 0, farError = 0;
+  for (int s = lo; s <= hi && takeOver; ++s) {
+    const int en = mismatch(witness, line, s, nearLevel), ef = mismatch(witness, line, s, line.d(s));
+    takeOver = en >= 0 && ef >= 0;
+    nearError += en;
+    farError += ef;
+  }
+  // By a margin: a quarter of the texture-edge contrast per sample, above noise and interpolation.
+  const long margin = long(hi - lo + 1) * o.minContrast / 4;
+  if (!takeOver || nearError + margin >= farError) return;
+  for (int s = lo; s <= hi; ++s) line.set(s, nearLevel);
+}
+
+}  // namespace
+
+size_t alignDepthEdges(const Plane& depth, const Plane& luma, const EdgeAlignOptions& options,
+                       const EdgeWitness& witness, Plane& out, Plane& scratch) {
+  out = depth;
+  if (options.reach <= 0 || luma.width != depth.width || luma.height != depth.height || !witness.luma ||
+      !witness.projection || !witness.inverseDepth)
+    return 0;
+  const int w = depth.width, h = depth.height;
+  parallelRanges(h, [&](int y0, int y1) {
+    for (int y = y0; y < y1; ++y) {
+      const Line line{depth.row(y), luma.row(y), out.row(y), 1, w, 0, y, 1, 0};
+      const uint16_t* d = depth.row(y);
+      for (int x = 0; x + 1 < w; ++x)
+        if (isDepthEdge(d[x], d[x + 1], options)) alignEdge(line, x, options, witness);
+    }
+  });
+  // Then the columns of the aligned rows, each from top to bottom; a thread takes a range of columns
+  // and finds their edges row by row, in memory order.
+  scratch = out;
+  parallelRanges(w, [&](int x0, int x1) {
+    for (int y = 0; y + 1 < h; ++y) {
+      const uint16_t *d = scratch.row(y), *below = scratch.row(y + 1);
+      for (int x = x0; x < x1; ++x)
+        if (isDepthEdge(d[x], below[x], options))
+          alignEdge({scratch.samples.data() + x, luma.samples.data() + x, out.samples.data() + x, w, h, x, 0, 0, 1}, y,
+                    options, witness);
+    }
+  });
+  size_t changed = 0;
+  for (size_t i = 0; i < out.samples.size(); ++i) changed += out.samples[i] != depth.samples[i];
+  return changed;
+}
+
+int depthEdgeStep(int maxLevel) { return std::max(1, int(std::lround(kSurfaceStepLevels8 / 255.0 * maxLevel))); }
+
+DepthEdgeAligner::DepthEdgeAligner(const SynthesisSettings& s) {
+  if (s.depthEdgeAlignment <= 0 || s.references.size() < 2) return;
+  views_.resize(s.references.size());
+  for (size_t k = 0; k < views_.size(); ++k) {
+    const ReferenceView& reference = s.references[k];
+    View& view = views_[k];
+    double best = HUGE_VAL;
+    for (size_t j = 0; j < views_.size(); ++j) {
+      const double d = norm(s.references[j].camera.centre() - reference.camera.centre());
+      if (j != k && d < best) {
+        best = d;
+        view.witness = int(j);
+      }
+    }
+    view.projection.emplace(reference.camera, s.references[size_t(view.witness)].camera, s.depthType);
+    view.inverseDepth = inverseZTable(reference.depthRange);
+    if (s.missingDepthLevel >= 0 && size_t(s.missingDepthLevel) < view.inverseDepth.size())
+      view.inverseDepth[size_t(s.missingDepthLevel)] = std::nan("");
+    view.options.reach = s.depthEdgeAlignment;
+    view.options.minStep = depthEdgeStep(s.depthFormat.maxValue());
+    view.options.minContrast = 16 << std::max(0, s.textureFormat.bitDepth - 8);
+    view.options.missingLevel = s.missingDepthLevel;
+  }
+}
+
+const Plane& DepthEdgeAligner::align(size_t k, const Plane& depth, const std::vector<const Plane*>& lumas,
+                                     size_t& moved) {
+  if (!enabled()) return depth;
+  View& view = views_[k];
+  EdgeWitness witness;
+  witness.luma = lumas[size_t(view.witness)];
+  witness.projection = &*view.projection;
+  witness.inverseDepth = &view.inverseDepth;
+  moved += alignDepthEdges(depth, *lumas[k], view.options, witness, view.aligned, view.scratch);
+  return view.aligned;
+}
+
+}  // namespace vs

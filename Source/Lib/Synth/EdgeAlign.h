@@ -1,0 +1,75 @@
+#pragma once
+// Depth edges moved onto the texture's edges (doc/algorithms.md, "Depth edges on texture edges").
+//
+// A depth map's edge and its texture's edge often disagree by a few samples: stereo and structured
+// light lose the last samples of a foreground object (Middlebury codes them as level 0, "unknown"),
+// and the far surface's depth then carries the foreground's colour. Warped, that colour lands far from
+// the object, and the object comes out narrower. Here the nearer surface's depth grows along the line
+// onto its colour: up to `reach` samples, as far as the strongest luma edge there, when
+// - that edge is at least `minContrast` strong and twice as strong as the luma step at the depth edge,
+//   and no luma step between the two is half as strong (one clear texture edge, not texture), and
+// - every sample it takes over looks like the near side's last sample more than like the far side's
+//   first sample beyond the texture edge.
+// - another reference view (the witness) sees the samples' colours where the near surface's depth
+//   puts them better than where their own depth does.
+// Rows first, then columns of the result. The near surface never shrinks: a foreground depth that
+// reaches past its colour is left as it is.
+#include <cstddef>
+#include <optional>
+#include <vector>
+
+#include "Common/Frame.h"
+#include "Common/Scene.h"
+#include "Synth/Warp.h"
+
+namespace vs {
+
+struct EdgeAlignOptions {
+  int reach = 4;          // samples; 0: off
+  int minStep = 8;        // depth-level step that makes a depth edge (depthEdgeStep)
+  int minContrast = 16;   // luma step (texture levels) that makes a texture edge
+  int missingLevel = -1;  // MissingDepthLevel: such samples are neither edges nor taken over; -1: none
+};
+
+// Two samples whose depth levels differ by this many 8-bit levels lie on different surfaces.
+constexpr double kSurfaceStepLevels8 = 8.0;
+// The same step in levels of a depth map with `maxLevel` as its largest level (at least 1).
+int depthEdgeStep(int maxLevel);
+
+// Another reference view that judges each move: it must see the moved samples' colours where the
+// near depth puts them better than where their own depth does.
+struct EdgeWitness {
+  const Plane* luma = nullptr;                        // the witness texture's luma
+  const ViewProjection* projection = nullptr;         // aligned view -> witness view
+  const std::vector<double>* inverseDepth = nullptr;  // aligned view: level -> inverse depth (NaN: missing)
+};
+
+// `out` = `depth` with its edges aligned (see above), each move judged by `witness`; returns how many
+// samples changed level. Depth and luma of different sizes, or reach 0, give an unchanged copy.
+// `scratch` is working space.
+size_t alignDepthEdges(const Plane& depth, const Plane& luma, const EdgeAlignOptions& options,
+                       const EdgeWitness& witness, Plane& out, Plane& scratch);
+
+// DepthEdgeAlignment for a scene's reference views: each view is judged by the nearest other one
+// (camera centres). Off with one reference view (nothing to judge by) or DepthEdgeAlignment 0.
+class DepthEdgeAligner {
+public:
+  explicit DepthEdgeAligner(const SynthesisSettings& settings);
+  bool enabled() const { return !views_.empty(); }
+  int witness(size_t view) const { return enabled() ? views_[view].witness : -1; }
+  // View k's depth map aligned, given every view's texture luma this frame; `depth` itself when off.
+  // The result stays valid until the next call for the same view. Adds the samples moved to `moved`.
+  const Plane& align(size_t view, const Plane& depth, const std::vector<const Plane*>& lumas, size_t& moved);
+
+private:
+  struct View {
+    int witness = -1;
+    std::optional<ViewProjection> projection;  // this view -> its witness
+    std::vector<double> inverseDepth;           // level -> inverse depth, NaN at the missing level
+    EdgeAlignOptions options;
+    Plane aligned, scratch;
+  };
+  std::vector<View> views_;
+};
+
+}  // namespace vs
