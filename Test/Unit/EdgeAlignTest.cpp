@@ -2,8 +2,11 @@
 // view. Truth comes from the analytic scene (Test/SynthTestScene.h) and from rows built by hand.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <iostream>
+
+#include <opencv2/core/utility.hpp>
 
 #include "Common/Metrics.h"
 #include "Synth/EdgeAlign.h"
@@ -141,6 +144,33 @@ TEST_P(EdgeAlignOnTheSquare, ForegroundEdgesCodedAsBackgroundGetTheirDepthBack) 
   std::cout << "[ figure   ] PSNR-Y exact " << exactPsnr << ", coded " << codedPsnr << ", aligned " << alignedPsnr
             << " dB; restored " << restored << " of " << corrupted << " samples (" << clearRestored << " of "
             << clearCount << " at clear edges)\n";
+}
+
+// Rows and columns in parallel, each line's edges in order: the aligned maps do not depend on the
+// number of threads (here with many moves, rows and columns).
+TEST(EdgeAlign, AnyThreadCountGivesTheSameMaps) {
+  const int defaultThreads = cv::getNumThreads();
+  std::vector<Plane> maps[2];
+  size_t moves[2] = {0, 0};
+  const int counts[2] = {std::max(2, cv::getNumberOfCPUs()), 1};  // many first, then one
+  for (int run = 0; run < 2; ++run) {
+    cv::setNumThreads(counts[run]);
+    for (bool vertical : {false, true}) {
+      SquareRig rig(vertical);
+      test::RenderedReferences coded = test::renderReferences(rig.analytic, rig.scene);
+      for (size_t k = 0; k < 2; ++k)
+        codeSquareEdgesAsBackground(rig.analytic, rig.scene.settings.references[k].camera, coded.textures[k].planes[0],
+                                    3, vertical, coded.depths[k]);
+      DepthEdgeAligner aligner(rig.scene.settings);
+      const std::vector<const Plane*> lumas = {&coded.textures[0].planes[0], &coded.textures[1].planes[0]};
+      for (size_t k = 0; k < 2; ++k) maps[run].push_back(aligner.align(k, coded.depths[k], lumas, moves[run]));
+    }
+  }
+  cv::setNumThreads(defaultThreads);
+  EXPECT_GT(moves[0], 400u);
+  EXPECT_EQ(moves[0], moves[1]);
+  ASSERT_EQ(maps[0].size(), maps[1].size());
+  for (size_t i = 0; i < maps[0].size(); ++i) EXPECT_TRUE(maps[0][i] == maps[1][i]) << "map " << i;
 }
 
 INSTANTIATE_TEST_SUITE_P(Directions, EdgeAlignOnTheSquare, ::testing::Values(false, true),
