@@ -90,6 +90,29 @@ TEST(Synth, MissingDepthFillWarpsUnknownBackgroundWithTheBackgroundsDepth) {
   EXPECT_GT(filled, 35.0);
 }
 
+// A sample only one view shows is dropped when it lies far behind the surface the other view shows
+// around that hole, on both sides along a row or a column (a sample of unknown depth coded as the
+// far plane, typically). Not where the other view has no surroundings on both sides: here the square
+// stands at the left border of the right camera's picture, so the strip of plane left of it in the
+// virtual view is seen by the left camera only, and the right view's layer has nothing left of it.
+// The left view's plane is far behind the square, and right: it stays.
+TEST(Synth, SamplesInAStripTheOtherViewCannotSeeAreKept) {
+  AnalyticScene analytic;
+  analytic.square = true;
+  analytic.range = DepthRange{50.0, 200.0, 8};
+  const Camera left = analytic.camera("left", 6), virtualCamera = analytic.camera("virtual", 15),
+               right = analytic.camera("right", 24);
+  const Scene scene = analytic.scene(left, virtualCamera, right);
+  const Frame output = test::synthesizeOnce(analytic, scene);
+  const Frame truth = truthOf(analytic, virtualCamera);
+  // The square's left edge is at virtual u = 8.5; the right camera sees no plane left of u = 5.4.
+  double worst = 0;
+  for (int y = 18; y <= 29; ++y)
+    for (int x = 0; x <= 4; ++x)
+      worst = std::max(worst, std::fabs(double(output.planes[0].at(x, y)) - truth.planes[0].at(x, y)));
+  EXPECT_LE(worst, 6.0) << "76 when the right view's square alone judged the strip";
+}
+
 // A one- or two-row line of unknown depth coded as the far plane across a nearer surface (as
 // Middlebury's maps have between touching objects) warps into the crack it leaves in that surface, with
 // far-plane depth and so the colour of the wrong spot. The warped depth closes such slivers like any

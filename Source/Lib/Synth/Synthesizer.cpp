@@ -476,38 +476,44 @@ void Synthesizer::removeBoundaryNoise(WarpedLayer& layer) {
     if (drop[i]) layer.inverseDepth[i] = kNoDepth;
 }
 
-// For every sample, the inverse depth of the farthest of the nearest valid samples left, right, above
-// and below it (HUGE_VAL where there is none).
-static void farthestNeighbourDepth(const WarpedLayer& layer, std::vector<double>& farthest) {
+// For every hole sample of `layer`, the surface around it: along its row, and along its column, the
+// nearest valid samples on both sides, when there are both; the farthest of those (HUGE_VAL where
+// neither line is closed). A hole open on one side of both lines (a strip along the picture's border
+// that the view cannot see, or a gap next to it) has no surroundings to judge by. `oneSide` is scratch.
+static void farthestNeighbourDepth(const WarpedLayer& layer, std::vector<double>& farthest,
+                                   std::vector<double>& oneSide) {
   const int w = layer.width, h = layer.height;
   farthest.assign(size_t(w) * h, HUGE_VAL);
-  auto scan = [&](size_t first, ptrdiff_t stride, int count) {
+  oneSide.resize(size_t(w) * h);
+  auto scanLine = [&](size_t first, ptrdiff_t stride, int count) {
     double last = kNoDepth;
     for (int k = 0; k < count; ++k) {
       const size_t i = size_t(ptrdiff_t(first) + stride * k);
       if (layer.valid(i)) last = layer.inverseDepth[i];
-      else if (last >= 0) farthest[i] = std::min(farthest[i], last);
+      else oneSide[i] = last;
+    }
+    last = kNoDepth;
+    for (int k = count - 1; k >= 0; --k) {
+      const size_t i = size_t(ptrdiff_t(first) + stride * k);
+      if (layer.valid(i)) last = layer.inverseDepth[i];
+      else if (last >= 0 && oneSide[i] >= 0) farthest[i] = std::min(farthest[i], std::min(last, oneSide[i]));
     }
   };
+  // Rows, then columns: a sample's row and column are scanned by one thread each, in turn.
   parallelRanges(h, [&](int y0, int y1) {
-    for (int y = y0; y < y1; ++y) {
-      scan(size_t(y) * w, 1, w);
-      scan(size_t(y) * w + w - 1, -1, w);
-    }
+    for (int y = y0; y < y1; ++y) scanLine(size_t(y) * w, 1, w);
   });
   parallelRanges(w, [&](int x0, int x1) {
-    for (int x = x0; x < x1; ++x) {
-      scan(size_t(x), w, h);
-      scan(size_t(h - 1) * w + x, -ptrdiff_t(w), h);
-    }
+    for (int x = x0; x < x1; ++x) scanLine(size_t(x), w, h);
   });
 }
 
 void Synthesizer::rejectOccludedInOtherViews() {
   // A sample only one view shows fills a hole of the other views. A disocclusion reveals surfaces
   // behind the foreground but not far behind everything around the hole: a sample farther (by
-  // kBehindHoleSteps discontinuity steps) than every surface the other view shows next to the hole
-  // is a misplaced one, typically a sample of unknown depth coded as the far plane. Drop it and let
+  // kBehindHoleSteps discontinuity steps) than every surface the other view shows around the hole
+  // (on both sides along its row or its column) is a misplaced one, typically a sample of unknown
+  // depth coded as the far plane. Drop it and let
   // the hole filler continue the surrounding background instead. A view the virtual camera sits on
   // (weight 1) shows exactly what the virtual camera sees and is never second-guessed.
   // With more views: only a sample no other view covers, and behind the surroundings in every other
@@ -524,7 +530,7 @@ void Synthesizer::rejectOccludedInOtherViews() {
     reject[k].assign(n, blendOptions_.weights[k] >= 1.0 ? 0 : 1);  // 1: still a candidate
   std::vector<double>& farthest = farthestScratch_;
   for (size_t o = 0; o < views_.size(); ++o) {
-    farthestNeighbourDepth(views_[o].luma, farthest);
+    farthestNeighbourDepth(views_[o].luma, farthest, oneSideScratch_);
     for (size_t k = 0; k < views_.size(); ++k) {
       if (k == o) continue;
       const WarpedLayer& self = views_[k].luma;

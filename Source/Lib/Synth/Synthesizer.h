@@ -120,7 +120,7 @@ private:
   HoleFillScratch lumaFill_, chromaFill_;
   std::vector<uint8_t> validCount_, dropScratch_;
   std::vector<std::vector<uint8_t>> rejectScratch_;
-  std::vector<double> farthestScratch_;
+  std::vector<double> farthestScratch_, oneSideScratch_;
   std::vector<int> integralScratch_;
   std::vector<Frame> rgbReferences_;
   Frame rgbOutput_;  // ColorSpace 1: the rounded R, G, B before conversion
