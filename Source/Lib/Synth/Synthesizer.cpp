@@ -671,7 +671,8 @@ void Synthesizer::synthesize(const std::vector<ReferenceFrame>& references, Fram
   for (size_t k = 0; k < views_.size(); ++k) {
     ViewState& view = views_[k];
     const Plane* depth = references[k].depth;
-    if (s.missingDepthLevel >= 0 && s.missingDepthFill) {
+    const bool filled = s.missingDepthLevel >= 0 && s.missingDepthFill;
+    if (filled) {
       // Missing runs between valid samples take the farther level; the inverse-depth table has NaN
       // at the missing level, which fillMissingDepthRuns never picks (both ends are valid).
       fillMissingDepthRuns(*depth, s.missingDepthLevel, view.levelToInverseDepth, view.filledDepth, view.filledSamples);
@@ -679,8 +680,9 @@ void Synthesizer::synthesize(const std::vector<ReferenceFrame>& references, Fram
     }
     depth = &aligner_.align(k, *depth, lumas, stats_.alignedDepthSamples);
     markReferenceEdges(view, *depth);
-    // Estimated depth is unreliable: where another view has a real one on the same surface, it wins.
-    if (depth == &view.filledDepth)
+    // Estimated depth is unreliable: where another view has a real one on the same surface, it wins
+    // (also where alignment then gave a filled sample the near side's level).
+    if (filled)
       for (size_t i = 0; i < view.referenceEdge.size(); ++i) view.referenceEdge[i] |= view.filledSamples[i];
     warpDepth(view, *depth);
   }
