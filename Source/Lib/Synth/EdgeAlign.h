@@ -9,9 +9,9 @@
 // - that edge is at least `minContrast` strong and twice as strong as the luma step at the depth edge,
 //   and no luma step between the two is half as strong (one clear texture edge, not texture), and
 // - every sample it takes over looks like the near side's last sample more than like the far side's
-//   first sample beyond the texture edge.
+//   first sample beyond the texture edge, and
 // - another reference view (the witness) sees the samples' colours where the near surface's depth
-//   puts them better than where their own depth does.
+//   puts them better than where their own depth does, by a quarter of minContrast per sample.
 // Rows first, then columns of the result. The near surface never shrinks: a foreground depth that
 // reaches past its colour is left as it is.
 #include <cstddef>
