@@ -72,48 +72,63 @@ void blendLayers(const std::vector<const WarpedLayer*>& views, const BlendOption
   for (size_t k = 0; k < viewCount; ++k)
     if (options.weights[k] >= 1.0) dominant = int(k);
 
+  // The views' planes, read straight (the loops below run for every sample).
+  struct ViewPlanes {
+    const double* depth;
+    const float* colour[3];
+    const uint8_t* edge;
+    double weight;  // a tiny floor keeps a view with weight 0 usable where it is the only one on the surface
+  };
+  std::vector<ViewPlanes> planes(viewCount);
+  for (size_t k = 0; k < viewCount; ++k) {
+    planes[k].depth = views[k]->inverseDepth.data();
+    for (int c = 0; c < 3; ++c) planes[k].colour[c] = c < channels ? views[k]->colour[c].data() : nullptr;
+    planes[k].edge = views[k]->edge.data();
+    planes[k].weight = std::max(options.weights[k], 1e-9);
+  }
+  const double tolerance = options.depthTolerance;
+
   // Every sample on its own: rows in parallel.
   parallelRanges(height, [&](int rowBegin, int rowEnd) {
   for (size_t i = size_t(rowBegin) * width; i < size_t(rowEnd) * width; ++i) {
-    if (dominant >= 0 && views[size_t(dominant)]->valid(i)) {
-      const WarpedLayer& view = *views[size_t(dominant)];
+    if (dominant >= 0 && planes[size_t(dominant)].depth[i] >= 0.0) {
+      const ViewPlanes& view = planes[size_t(dominant)];
       for (int c = 0; c < channels; ++c) out.colour[c][i] = view.colour[c][i];
-      out.inverseDepth[i] = view.inverseDepth[i];
+      out.inverseDepth[i] = view.depth[i];
       out.hole[i] = 0;
       continue;
     }
     // The nearest surface among the valid views.
     double nearest = kNoDepth;
     for (size_t k = 0; k < viewCount; ++k)
-      if (views[k]->valid(i)) nearest = std::max(nearest, views[k]->inverseDepth[i]);
+      if (planes[k].depth[i] >= 0.0) nearest = std::max(nearest, planes[k].depth[i]);
     if (nearest < 0.0) continue;  // a hole in every view
     // Views on that surface; clean samples (not on a reference depth edge) are preferred.
     bool anyClean = false;
     for (size_t k = 0; k < viewCount; ++k)
-      if (views[k]->valid(i) && nearest - views[k]->inverseDepth[i] <= options.depthTolerance && !views[k]->edge[i])
-        anyClean = true;
+      if (planes[k].depth[i] >= 0.0 && nearest - planes[k].depth[i] <= tolerance && !planes[k].edge[i]) anyClean = true;
     double weightSum = 0, depthSum = 0, best = -1;
     float colourSum[3] = {0, 0, 0};
     int bestView = -1;
     for (size_t k = 0; k < viewCount; ++k) {
-      const WarpedLayer& view = *views[k];
-      if (!view.valid(i) || nearest - view.inverseDepth[i] > options.depthTolerance) continue;
+      const ViewPlanes& view = planes[k];
+      const double depth = view.depth[i];
+      if (!(depth >= 0.0) || nearest - depth > tolerance) continue;
       if (anyClean && view.edge[i]) continue;
-      // A tiny floor keeps a view with weight 0 usable where it is the only one on the surface.
-      const double w = std::max(options.weights[k], 1e-9);
+      const double w = view.weight;
       if (w > best) {
         best = w;
         bestView = int(k);
       }
       weightSum += w;
-      depthSum += w * view.inverseDepth[i];
+      depthSum += w * depth;
       for (int c = 0; c < channels; ++c) colourSum[c] += float(w) * view.colour[c][i];
     }
     VS_CHECK(bestView >= 0);
     if (options.nearestViewOnly) {
-      const WarpedLayer& view = *views[size_t(bestView)];
+      const ViewPlanes& view = planes[size_t(bestView)];
       for (int c = 0; c < channels; ++c) out.colour[c][i] = view.colour[c][i];
-      out.inverseDepth[i] = view.inverseDepth[i];
+      out.inverseDepth[i] = view.depth[i];
     } else {
       for (int c = 0; c < channels; ++c) out.colour[c][i] = float(colourSum[c] / weightSum);
       out.inverseDepth[i] = depthSum / weightSum;

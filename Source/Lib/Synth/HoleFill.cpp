@@ -13,13 +13,15 @@ namespace vs {
 
 namespace {
 
-// An estimate's buffers for `layer`: colour 0, background HUGE_VAL (none), found 0 everywhere.
-void resetEstimate(const BlendedLayer& layer, std::vector<float> estimate[3], std::vector<double>& background,
-                   std::vector<uint8_t>& found) {
+// An estimate's buffers for `layer`, sized but not cleared: the estimates write every hole sample
+// (colour 0, background HUGE_VAL and found 0 where they find nothing), and nothing reads them
+// elsewhere.
+void sizeEstimate(const BlendedLayer& layer, std::vector<float> estimate[3], std::vector<double>& background,
+                  std::vector<uint8_t>& found) {
   const size_t n = layer.hole.size();
-  for (int k = 0; k < layer.channels; ++k) estimate[k].assign(n, 0.0f);
-  background.assign(n, HUGE_VAL);
-  found.assign(n, 0);
+  for (int k = 0; k < layer.channels; ++k) estimate[k].resize(n);
+  background.resize(n);
+  found.resize(n);
 }
 
 // Directional background estimate for every hole sample; `found` is 0 where no direction reached a
@@ -28,7 +30,7 @@ void directionalFill(const BlendedLayer& layer, const HoleFillOptions& options, 
                      std::vector<double>& background, std::vector<uint8_t>& found) {
   static const int directions[8][2] = {{1, 0}, {-1, 0}, {0, 1}, {0, -1}, {1, 1}, {-1, -1}, {1, -1}, {-1, 1}};
   const int w = layer.width, h = layer.height;
-  resetEstimate(layer, estimate, background, found);
+  sizeEstimate(layer, estimate, background, found);
   // Each hole sample writes only its own estimate: rows in parallel.
   parallelRanges(h, [&](int rowBegin, int rowEnd) {
   for (int y = rowBegin; y < rowEnd; ++y)
@@ -54,7 +56,12 @@ void directionalFill(const BlendedLayer& layer, const HoleFillOptions& options, 
           break;
         }
       }
-      if (count == 0) continue;
+      if (count == 0) {
+        for (int k = 0; k < layer.channels; ++k) estimate[k][i] = 0.0f;
+        background[i] = HUGE_VAL;
+        found[i] = 0;
+        continue;
+      }
       double weightSum = 0;
       double sum[3] = {0, 0, 0};
       for (int c = 0; c < count; ++c) {
@@ -79,7 +86,7 @@ void directionalFill(const BlendedLayer& layer, const HoleFillOptions& options, 
 void rowRunFill(const BlendedLayer& layer, const HoleFillOptions& options, std::vector<float> estimate[3],
                 std::vector<double>& background, std::vector<uint8_t>& found) {
   const int w = layer.width, h = layer.height;
-  resetEstimate(layer, estimate, background, found);
+  sizeEstimate(layer, estimate, background, found);
   // Each run is one row's: rows in parallel.
   parallelRanges(h, [&](int rowBegin, int rowEnd) {
     for (int y = rowBegin; y < rowEnd; ++y) {
@@ -121,20 +128,18 @@ void rowRunFill(const BlendedLayer& layer, const HoleFillOptions& options, std::
             }
           }
         }
-        if (count > 0) {
-          double sum[3] = {0, 0, 0};
-          int onFarthest = 0;
-          for (int c = 0; c < count; ++c) {
-            if (layer.inverseDepth[candidate[c]] > farthest + options.depthTolerance) continue;
-            for (int k = 0; k < layer.channels; ++k) sum[k] += layer.colour[k][candidate[c]];
-            ++onFarthest;
-          }
-          for (int i = left + 1; i < right; ++i) {
-            const size_t k = size_t(y) * w + i;
-            for (int c = 0; c < layer.channels; ++c) estimate[c][k] = float(sum[c] / onFarthest);
-            background[k] = farthest;
-            found[k] = 1;
-          }
+        double sum[3] = {0, 0, 0};
+        int onFarthest = 0;
+        for (int c = 0; c < count; ++c) {
+          if (layer.inverseDepth[candidate[c]] > farthest + options.depthTolerance) continue;
+          for (int k = 0; k < layer.channels; ++k) sum[k] += layer.colour[k][candidate[c]];
+          ++onFarthest;
+        }
+        for (int i = left + 1; i < right; ++i) {  // no candidate: colour 0, background HUGE_VAL, not found
+          const size_t k = size_t(y) * w + i;
+          for (int c = 0; c < layer.channels; ++c) estimate[c][k] = count > 0 ? float(sum[c] / onFarthest) : 0.0f;
+          background[k] = farthest;
+          found[k] = count > 0;
         }
         x = right;
       }
@@ -178,7 +183,8 @@ void inpaint(BlendedLayer& layer, std::vector<uint8_t>& mask, int radius, std::v
   cv::Mat stats, centroids;
   cv::dilate(maskMat, grown, cv::getStructuringElement(cv::MORPH_RECT, cv::Size(2 * reach + 1, 2 * reach + 1)));
   const int groupCount = cv::connectedComponentsWithStats(grown, groups, stats, centroids, 8, CV_32S);
-  for (int k = 0; k < layer.channels; ++k) result[k] = layer.colour[k];
+  // Every mask sample is in one group and is written below; nothing reads the others.
+  for (int k = 0; k < layer.channels; ++k) result[k].resize(layer.colour[k].size());
   // Label 0 is what lies farther than `reach` from every mask sample.
   parallelRanges(groupCount - 1, [&](int begin, int end) {
     cv::Mat groupMask, inpainted;

@@ -9,6 +9,7 @@
 //                                nearest integer and half-pel kernels, as in H.264's luma rule
 // Every kernel is exactly (0, ..., 1, ..., 0) at phase 0, so integer positions return the sample
 // itself. Positions outside the plane read the nearest edge sample (never outside the buffer).
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
@@ -22,10 +23,14 @@ public:
 
   // Value at (x, y), in the plane's own sample coordinates (integers are sample centres), not rounded
   // or clamped to the sample range: bicubic and 6-tap kernels may overshoot; callers clamp.
-  float sample(const Plane& plane, double x, double y) const;
+  float sample(const Plane& plane, double x, double y) const {
+    return taps_ == 4 ? sampleTaps<4>(plane, x, y) : taps_ == 6 ? sampleTaps<6>(plane, x, y) : sampleTaps<2>(plane, x, y);
+  }
   // sample(plane, x, y) for an integer y (the 1D path, where rows map to rows): the same value,
   // bit for bit, without the vertical pass. Rows outside the plane read the nearest edge row.
-  float sampleRow(const Plane& plane, double x, long long y) const;
+  float sampleRow(const Plane& plane, double x, long long y) const {
+    return taps_ == 4 ? sampleRowTaps<4>(plane, x, y) : taps_ == 6 ? sampleRowTaps<6>(plane, x, y) : sampleRowTaps<2>(plane, x, y);
+  }
 
   int precision() const { return precision_; }
   int taps() const { return taps_; }
@@ -49,11 +54,88 @@ private:
     phase = int(g - double(whole) * precision_);
   }
 
+  // The kernels with the tap count known at compile time (taps_ is TAPS): the loops unroll, the
+  // arithmetic (order included) is the same for every count, and the calls inline into the warps.
+  template <int TAPS>
+  float sampleTaps(const Plane& plane, double x, double y) const;
+  template <int TAPS>
+  float sampleRowTaps(const Plane& plane, double x, long long y) const;
+
   int precision_;
   int precisionShift_;  // log2(precision)
   int taps_;
   int first_;  // offset of the first tap relative to the integer part
   std::vector<float> kernels_;
 };
+
+template <int TAPS>
+inline float SubPixelSampler::sampleRowTaps(const Plane& plane, double x, long long y) const {
+  // sample() with phase 0 vertically: only the row of weight exactly 1 contributes, and
+  // 0 + 1 * rowSum is rowSum. The horizontal pass is sample()'s own: all taps inside the plane (zero
+  // weights add +0), clamped taps of non-zero weight at its border.
+  long long ix;
+  int px;
+  gridPosition(x, ix, px);
+  const long long maxX = plane.width - 1;
+  const uint16_t* row = plane.row(int(std::clamp(y, 0LL, (long long)plane.height - 1)));
+  if (px == 0) return float(row[std::clamp(ix, 0LL, maxX)]);
+  const float* kx = kernel(px);
+  const long long left = ix + first_;
+  float rowSum = 0.0f;
+  if (left >= 0 && left + TAPS - 1 <= maxX) {
+    const uint16_t* taps = row + left;
+    for (int tx = 0; tx < TAPS; ++tx) rowSum += kx[tx] * float(taps[tx]);
+    return rowSum;
+  }
+  for (int tx = 0; tx < TAPS; ++tx) {
+    if (kx[tx] == 0.0f) continue;
+    rowSum += kx[tx] * float(row[std::clamp(ix + first_ + tx, 0LL, maxX)]);
+  }
+  return rowSum;
+}
+
+template <int TAPS>
+inline float SubPixelSampler::sampleTaps(const Plane& plane, double x, double y) const {
+  // Round to the 1/precision grid. floor() of the scaled position keeps negative positions right
+  // (truncation towards zero would move them the wrong way).
+  long long ix, iy;
+  int px, py;
+  gridPosition(x, ix, px);
+  gridPosition(y, iy, py);
+  const float* kx = kernel(px);
+  const float* ky = kernel(py);
+  const long long maxX = plane.width - 1, maxY = plane.height - 1;
+  if (px == 0 && py == 0) {
+    const long long cx = std::clamp(ix, 0LL, maxX), cy = std::clamp(iy, 0LL, maxY);
+    return float(plane.at(int(cx), int(cy)));
+  }
+  const long long left = ix + first_, top = iy + first_;
+  if (left >= 0 && top >= 0 && left + TAPS - 1 <= maxX && top + TAPS - 1 <= maxY) {
+    // Inside the plane: no clamping; rows whose weight is 0 (phase 0) are skipped.
+    float sum = 0.0f;
+    for (int ty = 0; ty < TAPS; ++ty) {
+      if (ky[ty] == 0.0f) continue;
+      const uint16_t* row = plane.row(int(top + ty)) + left;
+      float rowSum = 0.0f;
+      for (int tx = 0; tx < TAPS; ++tx) rowSum += kx[tx] * float(row[tx]);
+      sum += ky[ty] * rowSum;
+    }
+    return sum;
+  }
+  float sum = 0.0f;
+  for (int ty = 0; ty < TAPS; ++ty) {
+    if (ky[ty] == 0.0f) continue;
+    const long long sy = std::clamp(iy + first_ + ty, 0LL, maxY);
+    const uint16_t* row = plane.row(int(sy));
+    float rowSum = 0.0f;
+    for (int tx = 0; tx < TAPS; ++tx) {
+      if (kx[tx] == 0.0f) continue;
+      const long long sx = std::clamp(ix + first_ + tx, 0LL, maxX);
+      rowSum += kx[tx] * float(row[sx]);
+    }
+    sum += ky[ty] * rowSum;
+  }
+  return sum;
+}
 
 }  // namespace vs

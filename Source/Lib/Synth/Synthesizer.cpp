@@ -188,18 +188,28 @@ void Synthesizer::markReferenceEdges(ViewState& view, const Plane& depth) {
   std::vector<uint8_t>& step = view.referenceStep;
   step.resize(size_t(w) * h);
   const int missing = scene_.settings.missingDepthLevel, minStep = edgeLevelStep_;
-  auto differs = [&](int level, int other) { return other == missing || std::abs(level - other) >= minStep; };
+  // A sample is a step when it is missing, or a neighbour (left, right, above, below) is missing or
+  // differs by minStep levels or more. A neighbour beyond the border is read as the sample itself,
+  // which adds nothing (a sample differs from itself only by being missing). Bitwise operators keep
+  // the loop free of branches, so that it vectorises.
+  // (Locals, not the captured variables, inside the loops: a byte store could alias those, which
+  // keeps the compiler from vectorising.)
   parallelRanges(h, [&](int y0, int y1) {
+    const int width = w, height = h, miss = missing, least = minStep;
     for (int y = y0; y < y1; ++y) {
       const uint16_t* row = depth.row(y);
-      const uint16_t* above = y > 0 ? depth.row(y - 1) : nullptr;
-      const uint16_t* below = y + 1 < h ? depth.row(y + 1) : nullptr;
-      for (int x = 0; x < w; ++x) {
+      const uint16_t* above = y > 0 ? depth.row(y - 1) : row;
+      const uint16_t* below = y + 1 < height ? depth.row(y + 1) : row;
+      uint8_t* out = step.data() + size_t(y) * width;
+      auto at = [=](int x, int left, int right) {
         const int level = row[x];
-        step[size_t(y) * w + x] = level == missing || (x + 1 < w && differs(level, row[x + 1])) ||
-                                  (x > 0 && differs(level, row[x - 1])) || (above && differs(level, above[x])) ||
-                                  (below && differs(level, below[x]));
-      }
+        auto differs = [=](int other) { return (other == miss) | (std::abs(level - other) >= least); };
+        return uint8_t((level == miss) | differs(row[left]) | differs(row[right]) | differs(above[x]) |
+                       differs(below[x]));
+      };
+      out[0] = at(0, 0, std::min(1, width - 1));
+      for (int x = 1; x + 1 < width; ++x) out[x] = at(x, x - 1, x + 1);
+      if (width > 1) out[width - 1] = at(width - 1, width - 2, width - 1);
     }
   });
   // Dilated by one sample: the colours on both sides of an edge are mixed by the camera's optics.
@@ -211,19 +221,24 @@ void Synthesizer::markReferenceEdges(ViewState& view, const Plane& depth) {
   std::vector<uint8_t>& rows = view.referenceStepRows;
   rows.resize(size_t(w) * h);
   parallelRanges(h, [&](int y0, int y1) {
+    const int width = w;
     for (int y = y0; y < y1; ++y) {
-      const uint8_t* in = step.data() + size_t(y) * w;
-      uint8_t* out = rows.data() + size_t(y) * w;
-      for (int x = 0; x < w; ++x) out[x] = in[x] | (x > 0 ? in[x - 1] : 0) | (x + 1 < w ? in[x + 1] : 0);
+      const uint8_t* in = step.data() + size_t(y) * width;
+      uint8_t* out = rows.data() + size_t(y) * width;
+      // Border samples read themselves for the missing neighbour; the rest run without branches.
+      out[0] = in[0] | in[std::min(1, width - 1)];
+      for (int x = 1; x + 1 < width; ++x) out[x] = in[x - 1] | in[x] | in[x + 1];
+      if (width > 1) out[width - 1] = in[width - 2] | in[width - 1];
     }
   });
   parallelRanges(h, [&](int y0, int y1) {
+    const int width = w, height = h;
     for (int y = y0; y < y1; ++y) {
-      const uint8_t* mid = rows.data() + size_t(y) * w;
-      const uint8_t* up = y > 0 ? mid - w : mid;
-      const uint8_t* down = y + 1 < h ? mid + w : mid;
-      uint8_t* out = edge.data() + size_t(y) * w;
-      for (int x = 0; x < w; ++x) out[x] = mid[x] | up[x] | down[x];
+      const uint8_t* mid = rows.data() + size_t(y) * width;
+      const uint8_t* up = y > 0 ? mid - width : mid;
+      const uint8_t* down = y + 1 < height ? mid + width : mid;
+      uint8_t* out = edge.data() + size_t(y) * width;
+      for (int x = 0; x < width; ++x) out[x] = mid[x] | up[x] | down[x];
     }
   });
 }
@@ -394,21 +409,36 @@ void Synthesizer::flagCrowdedHoles(WarpedLayer& layer) {
   // MergingOption 2's hole counting: a sample with more than HoleCountThreshold holes in its 7x7
   // neighbourhood is unreliable; where another view agrees and is not, that view is used.
   const int w = layer.width, h = layer.height, threshold = scene_.settings.oneD.holeCountThreshold;
-  std::vector<int>& integral = integralScratch_;
-  integral.assign(size_t(w + 1) * (h + 1), 0);
-  for (int y = 0; y < h; ++y)
-    for (int x = 0; x < w; ++x)
-      integral[size_t(y + 1) * (w + 1) + x + 1] = (layer.inverseDepth[size_t(y) * w + x] < 0 ? 1 : 0) +
-                                                  integral[size_t(y) * (w + 1) + x + 1] +
-                                                  integral[size_t(y + 1) * (w + 1) + x] - integral[size_t(y) * (w + 1) + x];
-  parallelRanges(h, [&](int rowBegin, int rowEnd) {
-    for (int y = rowBegin; y < rowEnd; ++y)
+  // Separable counts: holes among the 7 samples of each row around x (clipped at the borders), then
+  // the sum of those over the 7 rows around y.
+  std::vector<uint8_t>& rowHoles = rowHoleScratch_;
+  rowHoles.resize(size_t(w) * h);
+  parallelRanges(h, [&](int y0, int y1) {
+    for (int y = y0; y < y1; ++y) {
+      const double* depth = layer.inverseDepth.data() + size_t(y) * w;
+      uint8_t* count = rowHoles.data() + size_t(y) * w;
+      int inWindow = 0;  // holes in [x - 3, x + 3] as x moves right
+      for (int x = 0; x < std::min(3, w); ++x) inWindow += depth[x] < 0 ? 1 : 0;
       for (int x = 0; x < w; ++x) {
-        const int x0 = std::max(0, x - 3), x1 = std::min(w, x + 4), y0 = std::max(0, y - 3), y1 = std::min(h, y + 4);
-        const int holes = integral[size_t(y1) * (w + 1) + x1] - integral[size_t(y0) * (w + 1) + x1] -
-                          integral[size_t(y1) * (w + 1) + x0] + integral[size_t(y0) * (w + 1) + x0];
-        if (holes > threshold) layer.edge[size_t(y) * w + x] = 1;
+        if (x + 3 < w) inWindow += depth[x + 3] < 0 ? 1 : 0;
+        if (x - 4 >= 0) inWindow -= depth[x - 4] < 0 ? 1 : 0;
+        count[x] = uint8_t(inWindow);
       }
+    }
+  });
+  parallelRanges(h, [&](int rowBegin, int rowEnd) {
+    const int width = w, height = h, most = threshold;  // locals: see markReferenceEdges
+    std::vector<int> sums(static_cast<size_t>(width));
+    int* sum = sums.data();
+    for (int y = rowBegin; y < rowEnd; ++y) {
+      std::fill(sums.begin(), sums.end(), 0);
+      for (int r = std::max(0, y - 3); r < std::min(height, y + 4); ++r) {
+        const uint8_t* count = rowHoles.data() + size_t(r) * width;
+        for (int x = 0; x < width; ++x) sum[x] += count[x];
+      }
+      uint8_t* edge = layer.edge.data() + size_t(y) * width;
+      for (int x = 0; x < width; ++x) edge[x] |= uint8_t(sum[x] > most);
+    }
   });
 }
 
@@ -485,26 +515,42 @@ static void farthestNeighbourDepth(const WarpedLayer& layer, std::vector<double>
   const int w = layer.width, h = layer.height;
   farthest.assign(size_t(w) * h, HUGE_VAL);
   oneSide.resize(size_t(w) * h);
-  auto scanLine = [&](size_t first, ptrdiff_t stride, int count) {
+  // Along a row: the nearest valid sample on the left (oneSide), then on the right.
+  auto scanRow = [&](int y) {
+    const size_t first = size_t(y) * w;
     double last = kNoDepth;
-    for (int k = 0; k < count; ++k) {
-      const size_t i = size_t(ptrdiff_t(first) + stride * k);
+    for (size_t i = first; i < first + w; ++i) {
       if (layer.valid(i)) last = layer.inverseDepth[i];
       else oneSide[i] = last;
     }
     last = kNoDepth;
-    for (int k = count - 1; k >= 0; --k) {
-      const size_t i = size_t(ptrdiff_t(first) + stride * k);
+    for (size_t i = first + w; i-- > first;) {
       if (layer.valid(i)) last = layer.inverseDepth[i];
       else if (last >= 0 && oneSide[i] >= 0) farthest[i] = std::min(farthest[i], std::min(last, oneSide[i]));
     }
   };
-  // Rows, then columns: a sample's row and column are scanned by one thread each, in turn.
+  // Rows, then columns: a sample's row and column are scanned by one thread each, in turn. A thread
+  // scans its range of columns together, row by row in memory order (down, then up), keeping each
+  // column's last valid sample: the same two scans as along a row.
   parallelRanges(h, [&](int y0, int y1) {
-    for (int y = y0; y < y1; ++y) scanLine(size_t(y) * w, 1, w);
+    for (int y = y0; y < y1; ++y) scanRow(y);
   });
   parallelRanges(w, [&](int x0, int x1) {
-    for (int x = x0; x < x1; ++x) scanLine(size_t(x), w, h);
+    std::vector<double> last(size_t(x1 - x0), kNoDepth);
+    for (int y = 0; y < h; ++y)
+      for (int x = x0; x < x1; ++x) {
+        const size_t i = size_t(y) * w + x;
+        if (layer.valid(i)) last[size_t(x - x0)] = layer.inverseDepth[i];
+        else oneSide[i] = last[size_t(x - x0)];
+      }
+    std::fill(last.begin(), last.end(), kNoDepth);
+    for (int y = h - 1; y >= 0; --y)
+      for (int x = x0; x < x1; ++x) {
+        const size_t i = size_t(y) * w + x;
+        const double below = last[size_t(x - x0)];
+        if (layer.valid(i)) last[size_t(x - x0)] = layer.inverseDepth[i];
+        else if (below >= 0 && oneSide[i] >= 0) farthest[i] = std::min(farthest[i], std::min(below, oneSide[i]));
+      }
   });
 }
 
@@ -521,13 +567,20 @@ void Synthesizer::rejectOccludedInOtherViews() {
   const size_t n = size_t(outputFormat_.width) * size_t(outputFormat_.height);
   const int width = outputFormat_.width;
   std::vector<uint8_t>& validCount = validCount_;
-  validCount.assign(n, 0);
-  for (const ViewState& view : views_)
-    for (size_t i = 0; i < n; ++i) validCount[i] += view.luma.valid(i) ? 1 : 0;
+  validCount.resize(n);
   std::vector<std::vector<uint8_t>>& reject = rejectScratch_;
   reject.resize(views_.size());
-  for (size_t k = 0; k < views_.size(); ++k)
-    reject[k].assign(n, blendOptions_.weights[k] >= 1.0 ? 0 : 1);  // 1: still a candidate
+  for (std::vector<uint8_t>& r : reject) r.resize(n);
+  parallelRanges(outputFormat_.height, [&](int y0, int y1) {
+    for (size_t i = size_t(y0) * width; i < size_t(y1) * width; ++i) {
+      uint8_t count = 0;
+      for (const ViewState& view : views_) count += view.luma.valid(i) ? 1 : 0;
+      validCount[i] = count;
+    }
+    for (size_t k = 0; k < views_.size(); ++k)  // 1: still a candidate
+      std::fill(reject[k].begin() + ptrdiff_t(size_t(y0) * width), reject[k].begin() + ptrdiff_t(size_t(y1) * width),
+                uint8_t(blendOptions_.weights[k] >= 1.0 ? 0 : 1));
+  });
   std::vector<double>& farthest = farthestScratch_;
   for (size_t o = 0; o < views_.size(); ++o) {
     farthestNeighbourDepth(views_[o].luma, farthest, oneSideScratch_);
@@ -542,9 +595,11 @@ void Synthesizer::rejectOccludedInOtherViews() {
       });
     }
   }
-  for (size_t k = 0; k < views_.size(); ++k)
-    for (size_t i = 0; i < n; ++i)
-      if (reject[k][i]) views_[k].luma.inverseDepth[i] = kNoDepth;
+  parallelRanges(outputFormat_.height, [&](int y0, int y1) {
+    for (size_t k = 0; k < views_.size(); ++k)
+      for (size_t i = size_t(y0) * width; i < size_t(y1) * width; ++i)
+        if (reject[k][i]) views_[k].luma.inverseDepth[i] = kNoDepth;
+  });
 }
 
 void Synthesizer::warpChroma(ViewState& view, const Frame& texture) {

@@ -121,7 +121,7 @@ private:
   std::vector<uint8_t> validCount_, dropScratch_;
   std::vector<std::vector<uint8_t>> rejectScratch_;
   std::vector<double> farthestScratch_, oneSideScratch_;
-  std::vector<int> integralScratch_;
+  std::vector<uint8_t> rowHoleScratch_;  // flagCrowdedHoles: holes counted along rows
   std::vector<Frame> rgbReferences_;
   Frame rgbOutput_;  // ColorSpace 1: the rounded R, G, B before conversion
   FrameStats stats_;

@@ -45,8 +45,10 @@ public:
   // change of units or of world origin (which perturbs the last bits) cannot flip a rounding decision
   // at a tie, such as a warped sample landing exactly between two pixel centres.
   static double snapPosition(double position) {
-    constexpr double grid = 1073741824.0;  // 2^30: multiplying and dividing by it are exact
-    return std::nearbyint(position * grid) / grid;
+    // 2^30 and 2^-30: scaling by a power of two is exact, so multiplying by 2^-30 gives what dividing
+    // by 2^30 gives, bit for bit (both round the same real number), at a fraction of the cost.
+    constexpr double grid = 1073741824.0, cell = 1.0 / 1073741824.0;
+    return std::nearbyint(position * grid) * cell;
   }
 
 private:
