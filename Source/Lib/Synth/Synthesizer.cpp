@@ -292,23 +292,32 @@ void Synthesizer::rasteriseTriangles(ViewState& view, int w, int h) {
   const int outW = view.luma.width, outH = view.luma.height;
   static const int corners[2][3] = {{0, 1, 3}, {0, 3, 2}};
   parallelRanges(h - 1, [&](int y0, int y1) {
+  // Locals for what the loop reads (members and captures would be reloaded around every call).
+  const double* warpedX = view.warpedX.data();
+  const double* warpedY = view.warpedY.data();
+  const double* warpedW = view.warpedW.data();
+  const double discontinuity = discontinuity_;
+  const int width = w;
   for (int y = y0; y < y1; ++y)
-    for (int x = 0; x + 1 < w; ++x) {
-      const size_t quad[4] = {size_t(y) * w + x, size_t(y) * w + x + 1, size_t(y + 1) * w + x, size_t(y + 1) * w + x + 1};
+    for (int x = 0; x + 1 < width; ++x) {
+      const size_t quad[4] = {size_t(y) * width + x, size_t(y) * width + x + 1, size_t(y + 1) * width + x,
+                              size_t(y + 1) * width + x + 1};
+      // A quad with a corner not warped has no triangle: most of them, in a hole, skip here.
+      if (warpedW[quad[0]] < 0 || warpedW[quad[3]] < 0 || (warpedW[quad[1]] < 0 && warpedW[quad[2]] < 0)) continue;
       for (const auto& triangle : corners) {
         double tx[3], ty[3], tw[3];
         bool ok = true;
         double lo = HUGE_VAL, hi = -HUGE_VAL;
         for (int k = 0; k < 3 && ok; ++k) {
           const size_t i = quad[triangle[k]];
-          ok = view.warpedW[i] >= 0;
-          tx[k] = view.warpedX[i];
-          ty[k] = view.warpedY[i];
-          tw[k] = view.warpedW[i];
+          ok = warpedW[i] >= 0;
+          tx[k] = warpedX[i];
+          ty[k] = warpedY[i];
+          tw[k] = warpedW[i];
           lo = std::min(lo, tw[k]);
           hi = std::max(hi, tw[k]);
         }
-        if (ok && hi - lo <= discontinuity_) rasteriseTriangle(zbuffer_, outW, outH, tx, ty, tw);
+        if (ok && hi - lo <= discontinuity) rasteriseTriangle(zbuffer_, outW, outH, tx, ty, tw);
       }
     }
   });
@@ -325,53 +334,60 @@ void Synthesizer::warpDepthRows(ViewState& view, const Plane& depth) {
   const int outW = outputFormat_.width, outH = outputFormat_.height;
   const OneDOptions& oneD = scene_.settings.oneD;
   view.luma.reset(outW, outH, rgb_ ? 3 : 1);
-  const std::vector<double>& rowDepth = view.levelToRowDepth;
   auto raise = [](double& cell, double value) {
     int64_t a, b;
     std::memcpy(&a, &value, sizeof a);
     std::memcpy(&b, &cell, sizeof b);
-    if (a > b) cell = value;
+    const int64_t larger = a > b ? a : b;  // a select and a store: no branch to mispredict
+    std::memcpy(&cell, &larger, sizeof larger);
   };
   parallelRanges(std::min(h, outH), [&](int y0, int y1) {
-    std::vector<double> xs(static_cast<size_t>(w)), ws(static_cast<size_t>(w));
-    std::vector<uint8_t> nearBoundary(size_t(w), 1);
+    // Locals for everything the loops read: their stores (doubles, bytes) could alias members and
+    // captures, which the compiler would then reload for every sample.
+    const ViewProjection projection = view.projection;
+    const double* rowDepth = view.levelToRowDepth.data();
+    const size_t levelCount = view.levelToRowDepth.size();
+    const double discontinuity = discontinuity_;
+    const int width = w, outWidth = outW, splatting = oneD.splatting, growth = oneD.boundaryGrowth;
+    std::vector<double> xsRow(static_cast<size_t>(width)), wsRow(static_cast<size_t>(width));
+    std::vector<uint8_t> nearRow(static_cast<size_t>(width), 1);
+    double* xs = xsRow.data();
+    double* ws = wsRow.data();
+    uint8_t* nearBoundary = nearRow.data();
     for (int y = y0; y < y1; ++y) {
       const uint16_t* levels = depth.row(y);
-      for (int x = 0; x < w; ++x) {
-        const double wv = levels[x] < rowDepth.size() ? rowDepth[levels[x]] : std::nan("");
-        const double target = std::isnan(wv) ? wv : view.projection.rowTarget(x, wv);
-        ws[size_t(x)] = std::isfinite(target) ? wv : kNoDepth;
-        xs[size_t(x)] = target;
+      for (int x = 0; x < width; ++x) {
+        const double wv = levels[x] < levelCount ? rowDepth[levels[x]] : std::nan("");
+        const double target = std::isnan(wv) ? wv : projection.rowTarget(x, wv);
+        ws[x] = std::isfinite(target) ? wv : kNoDepth;
+        xs[x] = target;
       }
-      double* z = view.luma.inverseDepth.data() + size_t(y) * outW;
-      if (oneD.splatting != 0) {
-        const size_t row = size_t(y) * w;
-        if (oneD.splatting == 2) {
+      double* z = view.luma.inverseDepth.data() + size_t(y) * outWidth;
+      if (splatting != 0) {
+        if (splatting == 2) {
           // Within BoundaryGrowth samples of a reference depth edge: the nearest edge on the left,
           // then on the right.
-          const int growth = oneD.boundaryGrowth;
-          const uint8_t* step = view.referenceStep.data() + row;
-          for (int x = 0, last = -1; x < w; ++x) {
+          const uint8_t* step = view.referenceStep.data() + size_t(y) * width;
+          for (int x = 0, last = -1; x < width; ++x) {
             if (step[x]) last = x;
-            nearBoundary[size_t(x)] = last >= 0 && x - last <= growth;
+            nearBoundary[x] = last >= 0 && x - last <= growth;
           }
-          for (int x = w - 1, next = -1; x >= 0; --x) {
+          for (int x = width - 1, next = -1; x >= 0; --x) {
             if (step[x]) next = x;
-            if (next >= 0 && next - x <= growth) nearBoundary[size_t(x)] = 1;
+            if (next >= 0 && next - x <= growth) nearBoundary[x] = 1;
           }
         }
-        for (int x = 0; x + 1 < w; ++x) {
-          const double w0 = ws[size_t(x)], w1 = ws[size_t(x) + 1];
-          if (w0 < 0 || w1 < 0 || std::fabs(w0 - w1) > discontinuity_ ||
-              !(nearBoundary[size_t(x)] || nearBoundary[size_t(x) + 1]))
+        for (int x = 0; x + 1 < width; ++x) {
+          const double w0 = ws[x], w1 = ws[x + 1];
+          if (w0 < 0 || w1 < 0 || std::fabs(w0 - w1) > discontinuity || !(nearBoundary[x] || nearBoundary[x + 1]))
             continue;
-          double x0 = xs[size_t(x)], x1 = xs[size_t(x) + 1], a = w0, b = w1;
+          double x0 = xs[x], x1 = xs[x + 1], a = w0, b = w1;
           if (x1 < x0) {
             std::swap(x0, x1);
             std::swap(a, b);
           }
           int first, last;
-          if (!coveredRange(x0, x1, outW, first, last)) continue;
+          if (!coveredRange(x0, x1, outWidth, first, last)) continue;
           const double span = x1 - x0;
           for (int px = first; px <= last; ++px) {
             const double t = span > 0 ? (px - x0) / span : 0.0;
@@ -380,11 +396,11 @@ void Synthesizer::warpDepthRows(ViewState& view, const Plane& depth) {
         }
       }
       // Every sample also lands as a point, so thin foreground keeps its width.
-      for (int x = 0; x < w; ++x) {
-        if (ws[size_t(x)] < 0) continue;
-        const double px = std::floor(xs[size_t(x)] + 0.5);
-        if (px < 0 || px >= outW) continue;
-        raise(z[size_t(px)], ws[size_t(x)]);
+      for (int x = 0; x < width; ++x) {
+        if (ws[x] < 0) continue;
+        const double px = std::floor(xs[x] + 0.5);
+        if (px < 0 || px >= outWidth) continue;
+        raise(z[size_t(px)], ws[x]);
       }
     }
   });
@@ -448,18 +464,26 @@ void Synthesizer::warpTexture(ViewState& view, const std::vector<const Plane*>& 
   if (parallel_) {
     // Rows map to rows: the look-up stays in row y (as backward() gives v = y).
     parallelRanges(std::min(layer.height, refH), [&](int y0, int y1) {
+      // Local copies of what the loop reads: the edge flags are bytes, and a byte store may alias
+      // anything the loop would otherwise read through a pointer or a capture, reloading it per sample.
+      const ViewProjection projection = view.projection;
+      const SubPixelSampler sampler = sampler_;
+      const int width = layer.width, channels = layer.channels, referenceWidth = refW;
+      double* depth = layer.inverseDepth.data();
+      float* colour[3] = {layer.colour[0].data(), layer.colour[1].data(), layer.colour[2].data()};
+      uint8_t* edgeOut = layer.edge.data();
       for (int y = y0; y < y1; ++y) {
-        const uint8_t* edges = view.referenceEdge.data() + size_t(y) * refW;
-        for (int x = 0; x < layer.width; ++x) {
-          const size_t i = size_t(y) * layer.width + x;
-          if (layer.inverseDepth[i] < 0) continue;
-          const double u = view.projection.rowSource(x, layer.inverseDepth[i]);
-          if (!std::isfinite(u) || u < -0.5 || u > refW - 0.5) {
-            layer.inverseDepth[i] = kNoDepth;
+        const uint8_t* edges = view.referenceEdge.data() + size_t(y) * referenceWidth;
+        for (int x = 0; x < width; ++x) {
+          const size_t i = size_t(y) * width + x;
+          if (depth[i] < 0) continue;
+          const double u = projection.rowSource(x, depth[i]);
+          if (!std::isfinite(u) || u < -0.5 || u > referenceWidth - 0.5) {
+            depth[i] = kNoDepth;
             continue;
           }
-          for (int c = 0; c < layer.channels; ++c) layer.colour[c][i] = sampler_.sampleRow(*planes[size_t(c)], u, y);
-          layer.edge[i] = edges[std::clamp(int(std::floor(u + 0.5)), 0, refW - 1)];
+          for (int c = 0; c < channels; ++c) colour[c][i] = sampler.sampleRow(*planes[size_t(c)], u, y);
+          edgeOut[i] = edges[std::clamp(int(std::floor(u + 0.5)), 0, referenceWidth - 1)];
         }
       }
     });
