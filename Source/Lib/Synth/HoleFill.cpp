@@ -231,17 +231,20 @@ size_t fillHoles(BlendedLayer& layer, const HoleFillOptions& options, HoleFillSc
     inpaint(layer, s.mask, options.inpaintRadius, s.inpainted, s);
     // Three estimates of the background, mixed by weight (2 : 3 : 1 by default) over those that found
     // one; their errors differ, and the mix has a lower error than any of them.
-    for (size_t i = 0; i < n; ++i) {
-      if (!layer.hole[i]) continue;
-      const float directional = s.found[i] ? options.directionalWeight : 0.0f;
-      const float run = s.runFound[i] ? options.rowRunWeight : 0.0f, inpainted = options.inpaintWeight;
-      const float sum = directional + run + inpainted;
-      for (int k = 0; k < layer.channels; ++k)
-        layer.colour[k][i] = sum > 0 ? (directional * s.directional[k][i] + run * s.runs[k][i] + inpainted * s.inpainted[k][i]) / sum
-                                     : s.inpainted[k][i];
-      if (s.found[i]) layer.inverseDepth[i] = s.background[i];
-      else if (s.runFound[i]) layer.inverseDepth[i] = s.runBackground[i];
-    }
+    // Every sample on its own: rows in parallel.
+    parallelRanges(layer.height, [&](int y0, int y1) {
+      for (size_t i = size_t(y0) * layer.width; i < size_t(y1) * layer.width; ++i) {
+        if (!layer.hole[i]) continue;
+        const float directional = s.found[i] ? options.directionalWeight : 0.0f;
+        const float run = s.runFound[i] ? options.rowRunWeight : 0.0f, inpainted = options.inpaintWeight;
+        const float sum = directional + run + inpainted;
+        for (int k = 0; k < layer.channels; ++k)
+          layer.colour[k][i] = sum > 0 ? (directional * s.directional[k][i] + run * s.runs[k][i] + inpainted * s.inpainted[k][i]) / sum
+                                       : s.inpainted[k][i];
+        if (s.found[i]) layer.inverseDepth[i] = s.background[i];
+        else if (s.runFound[i]) layer.inverseDepth[i] = s.runBackground[i];
+      }
+    });
   }
   std::fill(layer.hole.begin(), layer.hole.end(), uint8_t(0));
   return holes;
