@@ -442,15 +442,16 @@ void Synthesizer::flagCrowdedHoles(WarpedLayer& layer) {
       }
     }
   });
+  std::vector<uint8_t>& boxHoles = boxHoleScratch_;  // at most 49
+  boxHoles.resize(size_t(w) * h);
   parallelRanges(h, [&](int rowBegin, int rowEnd) {
     const int width = w, height = h, most = threshold;  // locals: see markReferenceEdges
-    std::vector<int> sums(static_cast<size_t>(width));
-    int* sum = sums.data();
     for (int y = rowBegin; y < rowEnd; ++y) {
-      std::fill(sums.begin(), sums.end(), 0);
+      uint8_t* sum = boxHoles.data() + size_t(y) * width;
+      std::fill(sum, sum + width, uint8_t(0));
       for (int r = std::max(0, y - 3); r < std::min(height, y + 4); ++r) {
         const uint8_t* count = rowHoles.data() + size_t(r) * width;
-        for (int x = 0; x < width; ++x) sum[x] += count[x];
+        for (int x = 0; x < width; ++x) sum[x] = uint8_t(sum[x] + count[x]);
       }
       uint8_t* edge = layer.edge.data() + size_t(y) * width;
       for (int x = 0; x < width; ++x) edge[x] |= uint8_t(sum[x] > most);
@@ -535,10 +536,11 @@ void Synthesizer::removeBoundaryNoise(WarpedLayer& layer) {
 // neither line is closed). A hole open on one side of both lines (a strip along the picture's border
 // that the view cannot see, or a gap next to it) has no surroundings to judge by. `oneSide` is scratch.
 static void farthestNeighbourDepth(const WarpedLayer& layer, std::vector<double>& farthest,
-                                   std::vector<double>& oneSide) {
+                                   std::vector<double>& oneSide, std::vector<double>& columnLast) {
   const int w = layer.width, h = layer.height;
   farthest.assign(size_t(w) * h, HUGE_VAL);
   oneSide.resize(size_t(w) * h);
+  columnLast.resize(size_t(w));  // each column's last valid sample; a thread uses its columns' part
   // Along a row: the nearest valid sample on the left (oneSide), then on the right.
   auto scanRow = [&](int y) {
     const size_t first = size_t(y) * w;
@@ -560,19 +562,20 @@ static void farthestNeighbourDepth(const WarpedLayer& layer, std::vector<double>
     for (int y = y0; y < y1; ++y) scanRow(y);
   });
   parallelRanges(w, [&](int x0, int x1) {
-    std::vector<double> last(size_t(x1 - x0), kNoDepth);
+    double* last = columnLast.data();
+    std::fill(last + x0, last + x1, kNoDepth);
     for (int y = 0; y < h; ++y)
       for (int x = x0; x < x1; ++x) {
         const size_t i = size_t(y) * w + x;
-        if (layer.valid(i)) last[size_t(x - x0)] = layer.inverseDepth[i];
-        else oneSide[i] = last[size_t(x - x0)];
+        if (layer.valid(i)) last[x] = layer.inverseDepth[i];
+        else oneSide[i] = last[x];
       }
-    std::fill(last.begin(), last.end(), kNoDepth);
+    std::fill(last + x0, last + x1, kNoDepth);
     for (int y = h - 1; y >= 0; --y)
       for (int x = x0; x < x1; ++x) {
         const size_t i = size_t(y) * w + x;
-        const double below = last[size_t(x - x0)];
-        if (layer.valid(i)) last[size_t(x - x0)] = layer.inverseDepth[i];
+        const double below = last[x];
+        if (layer.valid(i)) last[x] = layer.inverseDepth[i];
         else if (below >= 0 && oneSide[i] >= 0) farthest[i] = std::min(farthest[i], std::min(below, oneSide[i]));
       }
   });
@@ -607,7 +610,7 @@ void Synthesizer::rejectOccludedInOtherViews() {
   });
   std::vector<double>& farthest = farthestScratch_;
   for (size_t o = 0; o < views_.size(); ++o) {
-    farthestNeighbourDepth(views_[o].luma, farthest, oneSideScratch_);
+    farthestNeighbourDepth(views_[o].luma, farthest, oneSideScratch_, columnLastScratch_);
     for (size_t k = 0; k < views_.size(); ++k) {
       if (k == o) continue;
       const WarpedLayer& self = views_[k].luma;

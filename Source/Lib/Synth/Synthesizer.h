@@ -120,8 +120,8 @@ private:
   HoleFillScratch lumaFill_, chromaFill_;
   std::vector<uint8_t> validCount_, dropScratch_;
   std::vector<std::vector<uint8_t>> rejectScratch_;
-  std::vector<double> farthestScratch_, oneSideScratch_;
-  std::vector<uint8_t> rowHoleScratch_;  // flagCrowdedHoles: holes counted along rows
+  std::vector<double> farthestScratch_, oneSideScratch_, columnLastScratch_;
+  std::vector<uint8_t> rowHoleScratch_, boxHoleScratch_;  // flagCrowdedHoles: holes along rows, in 7x7 boxes
   std::vector<Frame> rgbReferences_;
   Frame rgbOutput_;  // ColorSpace 1: the rounded R, G, B before conversion
   FrameStats stats_;
