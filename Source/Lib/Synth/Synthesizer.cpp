@@ -494,20 +494,29 @@ void Synthesizer::warpTexture(ViewState& view, const std::vector<const Plane*>& 
     return;
   }
   parallelRanges(layer.height, [&](int y0, int y1) {
-  for (int y = y0; y < y1; ++y)
-    for (int x = 0; x < layer.width; ++x) {
-      const size_t i = size_t(y) * layer.width + x;
-      if (layer.inverseDepth[i] < 0) continue;
-      double u, v;
-      if (!view.projection.backward(x, y, layer.inverseDepth[i], u, v) || u < -0.5 || v < -0.5 || u > refW - 0.5 ||
-          v > refH - 0.5) {
-        layer.inverseDepth[i] = kNoDepth;
-        continue;
+    // Locals, as in the 1D branch above.
+    const ViewProjection projection = view.projection;
+    const SubPixelSampler sampler = sampler_;
+    const int width = layer.width, channels = layer.channels, referenceWidth = refW, referenceHeight = refH;
+    double* depth = layer.inverseDepth.data();
+    float* colour[3] = {layer.colour[0].data(), layer.colour[1].data(), layer.colour[2].data()};
+    uint8_t* edgeOut = layer.edge.data();
+    const uint8_t* edges = view.referenceEdge.data();
+    for (int y = y0; y < y1; ++y)
+      for (int x = 0; x < width; ++x) {
+        const size_t i = size_t(y) * width + x;
+        if (depth[i] < 0) continue;
+        double u, v;
+        if (!projection.backward(x, y, depth[i], u, v) || u < -0.5 || v < -0.5 || u > referenceWidth - 0.5 ||
+            v > referenceHeight - 0.5) {
+          depth[i] = kNoDepth;
+          continue;
+        }
+        for (int c = 0; c < channels; ++c) colour[c][i] = sampler.sample(*planes[size_t(c)], u, v);
+        const int eu = std::clamp(int(std::floor(u + 0.5)), 0, referenceWidth - 1);
+        const int ev = std::clamp(int(std::floor(v + 0.5)), 0, referenceHeight - 1);
+        edgeOut[i] = edges[size_t(ev) * referenceWidth + eu];
       }
-      for (int c = 0; c < layer.channels; ++c) layer.colour[c][i] = sampler_.sample(*planes[size_t(c)], u, v);
-      const int eu = std::clamp(int(std::floor(u + 0.5)), 0, refW - 1), ev = std::clamp(int(std::floor(v + 0.5)), 0, refH - 1);
-      layer.edge[i] = view.referenceEdge[size_t(ev) * refW + eu];
-    }
   });
 }
 

@@ -52,6 +52,8 @@ public:
   }
 
 private:
+  static constexpr double kMaxPixelRadius = 1e9;  // projections farther than this from pixel (0, 0) are dropped
+
   int depthType_;
   bool parallel_;
   double rowScale_ = 1, rowOffset_ = 0, rowShift_ = 0;  // parallel: x = rowScale u + rowOffset + rowShift w
@@ -62,5 +64,56 @@ private:
   Vec3 worldRayZ_;       // row 2 of R_ref^-1 K_ref^-1: D_z = worldRayZ . (u, v, 1)
   double centreZ_;       // C_z of the reference camera
 };
+
+// forward() and backward() run for every sample: inline, so that they inline into the warps' loops.
+inline bool ViewProjection::forward(double u, double v, double inverseDepth, double& x, double& y, double& wv) const {
+  if (parallel_) {
+    // DepthType 1 here has the camera z axis along world z (checked by the plan): z_cam = Z - C_z.
+    const double w = depthType_ == 1 ? inverseDepth / (1.0 - centreZ_ * inverseDepth) : inverseDepth;
+    if (!(w >= 0.0) || !std::isfinite(w)) return false;
+    x = rowTarget(u, w);
+    y = v;
+    wv = w;
+    return std::isfinite(x);
+  }
+  double a = 1.0, w = inverseDepth;
+  if (depthType_ == 1) {
+    const double rayZ = worldRayZ_.x * u + worldRayZ_.y * v + worldRayZ_.z;
+    if (rayZ == 0.0) return false;
+    a = (1.0 - w * centreZ_) / rayZ;
+  }
+  if (w < 0.0) {
+    a = -a;
+    w = -w;
+  }
+  if (!(a > 0.0)) return false;  // behind the reference camera (or NaN)
+  const Mat3& m = forwardMatrix_;
+  const double px = a * (m[0][0] * u + m[0][1] * v + m[0][2]) + forwardOffset_.x * w;
+  const double py = a * (m[1][0] * u + m[1][1] * v + m[1][2]) + forwardOffset_.y * w;
+  const double pz = a * (m[2][0] * u + m[2][1] * v + m[2][2]) + forwardOffset_.z * w;
+  // Behind the target camera, never wrapped around to the front; and a point (numerically) on its image
+  // plane projects beyond 1e9 pixels: not drawn either, or its triangles would cover the whole view.
+  if (!(pz > 0.0) || std::fabs(px) > kMaxPixelRadius * pz || std::fabs(py) > kMaxPixelRadius * pz) return false;
+  x = snapPosition(px / pz);
+  y = snapPosition(py / pz);
+  wv = w / pz;
+  return std::isfinite(x) && std::isfinite(y) && std::isfinite(wv);
+}
+
+inline bool ViewProjection::backward(double x, double y, double wv, double& u, double& v) const {
+  if (parallel_) {
+    u = rowSource(x, wv);
+    v = y;
+    return std::isfinite(u);
+  }
+  const Mat3& m = backwardMatrix_;
+  const double qx = m[0][0] * x + m[0][1] * y + m[0][2] + backwardOffset_.x * wv;
+  const double qy = m[1][0] * x + m[1][1] * y + m[1][2] + backwardOffset_.y * wv;
+  const double qz = m[2][0] * x + m[2][1] * y + m[2][2] + backwardOffset_.z * wv;
+  if (!(qz > 0.0) || std::fabs(qx) > kMaxPixelRadius * qz || std::fabs(qy) > kMaxPixelRadius * qz) return false;
+  u = snapPosition(qx / qz);
+  v = snapPosition(qy / qz);
+  return std::isfinite(u) && std::isfinite(v);
+}
 
 }  // namespace vs
