@@ -254,18 +254,25 @@ void Synthesizer::warpDepth(ViewState& view, const Plane& depth) {
   view.warpedY.resize(n);
   view.warpedW.resize(n);
   parallelRanges(h, [&](int y0, int y1) {
+    // Locals: the stores below are doubles, which may alias the projection's and the table's.
+    const ViewProjection projection = view.projection;
+    const double* levelToInverseDepth = view.levelToInverseDepth.data();
+    double* warpedX = view.warpedX.data();
+    double* warpedY = view.warpedY.data();
+    double* warpedW = view.warpedW.data();
+    const int width = w;
     for (int y = y0; y < y1; ++y) {
       const uint16_t* levels = depth.row(y);
-      for (int x = 0; x < w; ++x) {
-        const size_t i = size_t(y) * w + x;
-        view.warpedW[i] = kNoDepth;
-        const double inverseDepth = view.levelToInverseDepth[levels[x]];
+      for (int x = 0; x < width; ++x) {
+        const size_t i = size_t(y) * width + x;
+        warpedW[i] = kNoDepth;
+        const double inverseDepth = levelToInverseDepth[levels[x]];
         if (std::isnan(inverseDepth)) continue;  // declared missing: not warped
         double vx, vy, vw;
-        if (view.projection.forward(x, y, inverseDepth, vx, vy, vw)) {
-          view.warpedX[i] = vx;
-          view.warpedY[i] = vy;
-          view.warpedW[i] = vw;
+        if (projection.forward(x, y, inverseDepth, vx, vy, vw)) {
+          warpedX[i] = vx;
+          warpedY[i] = vy;
+          warpedW[i] = vw;
         }
       }
     }
@@ -647,49 +654,61 @@ void Synthesizer::warpChroma(ViewState& view, const Frame& texture) {
   layer.reset(cw, ch, 2);
   const double tolerance = fillOptions_.depthTolerance;
   parallelRanges(ch, [&](int j0, int j1) {
-  for (int j = j0; j < j1; ++j)
-    for (int i = 0; i < cw; ++i) {
-      // The chroma sample covers a scale x scale block of luma samples; it takes the depth of the
-      // front-most surface there (the mean inverse depth of the block's samples on it).
-      double front = kNoDepth;
-      for (int dy = 0; dy < scale; ++dy)
-        for (int dx = 0; dx < scale; ++dx) {
-          const int x = i * scale + dx, y = j * scale + dy;
-          if (x < luma.width && y < luma.height) front = std::max(front, luma.inverseDepth[size_t(y) * luma.width + x]);
-        }
-      if (front < 0) continue;
-      double sum = 0;
-      int count = 0;
-      uint8_t edge = 0;
-      for (int dy = 0; dy < scale; ++dy)
-        for (int dx = 0; dx < scale; ++dx) {
-          const int x = i * scale + dx, y = j * scale + dy;
-          if (x >= luma.width || y >= luma.height) continue;
-          const size_t k = size_t(y) * luma.width + x;
-          if (luma.inverseDepth[k] >= 0 && front - luma.inverseDepth[k] <= tolerance) {
-            sum += luma.inverseDepth[k];
-            ++count;
-            edge |= luma.edge[k];
+    // Locals, as in warpTexture: the byte and double stores below could alias what the loop reads.
+    const ViewProjection projection = view.projection;
+    const SubPixelSampler sampler = sampler_;
+    const int lumaWidth = luma.width, lumaHeight = luma.height, chromaW = cw, chromaH = ch, block = scale;
+    const double surface = tolerance;
+    const double* lumaDepth = luma.inverseDepth.data();
+    const uint8_t* lumaEdge = luma.edge.data();
+    double* depthOut = layer.inverseDepth.data();
+    uint8_t* edgeOut = layer.edge.data();
+    float* u0 = layer.colour[0].data();
+    float* v0 = layer.colour[1].data();
+    const bool rows = parallel_;
+    for (int j = j0; j < j1; ++j)
+      for (int i = 0; i < chromaW; ++i) {
+        // The chroma sample covers a block x block square of luma samples; it takes the depth of the
+        // front-most surface there (the mean inverse depth of the block's samples on it).
+        double front = kNoDepth;
+        for (int dy = 0; dy < block; ++dy)
+          for (int dx = 0; dx < block; ++dx) {
+            const int x = i * block + dx, y = j * block + dy;
+            if (x < lumaWidth && y < lumaHeight) front = std::max(front, lumaDepth[size_t(y) * lumaWidth + x]);
           }
+        if (front < 0) continue;
+        double sum = 0;
+        int count = 0;
+        uint8_t edge = 0;
+        for (int dy = 0; dy < block; ++dy)
+          for (int dx = 0; dx < block; ++dx) {
+            const int x = i * block + dx, y = j * block + dy;
+            if (x >= lumaWidth || y >= lumaHeight) continue;
+            const size_t k = size_t(y) * lumaWidth + x;
+            if (lumaDepth[k] >= 0 && front - lumaDepth[k] <= surface) {
+              sum += lumaDepth[k];
+              ++count;
+              edge |= lumaEdge[k];
+            }
+          }
+        const double inverseDepth = sum / count;
+        // Chroma sample centres sit in the middle of their luma block (doc/formats-yuv.md).
+        const double offset = 0.5 * (block - 1);
+        double u, v;
+        if (!projection.backward(i * block + offset, j * block + offset, inverseDepth, u, v)) continue;
+        const double cu = (u - offset) / block, cv = (v - offset) / block;
+        if (cu < -1.0 || cv < -1.0 || cu > chromaW || cv > chromaH) continue;
+        const size_t c = size_t(j) * chromaW + i;
+        depthOut[c] = inverseDepth;
+        edgeOut[c] = edge;
+        if (rows) {  // cv is the integer j: rows map to rows
+          u0[c] = sampler.sampleRow(texture.planes[1], cu, j);
+          v0[c] = sampler.sampleRow(texture.planes[2], cu, j);
+        } else {
+          u0[c] = sampler.sample(texture.planes[1], cu, cv);
+          v0[c] = sampler.sample(texture.planes[2], cu, cv);
         }
-      const double inverseDepth = sum / count;
-      // Chroma sample centres sit in the middle of their luma block (doc/formats-yuv.md).
-      const double offset = 0.5 * (scale - 1);
-      double u, v;
-      if (!view.projection.backward(i * scale + offset, j * scale + offset, inverseDepth, u, v)) continue;
-      const double cu = (u - offset) / scale, cv = (v - offset) / scale;
-      if (cu < -1.0 || cv < -1.0 || cu > cw || cv > ch) continue;
-      const size_t c = size_t(j) * cw + i;
-      layer.inverseDepth[c] = inverseDepth;
-      layer.edge[c] = edge;
-      if (parallel_) {  // cv is the integer j: rows map to rows
-        layer.colour[0][c] = sampler_.sampleRow(texture.planes[1], cu, j);
-        layer.colour[1][c] = sampler_.sampleRow(texture.planes[2], cu, j);
-      } else {
-        layer.colour[0][c] = sampler_.sample(texture.planes[1], cu, cv);
-        layer.colour[1][c] = sampler_.sample(texture.planes[2], cu, cv);
       }
-    }
   });
 }
 
