@@ -33,7 +33,7 @@ SubPixelSampler::SubPixelSampler(int precision, int filter) : precision_(precisi
     taps_ = 6;
     first_ = -2;
   }
-  kernels_.assign(size_t(precision) * size_t(taps_), 0.0f);
+  kernels_.fill(0.0f);  // precision * taps_ <= 24 (checked above)
   for (int phase = 0; phase < precision; ++phase) {
     const double f = double(phase) / precision;
     float* k = &kernels_[size_t(phase) * size_t(taps_)];

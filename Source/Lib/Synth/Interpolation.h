@@ -10,8 +10,8 @@
 // Every kernel is exactly (0, ..., 1, ..., 0) at phase 0, so integer positions return the sample
 // itself. Positions outside the plane read the nearest edge sample (never outside the buffer).
 #include <algorithm>
+#include <array>
 #include <cmath>
-#include <vector>
 
 #include "Common/Frame.h"
 
@@ -65,7 +65,9 @@ private:
   int precisionShift_;  // log2(precision)
   int taps_;
   int first_;  // offset of the first tap relative to the integer part
-  std::vector<float> kernels_;
+  // Precision 4 x 6 taps at most; a plain array keeps the sampler cheap to copy (the warps copy it
+  // into each thread's locals).
+  std::array<float, 24> kernels_{};
 };
 
 template <int TAPS>

@@ -356,8 +356,12 @@ void Synthesizer::warpDepthRows(ViewState& view, const Plane& depth) {
     const size_t levelCount = view.levelToRowDepth.size();
     const double discontinuity = discontinuity_;
     const int width = w, outWidth = outW, splatting = oneD.splatting, growth = oneD.boundaryGrowth;
-    std::vector<double> xsRow(static_cast<size_t>(width)), wsRow(static_cast<size_t>(width));
-    std::vector<uint8_t> nearRow(static_cast<size_t>(width), 1);
+    // One row's positions, depths and boundary flags, kept per thread between frames.
+    static thread_local std::vector<double> xsRow, wsRow;
+    static thread_local std::vector<uint8_t> nearRow;
+    xsRow.resize(size_t(width));
+    wsRow.resize(size_t(width));
+    nearRow.assign(size_t(width), 1);
     double* xs = xsRow.data();
     double* ws = wsRow.data();
     uint8_t* nearBoundary = nearRow.data();
@@ -831,9 +835,10 @@ void Synthesizer::synthesize(const std::vector<ReferenceFrame>& references, Fram
 
   start = std::chrono::steady_clock::now();
   const bool temporal = parallel_ && scene_.settings.oneD.temporalImprovement;
-  std::vector<uint8_t> lumaHoles, chromaHoles;
+  std::vector<uint8_t>& lumaHoles = lumaHolesScratch_;
+  std::vector<uint8_t>& chromaHoles = chromaHolesScratch_;
   if (temporal) {
-    lumaHoles = blendedLuma_.hole;
+    lumaHoles = blendedLuma_.hole;  // same size every frame: no allocation once grown
     chromaHoles = blendedChroma_.hole;
   }
   fillHoles(blendedLuma_, fillOptions_, &lumaFill_);

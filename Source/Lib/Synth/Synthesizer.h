@@ -128,6 +128,7 @@ private:
   // 1D TemporalImprovementOption: the previous frame's depth, texture luma, holes and filled output.
   std::vector<Plane> previousDepth_, previousLuma_;
   std::vector<uint8_t> previousHoles_, previousChromaHoles_;
+  std::vector<uint8_t> lumaHolesScratch_, chromaHolesScratch_;  // this frame's holes before filling
   BlendedLayer previousFilled_, previousChromaFilled_;
   bool havePrevious_ = false;
 };
