@@ -86,32 +86,43 @@ void blendLayers(const std::vector<const WarpedLayer*>& views, const BlendOption
     planes[k].edge = views[k]->edge.data();
     planes[k].weight = std::max(options.weights[k], 1e-9);
   }
-  const double tolerance = options.depthTolerance;
+  float* outColour[3] = {out.colour[0].data(), out.colour[1].data(), out.colour[2].data()};
+  double* outDepth = out.inverseDepth.data();
+  uint8_t* outHole = out.hole.data();
 
-  // Every sample on its own: rows in parallel.
+  // Every sample on its own: rows in parallel. (Locals throughout: the byte stores to the hole mask
+  // may alias anything the loop would otherwise read through a reference.)
   parallelRanges(height, [&](int rowBegin, int rowEnd) {
+  const ViewPlanes* sources = planes.data();
+  const size_t sourceCount = planes.size();
+  const int channelCount = out.channels, dominantView = dominant;
+  const bool nearestViewOnly = options.nearestViewOnly;
+  const double tolerance = options.depthTolerance;
+  float* const colourOut[3] = {outColour[0], outColour[1], outColour[2]};
+  double* const depthOut = outDepth;
+  uint8_t* const holeOut = outHole;
   for (size_t i = size_t(rowBegin) * width; i < size_t(rowEnd) * width; ++i) {
-    if (dominant >= 0 && planes[size_t(dominant)].depth[i] >= 0.0) {
-      const ViewPlanes& view = planes[size_t(dominant)];
-      for (int c = 0; c < channels; ++c) out.colour[c][i] = view.colour[c][i];
-      out.inverseDepth[i] = view.depth[i];
-      out.hole[i] = 0;
+    if (dominantView >= 0 && sources[size_t(dominantView)].depth[i] >= 0.0) {
+      const ViewPlanes& view = sources[size_t(dominantView)];
+      for (int c = 0; c < channelCount; ++c) colourOut[c][i] = view.colour[c][i];
+      depthOut[i] = view.depth[i];
+      holeOut[i] = 0;
       continue;
     }
     // The nearest surface among the valid views.
     double nearest = kNoDepth;
-    for (size_t k = 0; k < viewCount; ++k)
-      if (planes[k].depth[i] >= 0.0) nearest = std::max(nearest, planes[k].depth[i]);
+    for (size_t k = 0; k < sourceCount; ++k)
+      if (sources[k].depth[i] >= 0.0) nearest = std::max(nearest, sources[k].depth[i]);
     if (nearest < 0.0) continue;  // a hole in every view
     // Views on that surface; clean samples (not on a reference depth edge) are preferred.
     bool anyClean = false;
-    for (size_t k = 0; k < viewCount; ++k)
-      if (planes[k].depth[i] >= 0.0 && nearest - planes[k].depth[i] <= tolerance && !planes[k].edge[i]) anyClean = true;
+    for (size_t k = 0; k < sourceCount; ++k)
+      if (sources[k].depth[i] >= 0.0 && nearest - sources[k].depth[i] <= tolerance && !sources[k].edge[i]) anyClean = true;
     double weightSum = 0, depthSum = 0, best = -1;
     float colourSum[3] = {0, 0, 0};
     int bestView = -1;
-    for (size_t k = 0; k < viewCount; ++k) {
-      const ViewPlanes& view = planes[k];
+    for (size_t k = 0; k < sourceCount; ++k) {
+      const ViewPlanes& view = sources[k];
       const double depth = view.depth[i];
       if (!(depth >= 0.0) || nearest - depth > tolerance) continue;
       if (anyClean && view.edge[i]) continue;
@@ -122,18 +133,18 @@ void blendLayers(const std::vector<const WarpedLayer*>& views, const BlendOption
       }
       weightSum += w;
       depthSum += w * depth;
-      for (int c = 0; c < channels; ++c) colourSum[c] += float(w) * view.colour[c][i];
+      for (int c = 0; c < channelCount; ++c) colourSum[c] += float(w) * view.colour[c][i];
     }
     VS_CHECK(bestView >= 0);
-    if (options.nearestViewOnly) {
-      const ViewPlanes& view = planes[size_t(bestView)];
-      for (int c = 0; c < channels; ++c) out.colour[c][i] = view.colour[c][i];
-      out.inverseDepth[i] = view.depth[i];
+    if (nearestViewOnly) {
+      const ViewPlanes& view = sources[size_t(bestView)];
+      for (int c = 0; c < channelCount; ++c) colourOut[c][i] = view.colour[c][i];
+      depthOut[i] = view.depth[i];
     } else {
-      for (int c = 0; c < channels; ++c) out.colour[c][i] = float(colourSum[c] / weightSum);
-      out.inverseDepth[i] = depthSum / weightSum;
+      for (int c = 0; c < channelCount; ++c) colourOut[c][i] = float(colourSum[c] / weightSum);
+      depthOut[i] = depthSum / weightSum;
     }
-    out.hole[i] = 0;
+    holeOut[i] = 0;
   }
   });
 }
