@@ -16,6 +16,7 @@ Exits 77 (CTest SKIP_RETURN_CODE) when python3-matplotlib or python3-numpy is mi
 import argparse
 import csv
 import json
+import os
 import shutil
 import subprocess
 import sys
@@ -39,7 +40,11 @@ def check(condition, message):
 def run_runner(experiment, work, extra=()):
     cmd = [sys.executable, str(REPO / "scripts" / "experiment.py"), str(experiment), "-j", "2", "--work", str(work),
            "--bin", str(BIN)] + list(extra)
-    proc = subprocess.run(cmd, capture_output=True, text=True)
+    # The experiment names its own generated data folder; VS_DATA_DIR, which points the other tests
+    # at the real data sets, would take precedence over it (experiment.py: --data, then VS_DATA_DIR,
+    # then the file's "data"), so the runner gets an environment without it.
+    env = {k: v for k, v in os.environ.items() if k != "VS_DATA_DIR"}
+    proc = subprocess.run(cmd, capture_output=True, text=True, env=env)
     print("$ " + " ".join(cmd))
     print(proc.stdout + proc.stderr)
     return proc
