@@ -185,22 +185,30 @@ void inpaint(BlendedLayer& layer, std::vector<uint8_t>& mask, int radius, std::v
   const int groupCount = cv::connectedComponentsWithStats(grown, groups, stats, centroids, 8, CV_32S);
   // Every mask sample is in one group and is written below; nothing reads the others.
   for (int k = 0; k < layer.channels; ++k) result[k].resize(layer.colour[k].size());
-  // Label 0 is what lies farther than `reach` from every mask sample.
-  parallelRanges(groupCount - 1, [&](int begin, int end) {
+  // Label 0 is what lies farther than `reach` from every mask sample. One task per group and
+  // channel, the largest crops first, so that two threads share the work evenly (the channels of a
+  // group write different planes; each group its own samples).
+  using Task = HoleFillScratch::InpaintTask;
+  std::vector<Task>& tasks = scratch.tasks;
+  tasks.clear();
+  for (int g = 1; g < groupCount; ++g) {
+    const cv::Rect crop(stats.at<int>(g, cv::CC_STAT_LEFT), stats.at<int>(g, cv::CC_STAT_TOP),
+                        stats.at<int>(g, cv::CC_STAT_WIDTH), stats.at<int>(g, cv::CC_STAT_HEIGHT));
+    for (int k = 0; k < layer.channels; ++k) tasks.push_back({g, k, crop});
+  }
+  std::stable_sort(tasks.begin(), tasks.end(), [](const Task& a, const Task& b) { return a.crop.area() > b.crop.area(); });
+  parallelRanges(int(tasks.size()), [&](int begin, int end) {
     cv::Mat groupMask, inpainted;
-    for (int g = begin + 1; g < end + 1; ++g) {
-      const cv::Rect crop(stats.at<int>(g, cv::CC_STAT_LEFT), stats.at<int>(g, cv::CC_STAT_TOP),
-                          stats.at<int>(g, cv::CC_STAT_WIDTH), stats.at<int>(g, cv::CC_STAT_HEIGHT));
+    for (int t = begin; t < end; ++t) {
+      const Task& task = tasks[size_t(t)];
       // The group's mask samples: in the crop, those of other groups are more than 2 reach away.
-      cv::compare(groups(crop), g, groupMask, cv::CMP_EQ);
-      cv::bitwise_and(groupMask, maskMat(crop), groupMask);
-      for (int k = 0; k < layer.channels; ++k) {
-        const cv::Mat channel(layer.height, layer.width, CV_32FC1, layer.colour[k].data());
-        cv::inpaint(channel(crop), groupMask, inpainted, radius, cv::INPAINT_TELEA);
-        VS_CHECK(inpainted.type() == CV_32FC1 && inpainted.size() == crop.size());
-        cv::Mat out(layer.height, layer.width, CV_32FC1, result[k].data());
-        inpainted.copyTo(out(crop), groupMask);  // every mask sample is in one group: one writer
-      }
+      cv::compare(groups(task.crop), task.group, groupMask, cv::CMP_EQ);
+      cv::bitwise_and(groupMask, maskMat(task.crop), groupMask);
+      const cv::Mat channel(layer.height, layer.width, CV_32FC1, layer.colour[task.channel].data());
+      cv::inpaint(channel(task.crop), groupMask, inpainted, radius, cv::INPAINT_TELEA);
+      VS_CHECK(inpainted.type() == CV_32FC1 && inpainted.size() == task.crop.size());
+      cv::Mat out(layer.height, layer.width, CV_32FC1, result[task.channel].data());
+      inpainted.copyTo(out(task.crop), groupMask);  // every mask sample is in one group: one writer
     }
   });
 }

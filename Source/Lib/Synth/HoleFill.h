@@ -41,6 +41,11 @@ struct HoleFillScratch {
   std::vector<double> background, runBackground;
   std::vector<uint8_t> found, runFound, mask;
   cv::Mat grown, groups;  // the inpainting's groups of holes (HoleFill.cpp)
+  struct InpaintTask {    // one group's crop and one channel to inpaint
+    int group, channel;
+    cv::Rect crop;
+  };
+  std::vector<InpaintTask> tasks;
 };
 
 // Fills every hole of `layer` (hole mask cleared, inverse depth set to the background's where
