@@ -153,18 +153,28 @@ void backgroundOnlyMask(const BlendedLayer& layer, const std::vector<double>& ba
                         std::vector<uint8_t>& mask) {
   const int w = layer.width, h = layer.height;
   mask = layer.hole;
-  for (int y = 0; y < h; ++y)
-    for (int x = 0; x < w; ++x) {
-      const size_t i = size_t(y) * w + x;
-      if (!layer.hole[i] || background[i] == HUGE_VAL) continue;
-      for (int dy = -band; dy <= band; ++dy)
-        for (int dx = -band; dx <= band; ++dx) {
-          const int nx = x + dx, ny = y + dy;
-          if (nx < 0 || ny < 0 || nx >= w || ny >= h) continue;
-          const size_t k = size_t(ny) * w + nx;
-          if (!layer.hole[k] && layer.inverseDepth[k] > background[i] + tolerance) mask[k] = 1;
-        }
-    }
+  // Holes of a block of rows mark samples up to `band` rows outside it. Blocks of at least 2 band + 1
+  // rows, even ones first and then odd ones, in parallel: two blocks marked at once are then far
+  // enough apart that they never write the same row.
+  const int blockRows = std::max(32, 2 * band + 1), blocks = (h + blockRows - 1) / blockRows;
+  for (int parity = 0; parity < 2; ++parity)
+    parallelRanges((blocks + 1 - parity) / 2, [&](int first, int last) {
+      for (int b = first; b < last; ++b) {
+        const int block = 2 * b + parity;
+        for (int y = block * blockRows; y < std::min(h, (block + 1) * blockRows); ++y)
+          for (int x = 0; x < w; ++x) {
+            const size_t i = size_t(y) * w + x;
+            if (!layer.hole[i] || background[i] == HUGE_VAL) continue;
+            for (int dy = -band; dy <= band; ++dy)
+              for (int dx = -band; dx <= band; ++dx) {
+                const int nx = x + dx, ny = y + dy;
+                if (nx < 0 || ny < 0 || nx >= w || ny >= h) continue;
+                const size_t k = size_t(ny) * w + nx;
+                if (!layer.hole[k] && layer.inverseDepth[k] > background[i] + tolerance) mask[k] = 1;
+              }
+          }
+      }
+    });
 }
 
 // Telea's inpainting of a mask sample reads colours within `radius` of it and arrival times one
