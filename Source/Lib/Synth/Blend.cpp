@@ -86,9 +86,6 @@ void blendLayers(const std::vector<const WarpedLayer*>& views, const BlendOption
     planes[k].edge = views[k]->edge.data();
     planes[k].weight = std::max(options.weights[k], 1e-9);
   }
-  float* outColour[3] = {out.colour[0].data(), out.colour[1].data(), out.colour[2].data()};
-  double* outDepth = out.inverseDepth.data();
-  uint8_t* outHole = out.hole.data();
 
   // Every sample on its own: rows in parallel. (Locals throughout: the byte stores to the hole mask
   // may alias anything the loop would otherwise read through a reference.)
@@ -98,9 +95,9 @@ void blendLayers(const std::vector<const WarpedLayer*>& views, const BlendOption
   const int channelCount = out.channels, dominantView = dominant;
   const bool nearestViewOnly = options.nearestViewOnly;
   const double tolerance = options.depthTolerance;
-  float* const colourOut[3] = {outColour[0], outColour[1], outColour[2]};
-  double* const depthOut = outDepth;
-  uint8_t* const holeOut = outHole;
+  float* const colourOut[3] = {out.colour[0].data(), out.colour[1].data(), out.colour[2].data()};
+  double* const depthOut = out.inverseDepth.data();
+  uint8_t* const holeOut = out.hole.data();
   for (size_t i = size_t(rowBegin) * width; i < size_t(rowEnd) * width; ++i) {
     if (dominantView >= 0 && sources[size_t(dominantView)].depth[i] >= 0.0) {
       const ViewPlanes& view = sources[size_t(dominantView)];

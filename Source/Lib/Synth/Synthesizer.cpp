@@ -667,8 +667,8 @@ void Synthesizer::warpChroma(ViewState& view, const Frame& texture) {
     const uint8_t* lumaEdge = luma.edge.data();
     double* depthOut = layer.inverseDepth.data();
     uint8_t* edgeOut = layer.edge.data();
-    float* u0 = layer.colour[0].data();
-    float* v0 = layer.colour[1].data();
+    float* uOut = layer.colour[0].data();
+    float* vOut = layer.colour[1].data();
     const bool rows = parallel_;
     for (int j = j0; j < j1; ++j)
       for (int i = 0; i < chromaW; ++i) {
@@ -706,11 +706,11 @@ void Synthesizer::warpChroma(ViewState& view, const Frame& texture) {
         depthOut[c] = inverseDepth;
         edgeOut[c] = edge;
         if (rows) {  // cv is the integer j: rows map to rows
-          u0[c] = sampler.sampleRow(texture.planes[1], cu, j);
-          v0[c] = sampler.sampleRow(texture.planes[2], cu, j);
+          uOut[c] = sampler.sampleRow(texture.planes[1], cu, j);
+          vOut[c] = sampler.sampleRow(texture.planes[2], cu, j);
         } else {
-          u0[c] = sampler.sample(texture.planes[1], cu, cv);
-          v0[c] = sampler.sample(texture.planes[2], cu, cv);
+          uOut[c] = sampler.sample(texture.planes[1], cu, cv);
+          vOut[c] = sampler.sample(texture.planes[2], cu, cv);
         }
       }
   });
