@@ -1,0 +1,346 @@
+#include "Synth/Telea.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <functional>
+
+namespace vs {
+namespace {
+
+// Sample states, as OpenCV names them: known, on the marching front, not reached yet; `kChanged`
+// marks what the outward march has passed.
+constexpr uint8_t kKnown = 0, kBand = 1, kInside = 2, kChanged = 3;
+
+// Arrival time at a sample from two of its neighbours (one vertical, one horizontal): the
+// first-order upwind solution of |grad T| = 1, in double, rounded to float at the end.
+inline float solve(const uint8_t* flags, const float* time, size_t a, size_t b) {
+  const double ta = time[a], tb = time[b], lower = ta > tb ? tb : ta;
+  double t;
+  if (flags[a] != kInside) {
+    if (flags[b] != kInside)
+      t = std::fabs(ta - tb) >= 1.0 ? 1 + lower : (ta + tb + std::sqrt(2 - (ta - tb) * (ta - tb))) * 0.5;
+    else
+      t = 1 + ta;
+  } else {
+    t = flags[b] != kInside ? 1 + tb : 1 + lower;
+  }
+  return float(t);
+}
+
+inline float smaller(float a, float b) { return a > b ? b : a; }
+
+// The arrival time at sample `s` of a grid `cols` wide: the least over its four pairs of neighbours.
+inline float arrival(const uint8_t* flags, const float* time, size_t s, size_t cols) {
+  const size_t up = s - cols, down = s + cols, left = s - 1, right = s + 1;
+  return smaller(smaller(solve(flags, time, up, left), solve(flags, time, down, left)),
+                 smaller(solve(flags, time, up, right), solve(flags, time, down, right)));
+}
+
+// A binary heap that gives what OpenCV's sorted list gives: the least time first, equal times in
+// the order they were pushed. Times are never negative, so a time's float bits, followed by the push
+// count, order as one 64-bit key; the heap holds keys and the grid position of each push is kept by
+// its count.
+class Queue {
+ public:
+  Queue(std::vector<uint64_t>& heap, std::vector<uint32_t>& positions) : heap_(heap), positions_(positions) {
+    heap_.clear();
+    positions_.clear();
+  }
+  bool empty() const { return heap_.empty(); }
+  void push(size_t position, float time) {
+    uint32_t bits;
+    std::memcpy(&bits, &time, sizeof bits);
+    heap_.push_back(uint64_t(bits) << 32 | uint32_t(positions_.size()));
+    positions_.push_back(uint32_t(position));
+    std::push_heap(heap_.begin(), heap_.end(), std::greater<uint64_t>());
+  }
+  size_t pop() {
+    std::pop_heap(heap_.begin(), heap_.end(), std::greater<uint64_t>());
+    const uint64_t key = heap_.back();
+    heap_.pop_back();
+    return positions_[uint32_t(key)];
+  }
+
+ private:
+  std::vector<uint64_t>& heap_;
+  std::vector<uint32_t>& positions_;
+};
+
+// Takes samples off the queue in order, marks each `poppedState` and calls visit(s, row, col) for
+// each of its 4-neighbours (up, left, down, right, OpenCV's order) that is still kInside, within
+// rows 1..lastRow and columns 1..lastCol (OpenCV's bounds differ between its two marches).
+template <class Visit>
+void march(Queue& queue, std::vector<uint8_t>& flags, uint8_t poppedState, int cols, int lastRow, int lastCol,
+           const Visit& visit) {
+  const int dRow[4] = {-1, 0, 1, 0}, dCol[4] = {0, -1, 0, 1};
+  while (!queue.empty()) {
+    const size_t popped = queue.pop();
+    const int row = int(popped / size_t(cols)), col = int(popped % size_t(cols));
+    flags[popped] = poppedState;
+    for (int q = 0; q < 4; ++q) {
+      const int r = row + dRow[q], c = col + dCol[q];
+      if (r <= 0 || c <= 0 || r > lastRow || c > lastCol) continue;
+      const size_t s = size_t(r) * cols + c;
+      if (flags[s] == kInside) visit(s, r, c);
+    }
+  }
+}
+
+// Four float lanes (the planes of one sample), computed lane by lane exactly as scalar floats are.
+typedef float Lanes __attribute__((vector_size(16)));
+typedef int32_t LaneMask __attribute__((vector_size(16)));
+
+inline Lanes load(const float* p) {
+  Lanes v;
+  std::memcpy(&v, p, sizeof v);
+  return v;
+}
+inline LaneMask every(bool yes) { return LaneMask{} - int32_t(yes); }
+// `yes ? a : b` lane by lane without a branch: the conditions follow the mask's shape, which no
+// branch predictor guesses.
+inline Lanes pick(LaneMask yes, Lanes a, Lanes b) { return Lanes((LaneMask(a) & yes) | (LaneMask(b) & ~yes)); }
+
+using Offset = TeleaOffset;
+
+// For each combination of a neighbour's four neighbours being known (bit 0 right, 1 left, 2 below,
+// 3 above): which of them a colour gradient reads, and whether it is a doubled central difference.
+struct GradientRule {
+  LaneMask right, left, below, above;
+  float scaleX, scaleY;
+};
+struct GradientRules {
+  GradientRule rule[16];
+  GradientRules() {
+    for (int bits = 0; bits < 16; ++bits) {
+      const bool r = bits & 1, l = bits & 2, b = bits & 4, a = bits & 8;
+      rule[bits] = {every(r), every(l), every(b), every(a), 1.0f + float(r && l), 1.0f + float(b && a)};
+    }
+  }
+};
+const GradientRules kGradientRules;
+
+// The sums of one sample's neighbours, four planes at once, when the whole neighbourhood, and a
+// sample around each neighbour, lies inside the picture (none of OpenCV's edge rules applies).
+// `centre` points at the sample's first plane and `flagCentre`, `timeCentre` at its grid entries;
+// `known` lists the neighbours that are not still to be filled (OpenCV skips those), in OpenCV's order.
+void interiorSums(const float* centre, ptrdiff_t rowStep, const uint8_t* flagCentre, const float* timeCentre,
+                  ptrdiff_t cols, float time, float gradTx, float gradTy, const Offset* offsets,
+                  const ptrdiff_t* gridOffset, const ptrdiff_t* sampleOffset, const uint16_t* known, size_t count,
+                  Lanes& ia, Lanes& jx, Lanes& jy, float& sum) {
+  Lanes a = {}, x = {}, y = {};
+  float s = sum;
+  for (size_t e = 0; e < count; ++e) {
+    const size_t m = known[e];
+    const ptrdiff_t g = gridOffset[m];
+    const Offset& o = offsets[m];
+    // 1 / (1 + |dT|) in float is OpenCV's double quotient rounded to float: a double has more than
+    // twice float's bits. 0.01f is the largest float <= 0.01.
+    const float level = 1.0f / (1.0f + std::fabs(timeCentre[g] - time));
+    float dir = o.rx * gradTx + o.ry * gradTy;
+    if (std::fabs(dir) <= 0.01f) dir = 0.000001f;
+    const float w = std::fabs(o.distance * level * dir);
+    const uint8_t* fn = flagCentre + g;
+    const GradientRule& rule = kGradientRules.rule[(fn[1] != kInside) | (fn[-1] != kInside) << 1 |
+                                                   (fn[cols] != kInside) << 2 | (fn[-cols] != kInside) << 3];
+    const float* q = centre + sampleOffset[m];
+    const Lanes c = load(q);
+    const Lanes gx = (pick(rule.right, load(q + 4), c) - pick(rule.left, load(q - 4), c)) * rule.scaleX;
+    const Lanes gy = (pick(rule.below, load(q + rowStep), c) - pick(rule.above, load(q - rowStep), c)) * rule.scaleY;
+    a += w * c;
+    x -= w * (gx * o.rx);
+    y -= w * (gy * o.ry);
+    s += w;
+  }
+  ia = a;
+  jx = x;
+  jy = y;
+  sum = s;
+}
+
+}  // namespace
+
+void teleaInpaint(const uint8_t* mask, size_t maskStride, int width, int height, float* samples,
+                  size_t rowStride, double radius, TeleaScratch& scratch) {
+  if (width <= 0 || height <= 0) return;
+  const int range = std::min(std::max(int(std::lrint(radius)), 1), 100);
+  // Grids one sample wider on every side (row and column 0 and the last ones are a border).
+  const int rows = height + 2, cols = width + 2;
+  const size_t n = size_t(rows) * cols;
+  std::vector<uint8_t>& flags = scratch.flags;
+  std::vector<uint8_t>& outer = scratch.outer;
+  std::vector<float>& time = scratch.time;
+  flags.assign(n, kKnown);
+  bool any = false;
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < width; ++x)
+      if (mask[size_t(y) * maskStride + x]) {
+        flags[size_t(y + 1) * cols + x + 1] = kInside;
+        any = true;
+      }
+  if (!any) return;
+  auto at = [cols](int r, int c) { return size_t(r) * cols + c; };
+  auto interior = [rows, cols](int r, int c) { return r > 0 && c > 0 && r < rows - 1 && c < cols - 1; };
+
+  // The band: known interior samples beside (4-neighbours) a mask sample. Time 0.
+  time.assign(n, 1.0e6f);
+  outer.assign(n, kKnown);
+  auto inBand = [&](int r, int c) {
+    const size_t s = at(r, c);
+    if (flags[s] == kInside || !interior(r, c)) return false;
+    return (r > 0 && flags[s - cols] == kInside) || (r < rows - 1 && flags[s + cols] == kInside) ||
+           (c > 0 && flags[s - 1] == kInside) || (c < cols - 1 && flags[s + 1] == kInside);
+  };
+  // The outer ring: known interior samples within `range` (Chebyshev) of a mask sample, band left
+  // out. Row-wise then column-wise counts of mask samples in the window.
+  {
+    std::vector<int>& rowCount = scratch.rowCount;  // mask samples within range along the row
+    rowCount.resize(n);
+    for (int r = 0; r < rows; ++r) {
+      int count = 0;
+      const size_t base = at(r, 0);
+      for (int c = 0; c < std::min(range, cols); ++c) count += flags[base + c] == kInside;
+      for (int c = 0; c < cols; ++c) {
+        if (c + range < cols) count += flags[base + c + range] == kInside;
+        rowCount[base + c] = count;
+        if (c - range >= 0) count -= flags[base + c - range] == kInside;
+      }
+    }
+    for (int c = 0; c < cols; ++c) {
+      int count = 0;
+      for (int r = 0; r < std::min(range, rows); ++r) count += rowCount[at(r, c)] > 0;
+      for (int r = 0; r < rows; ++r) {
+        if (r + range < rows) count += rowCount[at(r + range, c)] > 0;
+        const size_t s = at(r, c);
+        if (count > 0 && interior(r, c) && flags[s] != kInside) outer[s] = kInside;
+        if (r - range >= 0) count -= rowCount[at(r - range, c)] > 0;
+      }
+    }
+  }
+  Queue queue(scratch.queue, scratch.positions);
+  for (int r = 1; r < rows - 1; ++r)
+    for (int c = 1; c < cols - 1; ++c)
+      if (inBand(r, c)) {
+        time[at(r, c)] = 0;
+        outer[at(r, c)] = kKnown;
+        queue.push(at(r, c), 0);
+      }
+
+  // Outward march over the outer ring from the band; what it passes gets the negated time.
+  march(queue, outer, kChanged, cols, rows, cols, [&](size_t s, int, int) {
+    const float t = arrival(outer.data(), time.data(), s, size_t(cols));
+    time[s] = t;
+    outer[s] = kBand;
+    queue.push(s, t);
+  });
+  for (size_t s = 0; s < n; ++s)
+    if (outer[s] == kChanged) time[s] = -time[s];
+
+  // The neighbours within the radius, in OpenCV's order (row by row).
+  std::vector<Offset>& offsets = scratch.offsets;
+  std::vector<ptrdiff_t>& gridOffset = scratch.gridOffset;
+  std::vector<ptrdiff_t>& sampleOffset = scratch.sampleOffset;
+  offsets.clear();
+  gridOffset.clear();
+  sampleOffset.clear();
+  const ptrdiff_t rowStep = ptrdiff_t(rowStride) * 4;  // floats per picture row
+  for (int dr = -range; dr <= range; ++dr)
+    for (int dc = -range; dc <= range; ++dc) {
+      if (dr * dr + dc * dc > range * range || (dr == 0 && dc == 0)) continue;
+      const float ry = float(-dr), rx = float(-dc);
+      const float length = rx * rx + ry * ry;
+      offsets.push_back({dr, dc, rx, ry, float(1. / (length * std::sqrt(length)))});
+      gridOffset.push_back(ptrdiff_t(dr) * cols + dc);
+      sampleOffset.push_back(ptrdiff_t(dr) * rowStep + ptrdiff_t(dc) * 4);
+    }
+  const size_t offsetCount = offsets.size();
+  std::vector<uint16_t>& known = scratch.known;
+  known.resize(offsetCount);
+
+  // Inward march from the band, filling each sample as it is reached. The picture is OpenCV's `out`,
+  // which has no border: sample (r, c) of a grid is (r - 1, c - 1) there.
+  for (int r = 1; r < rows - 1; ++r)
+    for (int c = 1; c < cols - 1; ++c)
+      if (inBand(r, c)) queue.push(at(r, c), 0);
+  const uint8_t* f = flags.data();
+  const float* tm = time.data();
+  // Within the picture, OpenCV's edge rules read only picture samples; clamping keeps a picture one
+  // sample high or wide (where OpenCV reads outside its image) inside ours.
+  auto value = [&](int row, int col, int lane) {
+    row = std::min(std::max(row, 0), height - 1);
+    col = std::min(std::max(col, 0), width - 1);
+    return samples[(size_t(row) * rowStride + col) * 4 + lane];
+  };
+  march(queue, flags, kKnown, cols, rows - 1, cols - 1, [&](size_t s, int i, int j) {
+    const float t = arrival(f, tm, s, size_t(cols));
+    time[s] = t;
+    float gradTx, gradTy;
+    if (f[s + 1] != kInside)
+      gradTx = f[s - 1] != kInside ? float(tm[s + 1] - tm[s - 1]) * 0.5f : float(tm[s + 1] - tm[s]);
+    else
+      gradTx = f[s - 1] != kInside ? float(tm[s] - tm[s - 1]) : 0.0f;
+    if (f[s + cols] != kInside)
+      gradTy = f[s - cols] != kInside ? float(tm[s + cols] - tm[s - cols]) * 0.5f : float(tm[s + cols] - tm[s]);
+    else
+      gradTy = f[s - cols] != kInside ? float(tm[s] - tm[s - cols]) : 0.0f;
+    float* centre = samples + (size_t(i - 1) * rowStride + (j - 1)) * 4;
+    float ia[4], jx[4], jy[4], sum = 1.0e-20f;
+    if (i - range >= 2 && i + range <= rows - 3 && j - range >= 2 && j + range <= cols - 3) {
+      // Away from the grid's edges: the neighbours that are known, then their sums.
+      const uint8_t* fc = f + s;
+      size_t knownCount = 0;
+      for (size_t m = 0; m < offsetCount; ++m) {
+        known[knownCount] = uint16_t(m);
+        knownCount += fc[gridOffset[m]] != kInside;
+      }
+      Lanes a, x, y;
+      interiorSums(centre, rowStep, fc, tm + s, cols, t, gradTx, gradTy, offsets.data(), gridOffset.data(),
+                   sampleOffset.data(), known.data(), knownCount, a, x, y, sum);
+      for (int p = 0; p < 4; ++p) {
+        ia[p] = a[p];
+        jx[p] = x[p];
+        jy[p] = y[p];
+      }
+    } else {
+      for (int p = 0; p < 4; ++p) ia[p] = jx[p] = jy[p] = 0;
+      for (const Offset& o : offsets) {
+        const int k = i + o.dRow, l = j + o.dCol;
+        if (!interior(k, l)) continue;
+        const size_t sn = at(k, l);
+        if (f[sn] == kInside) continue;
+        const float level = float(1. / (1 + std::fabs(tm[sn] - t)));
+        float dir = o.rx * gradTx + o.ry * gradTy;
+        if (std::fabs(dir) <= 0.01) dir = 0.000001f;
+        const float w = std::fabs(o.distance * level * dir);
+        // OpenCV's picture rows and columns for the neighbour: the first row or column reads
+        // the second; the last ones stay in the picture.
+        const int km = k - 1 + (k == 1), kp = k - 1 - (k == rows - 2);
+        const int lm = l - 1 + (l == 1), lp = l - 1 - (l == cols - 2);
+        const bool right = f[sn + 1] != kInside, left = f[sn - 1] != kInside;
+        const bool below = f[sn + cols] != kInside, above = f[sn - cols] != kInside;
+        for (int p = 0; p < 4; ++p) {
+          auto px = [&](int row, int col) { return value(row, col, p); };
+          float gradIx, gradIy;
+          if (right)
+            gradIx = left ? float(px(km, lp + 1) - px(km, lm - 1)) * 2.0f : float(px(km, lp + 1) - px(km, lm));
+          else
+            gradIx = left ? float(px(km, lp) - px(km, lm - 1)) : 0.0f;
+          if (below)
+            gradIy = above ? float(px(kp + 1, lm) - px(km - 1, lm)) * 2.0f : float(px(kp + 1, lm) - px(km, lm));
+          else
+            gradIy = above ? float(px(kp, lm) - px(km - 1, lm)) : 0.0f;
+          ia[p] += w * px(km, lm);
+          jx[p] -= w * (gradIx * o.rx);
+          jy[p] -= w * (gradIy * o.ry);
+        }
+        sum += w;
+      }
+    }
+    for (int p = 0; p < 4; ++p)
+      centre[p] = float(ia[p] / sum + (jx[p] + jy[p]) / (std::sqrt(jx[p] * jx[p] + jy[p] * jy[p]) + 1.0e-20f) + 0.5f);
+    flags[s] = kBand;
+    queue.push(s, t);
+  });
+}
+
+}  // namespace vs

@@ -1,0 +1,52 @@
+#pragma once
+// Telea's fast-marching inpainting (A. Telea, "An image inpainting technique based on the fast
+// marching method", J. Graphics Tools 9(1), 2004), computing exactly what OpenCV 4's
+// cv::inpaint(src, mask, dst, radius, cv::INPAINT_TELEA) computes for a CV_32FC1 image, bit for bit,
+// for several planes in one march (doc/algorithms.md, "Hole filling"):
+//   - the same arrival times: a march outwards over the known samples within `radius` of the mask
+//     (their times are negative), then the inward march that fills;
+//   - the same order: samples leave the queue by arrival time, equal times in the order they entered
+//     (OpenCV's queue is a sorted list whose every insert walks it; here a binary heap gives the same
+//     order at a logarithmic cost);
+//   - the same float and double arithmetic, expression by expression, and the same quirks: a
+//     neighbour in the picture's first row or column reads its colour from the second, a central
+//     difference of colour is doubled, and 0.5 is added to every filled value (meant for rounding
+//     to 8 bits, kept for floats);
+//   - the weights of a neighbour depend only on the mask and the arrival times, so one march serves
+//     every plane: each plane's sums are accumulated in OpenCV's order.
+// Test/Unit/TeleaTest.cpp compares it with cv::inpaint on random pictures and masks.
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+namespace vs {
+
+// A neighbour within the radius: its offset, its position relative to the centre as OpenCV's
+// r = centre - neighbour, and the distance weight 1 / |r|^3.
+struct TeleaOffset {
+  int dRow, dCol;
+  float rx, ry, distance;
+};
+
+// Reused working memory of teleaInpaint (one per thread).
+struct TeleaScratch {
+  std::vector<uint8_t> flags, outer;
+  std::vector<float> time;
+  std::vector<int> rowCount;
+  std::vector<uint64_t> queue;     // arrival time and push count
+  std::vector<uint32_t> positions;  // grid position of each push
+  std::vector<TeleaOffset> offsets;
+  std::vector<ptrdiff_t> gridOffset, sampleOffset;
+  std::vector<uint16_t> known;
+};
+
+// Inpaints, in place, four float planes of width x height, interleaved: sample (row, col) of plane p
+// is samples[(row * rowStride + col) * 4 + p]. The planes are filled where `mask` (row stride
+// `maskStride` bytes) is non-zero, each as cv::inpaint would fill it alone (the planes are computed side by
+// side, lane by lane: a plane not needed can hold zeros). `radius` as cv::inpaint's (rounded,
+// clamped to 1..100). A picture one sample high or wide, where OpenCV reads outside its image, is
+// filled from its own samples.
+void teleaInpaint(const uint8_t* mask, size_t maskStride, int width, int height, float* samples, size_t rowStride,
+                  double radius, TeleaScratch& scratch);
+
+}  // namespace vs
