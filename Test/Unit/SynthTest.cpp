@@ -463,25 +463,28 @@ TEST(SubPixelSampler, RowSamplingEqualsTwoDimensionalSamplingOnWholeRows) {
     }
 }
 
-// fillHoles inpaints groups of holes apart, each in a crop (HoleFill.cpp): the result must be exactly
-// OpenCV's inpainting of the whole picture, also with groups just far enough apart to be split,
-// groups next to the picture's border and one large hole.
+// fillHoles inpaints groups of holes apart, each in a crop (HoleFill.cpp), all channels in one march
+// (Synth/Telea.h): the result must be exactly OpenCV's inpainting of the whole picture, channel by
+// channel, also with groups just far enough apart to be split, groups next to the picture's border
+// and one large hole, for several radii.
 TEST(HoleFill, InpaintingGroupByGroupEqualsInpaintingTheWholePicture) {
   const int w = 160, h = 96;
   std::mt19937 random(7);
   std::uniform_real_distribution<float> colour(0.0f, 255.0f);
-  for (int trial = 0; trial < 4; ++trial) {
+  const int radii[] = {3, 1, 2, 5, 3, 8};
+  for (int trial = 0; trial < 6; ++trial) {
+    const int radius = radii[trial], channels = 1 + trial % 3;
     BlendedLayer layer;
-    layer.reset(w, h, 2);
+    layer.reset(w, h, channels);
     for (size_t i = 0; i < layer.hole.size(); ++i) {
       layer.hole[i] = 0;
       layer.inverseDepth[i] = 0.01;
-      for (int c = 0; c < 2; ++c) layer.colour[c][i] = colour(random);
+      for (int c = 0; c < channels; ++c) layer.colour[c][i] = colour(random);
     }
     auto hole = [&](int x, int y) {
       if (x >= 0 && y >= 0 && x < w && y < h) layer.hole[size_t(y) * w + x] = 1;
     };
-    std::uniform_int_distribution<int> px(-3, w + 2), py(-3, h + 2), length(1, 14 + 10 * trial);
+    std::uniform_int_distribution<int> px(-3, w + 2), py(-3, h + 2), length(1, 14 + 10 * (trial % 4));
     for (int k = 0; k < 40; ++k) {  // slivers, dots and blobs, some across the border
       const int x = px(random), y = py(random), l = length(random);
       for (int t = 0; t < l; ++t) hole(x + (k % 3 == 0 ? t : 0), y + (k % 3 == 1 ? t : 0));
@@ -489,24 +492,65 @@ TEST(HoleFill, InpaintingGroupByGroupEqualsInpaintingTheWholePicture) {
         for (int dy = 0; dy < l / 2; ++dy)
           for (int dx = 0; dx < l / 2; ++dx) hole(x + dx, y + dy);
     }
-    for (int y = 40; y < 60; ++y)  // two holes exactly at and just past the splitting distance
-      for (int x : {20, 20 + 2 * (3 + 2) + 1 + trial % 2}) hole(x, y);
+    for (int y = 40; y < 60; ++y)  // two holes about the splitting distance apart
+      for (int x : {20, 20 + 2 * (radius + 2) + 1 + trial % 2}) hole(x, y);
     std::vector<uint8_t> mask = layer.hole;
     cv::Mat maskMat(h, w, CV_8UC1, mask.data());
-    std::vector<float> expected[2];
-    for (int c = 0; c < 2; ++c) {
+    std::vector<float> expected[3];
+    for (int c = 0; c < channels; ++c) {
       cv::Mat channel(h, w, CV_32FC1, layer.colour[c].data()), inpainted;
-      cv::inpaint(channel, maskMat, inpainted, 3, cv::INPAINT_TELEA);
+      cv::inpaint(channel, maskMat, inpainted, radius, cv::INPAINT_TELEA);
       expected[c].assign(inpainted.ptr<float>(), inpainted.ptr<float>() + size_t(w) * h);
     }
     HoleFillOptions options;
     options.backgroundFirst = false;
-    options.inpaintRadius = 3;
+    options.inpaintRadius = radius;
     ASSERT_GT(fillHoles(layer, options), 0u);
-    for (int c = 0; c < 2; ++c)
+    for (int c = 0; c < channels; ++c)
       for (size_t i = 0; i < expected[c].size(); ++i)
         ASSERT_EQ(layer.colour[c][i], expected[c][i]) << "trial " << trial << " channel " << c << " sample " << i;
   }
+}
+
+// Luma and chroma are filled in one call that shares the inpainting among the threads: each layer
+// must come out exactly as when filled alone, with one thread or two.
+TEST(HoleFill, FillingLayersTogetherEqualsFillingEachAlone) {
+  std::mt19937 random(3);
+  auto makeLayer = [&](int w, int h, int channels) {
+    BlendedLayer layer;
+    layer.reset(w, h, channels);
+    std::uniform_real_distribution<float> colour(0.0f, 255.0f);
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) {
+        const size_t i = size_t(y) * w + x;
+        const bool near = (x / 9 + y / 7) % 3 == 0;  // a nearer surface in patches
+        layer.inverseDepth[i] = near ? 0.02 : 0.01;
+        for (int c = 0; c < channels; ++c) layer.colour[c][i] = colour(random) * 0.2f + (near ? 180.0f : 40.0f);
+        layer.hole[i] = (x % 23 < 2 + (y % 5)) || random() % 40 == 0;  // strips and scattered samples
+        if (layer.hole[i]) layer.inverseDepth[i] = kNoDepth;
+      }
+    return layer;
+  };
+  const BlendedLayer luma = makeLayer(120, 80, 1), chroma = makeLayer(60, 40, 2);
+  HoleFillOptions lumaOptions, chromaOptions;
+  lumaOptions.depthTolerance = chromaOptions.depthTolerance = 0.001;
+  chromaOptions.emptyValue[0] = chromaOptions.emptyValue[1] = 128;
+  const int threadsBefore = cv::getNumThreads();
+  for (int threads : {1, 2}) {
+    cv::setNumThreads(threads);
+    BlendedLayer lumaAlone = luma, chromaAlone = chroma, lumaTogether = luma, chromaTogether = chroma;
+    fillHoles(lumaAlone, lumaOptions);
+    fillHoles(chromaAlone, chromaOptions);
+    HoleFillScratch lumaScratch, chromaScratch;
+    fillHoles({{&lumaTogether, &lumaOptions, &lumaScratch}, {&chromaTogether, &chromaOptions, &chromaScratch}});
+    EXPECT_EQ(lumaTogether.colour[0], lumaAlone.colour[0]) << threads << " threads";
+    EXPECT_EQ(lumaTogether.inverseDepth, lumaAlone.inverseDepth) << threads << " threads";
+    for (int c = 0; c < 2; ++c) EXPECT_EQ(chromaTogether.colour[c], chromaAlone.colour[c]) << threads << " threads";
+    EXPECT_EQ(lumaTogether.holeCount(), 0u);
+    EXPECT_EQ(chromaTogether.holeCount(), 0u);
+    EXPECT_NE(lumaTogether.colour[0], luma.colour[0]);  // something was filled
+  }
+  cv::setNumThreads(threadsBefore);
 }
 
 }  // namespace

@@ -3,11 +3,12 @@
 #include <algorithm>
 #include <cmath>
 #include <opencv2/imgproc.hpp>
-#include <opencv2/photo.hpp>
 #include <vector>
+#include <cstdlib>
 
 #include "Common/Error.h"
 #include "Synth/Parallel.h"
+#include "Synth/Telea.h"
 
 namespace vs {
 
@@ -177,94 +178,204 @@ void backgroundOnlyMask(const BlendedLayer& layer, const std::vector<double>& ba
     });
 }
 
+// Groups the mask samples by blocks of kBlock x kBlock samples: blocks holding mask samples within
+// `link` blocks of each other (Chebyshev) are in one group, so that mask samples of two groups are
+// more than link * kBlock samples apart. Labels each block with its group (-1: no mask sample)
+// and gives each group's extent in blocks.
+constexpr int kBlock = 4;
+using BlockGroups = HoleFillScratch::InpaintGroups;  // extents in blocks
+void groupBlocks(const std::vector<uint8_t>& mask, int width, int height, int link, BlockGroups& groups) {
+  const int bw = (width + kBlock - 1) / kBlock, bh = (height + kBlock - 1) / kBlock;
+  groups.columns = bw;
+  groups.rows = bh;
+  std::vector<int>& label = groups.label;
+  label.assign(size_t(bw) * bh, -1);
+  const int kUnvisited = -2;
+  for (int y = 0; y < height; ++y) {
+    const uint8_t* m = mask.data() + size_t(y) * width;
+    int* row = label.data() + size_t(y / kBlock) * bw;
+    for (int bx = 0; bx < bw; ++bx) {
+      const int x0 = bx * kBlock, x1 = std::min(width, x0 + kBlock);
+      uint8_t any = 0;
+      for (int x = x0; x < x1; ++x) any |= m[x];
+      if (any) row[bx] = kUnvisited;
+    }
+  }
+  groups.extent.clear();
+  std::vector<int>& stack = groups.stack;
+  for (size_t start = 0; start < label.size(); ++start) {
+    if (label[start] != kUnvisited) continue;
+    const int g = int(groups.extent.size());
+    int x0 = bw, y0 = bh, x1 = -1, y1 = -1;
+    label[start] = g;
+    stack.assign(1, int(start));
+    while (!stack.empty()) {
+      const int b = stack.back();
+      stack.pop_back();
+      const int bx = b % bw, by = b / bw;
+      x0 = std::min(x0, bx), x1 = std::max(x1, bx), y0 = std::min(y0, by), y1 = std::max(y1, by);
+      for (int ny = std::max(0, by - link); ny <= std::min(bh - 1, by + link); ++ny)
+        for (int nx = std::max(0, bx - link); nx <= std::min(bw - 1, bx + link); ++nx) {
+          int& l = label[size_t(ny) * bw + nx];
+          if (l != kUnvisited) continue;
+          l = g;
+          stack.push_back(ny * bw + nx);
+        }
+    }
+    groups.extent.push_back(cv::Rect(x0, y0, x1 - x0 + 1, y1 - y0 + 1));
+  }
+}
+
 // Telea's inpainting of a mask sample reads colours within `radius` of it and arrival times one
 // sample further, and its queue keeps equal arrival times in insertion (raster) order, which a crop
 // keeps. So groups of mask samples farther apart than twice that reach can be inpainted apart, each
-// in a crop around it with the other groups' samples left out of the mask: the result is exactly the
-// whole-picture one, at a cost that follows each group's size instead of all the holes' (OpenCV's
-// queue is a sorted list whose inserts walk it: over the whole picture the cost grows with the square
-// of the number of hole samples).
-void inpaint(BlendedLayer& layer, std::vector<uint8_t>& mask, int radius, std::vector<float> result[3],
-             HoleFillScratch& scratch) {
-  const cv::Mat maskMat(layer.height, layer.width, CV_8UC1, mask.data());
+// in a crop reaching at least that far around it (or to the picture's edge) with the other groups'
+// samples left out of the mask: the result is exactly the whole-picture one, at a cost that follows
+// each group's size instead of all the holes'. Each group's channels are filled in one march
+// (Synth/Telea.h: the same result as OpenCV's cv::inpaint with INPAINT_TELEA, channel by channel).
+void planInpaint(const BlendedLayer& layer, const std::vector<uint8_t>& mask, int radius, std::vector<float> result[3],
+                 HoleFillScratch& scratch) {
   const int reach = radius + 2;
-  cv::Mat& grown = scratch.grown;
-  cv::Mat& groups = scratch.groups;
-  cv::Mat stats, centroids;
-  cv::dilate(maskMat, grown, cv::getStructuringElement(cv::MORPH_RECT, cv::Size(2 * reach + 1, 2 * reach + 1)));
-  const int groupCount = cv::connectedComponentsWithStats(grown, groups, stats, centroids, 8, CV_32S);
-  // Every mask sample is in one group and is written below; nothing reads the others.
+  // Blocks more than `link` apart hold samples at least link * kBlock + 1 > 2 reach + 1 apart.
+  const int link = (2 * reach + 1 + kBlock - 1) / kBlock;
+  BlockGroups& groups = scratch.inpaintGroups;
+  groupBlocks(mask, layer.width, layer.height, link, groups);
+  // Every mask sample is in one group and is written by its task; nothing reads the others.
   for (int k = 0; k < layer.channels; ++k) result[k].resize(layer.colour[k].size());
-  // Label 0 is what lies farther than `reach` from every mask sample. One task per group and
-  // channel, the largest crops first, so that two threads share the work evenly (the channels of a
-  // group write different planes; each group its own samples).
-  using Task = HoleFillScratch::InpaintTask;
-  std::vector<Task>& tasks = scratch.tasks;
+  // One task per group, its crop its blocks and `reach` samples around them.
+  std::vector<HoleFillScratch::InpaintTask>& tasks = scratch.tasks;
   tasks.clear();
-  for (int g = 1; g < groupCount; ++g) {
-    const cv::Rect crop(stats.at<int>(g, cv::CC_STAT_LEFT), stats.at<int>(g, cv::CC_STAT_TOP),
-                        stats.at<int>(g, cv::CC_STAT_WIDTH), stats.at<int>(g, cv::CC_STAT_HEIGHT));
-    for (int k = 0; k < layer.channels; ++k) tasks.push_back({g, k, crop});
+  const cv::Rect picture(0, 0, layer.width, layer.height);
+  for (size_t g = 0; g < groups.extent.size(); ++g) {
+    const cv::Rect& e = groups.extent[g];
+    const cv::Rect crop(e.x * kBlock - reach, e.y * kBlock - reach, e.width * kBlock + 2 * reach, e.height * kBlock + 2 * reach);
+    tasks.push_back({int(g), crop & picture});
   }
-  std::stable_sort(tasks.begin(), tasks.end(), [](const Task& a, const Task& b) { return a.crop.area() > b.crop.area(); });
-  parallelRanges(int(tasks.size()), [&](int begin, int end) {
-    cv::Mat groupMask, inpainted;
-    for (int t = begin; t < end; ++t) {
-      const Task& task = tasks[size_t(t)];
-      // The group's mask samples: in the crop, those of other groups are more than 2 reach away.
-      cv::compare(groups(task.crop), task.group, groupMask, cv::CMP_EQ);
-      cv::bitwise_and(groupMask, maskMat(task.crop), groupMask);
-      const cv::Mat channel(layer.height, layer.width, CV_32FC1, layer.colour[task.channel].data());
-      cv::inpaint(channel(task.crop), groupMask, inpainted, radius, cv::INPAINT_TELEA);
-      VS_CHECK(inpainted.type() == CV_32FC1 && inpainted.size() == task.crop.size());
-      cv::Mat out(layer.height, layer.width, CV_32FC1, result[task.channel].data());
-      inpainted.copyTo(out(task.crop), groupMask);  // every mask sample is in one group: one writer
+}
+
+// Inpaints one group of `layer`'s mask samples in its crop, all channels in one march, into `result`.
+void inpaintGroup(const BlendedLayer& layer, const std::vector<uint8_t>& mask, int radius, const BlockGroups& groups,
+                  const HoleFillScratch::InpaintTask& task, std::vector<float> result[3]) {
+  thread_local TeleaScratch telea;
+  thread_local std::vector<uint8_t> groupMask;
+  thread_local std::vector<float> samples;  // the crop's channels, interleaved four to a sample
+  const int channels = layer.channels;
+  const size_t w = size_t(layer.width);
+  const cv::Rect& c = task.crop;
+  const size_t cw = size_t(c.width), area = cw * size_t(c.height);
+  // The group's mask samples: in the crop, those of other groups are more than 2 reach away.
+  groupMask.resize(area);
+  samples.assign(area * 4, 0.0f);
+  for (int y = 0; y < c.height; ++y) {
+    const int* label = groups.label.data() + size_t((c.y + y) / kBlock) * groups.columns;
+    const size_t row = size_t(c.y + y) * w + c.x;
+    const uint8_t* m = mask.data() + row;
+    uint8_t* g = groupMask.data() + size_t(y) * cw;
+    for (int x = 0; x < c.width; ++x) g[x] = uint8_t(m[x] != 0 && label[(c.x + x) / kBlock] == task.group);
+    for (int k = 0; k < channels; ++k) {
+      const float* from = layer.colour[k].data() + row;
+      float* to = samples.data() + size_t(y) * cw * 4 + k;
+      for (int x = 0; x < c.width; ++x) to[size_t(x) * 4] = from[x];
+    }
+  }
+  teleaInpaint(groupMask.data(), cw, c.width, c.height, samples.data(), cw, radius, telea);
+  for (int y = 0; y < c.height; ++y)
+    for (int x = 0; x < c.width; ++x) {
+      const size_t local = size_t(y) * cw + x;
+      if (!groupMask[local]) continue;  // every mask sample is in one group: one writer
+      const size_t i = size_t(c.y + y) * w + c.x + x;
+      for (int k = 0; k < channels; ++k) result[k][i] = samples[local * 4 + k];
+    }
+}
+
+// One layer's share of a fill.
+struct LayerFill {
+  BlendedLayer* layer;
+  const HoleFillOptions* options;
+  HoleFillScratch* scratch;
+};
+
+// Runs the planned inpainting tasks of every layer together, the largest crops first, so that two
+// threads share the work evenly whichever layer holds it.
+void inpaintAll(const std::vector<LayerFill>& fills) {
+  struct Job {
+    size_t fill, task;
+    int area;
+  };
+  std::vector<Job> jobs;
+  for (size_t f = 0; f < fills.size(); ++f)
+    for (size_t t = 0; t < fills[f].scratch->tasks.size(); ++t) jobs.push_back({f, t, fills[f].scratch->tasks[t].crop.area()});
+  std::stable_sort(jobs.begin(), jobs.end(), [](const Job& a, const Job& b) { return a.area > b.area; });
+  parallelRanges(int(jobs.size()), [&](int begin, int end) {
+    for (int j = begin; j < end; ++j) {
+      const LayerFill& f = fills[jobs[size_t(j)].fill];
+      HoleFillScratch& s = *f.scratch;
+      inpaintGroup(*f.layer, s.mask, f.options->inpaintRadius, s.inpaintGroups, s.tasks[jobs[size_t(j)].task], s.inpainted);
     }
   });
 }
 
 }  // namespace
 
+void fillHoles(const std::vector<HoleFillJob>& jobs) {
+  std::vector<LayerFill> fills;
+  for (const HoleFillJob& job : jobs) {
+    BlendedLayer& layer = *job.layer;
+    const HoleFillOptions& options = *job.options;
+    HoleFillScratch& s = *job.scratch;
+    const size_t holes = layer.holeCount();
+    if (holes == 0) continue;
+    if (holes == layer.hole.size()) {  // nothing to fill from
+      for (int k = 0; k < layer.channels; ++k) std::fill(layer.colour[k].begin(), layer.colour[k].end(), options.emptyValue[k]);
+      std::fill(layer.hole.begin(), layer.hole.end(), uint8_t(0));
+      continue;
+    }
+    if (!options.backgroundFirst) {
+      s.mask = layer.hole;
+    } else {
+      directionalFill(layer, options, s.directional, s.background, s.found);
+      rowRunFill(layer, options, s.runs, s.runBackground, s.runFound);
+      backgroundOnlyMask(layer, s.background, options.depthTolerance, options.inpaintRadius + 1, s.mask);
+    }
+    planInpaint(layer, s.mask, options.inpaintRadius, s.inpainted, s);
+    fills.push_back({&layer, &options, &s});
+  }
+  inpaintAll(fills);
+  for (const LayerFill& f : fills) {
+    BlendedLayer& layer = *f.layer;
+    const HoleFillOptions& options = *f.options;
+    HoleFillScratch& s = *f.scratch;
+    const size_t n = layer.hole.size();
+    if (!options.backgroundFirst) {
+      for (int k = 0; k < layer.channels; ++k)
+        for (size_t i = 0; i < n; ++i)
+          if (layer.hole[i]) layer.colour[k][i] = s.inpainted[k][i];
+    } else {
+      // Three estimates of the background, mixed by weight (2 : 3 : 1 by default) over those that
+      // found one; their errors differ, and the mix has a lower error than any of them.
+      // Every sample on its own: rows in parallel.
+      parallelRanges(layer.height, [&](int y0, int y1) {
+        for (size_t i = size_t(y0) * layer.width; i < size_t(y1) * layer.width; ++i) {
+          if (!layer.hole[i]) continue;
+          const float directional = s.found[i] ? options.directionalWeight : 0.0f;
+          const float run = s.runFound[i] ? options.rowRunWeight : 0.0f, inpainted = options.inpaintWeight;
+          const float sum = directional + run + inpainted;
+          for (int k = 0; k < layer.channels; ++k)
+            layer.colour[k][i] = sum > 0 ? (directional * s.directional[k][i] + run * s.runs[k][i] + inpainted * s.inpainted[k][i]) / sum
+                                         : s.inpainted[k][i];
+          if (s.found[i]) layer.inverseDepth[i] = s.background[i];
+          else if (s.runFound[i]) layer.inverseDepth[i] = s.runBackground[i];
+        }
+      });
+    }
+    std::fill(layer.hole.begin(), layer.hole.end(), uint8_t(0));
+  }
+}
+
 size_t fillHoles(BlendedLayer& layer, const HoleFillOptions& options, HoleFillScratch* scratch) {
   const size_t holes = layer.holeCount();
-  if (holes == 0) return 0;
-  const size_t n = layer.hole.size();
-  if (holes == n) {  // nothing to fill from
-    for (int k = 0; k < layer.channels; ++k) std::fill(layer.colour[k].begin(), layer.colour[k].end(), options.emptyValue[k]);
-    std::fill(layer.hole.begin(), layer.hole.end(), uint8_t(0));
-    return holes;
-  }
   HoleFillScratch local;
-  HoleFillScratch& s = scratch ? *scratch : local;
-  if (!options.backgroundFirst) {
-    s.mask = layer.hole;
-    inpaint(layer, s.mask, options.inpaintRadius, s.inpainted, s);
-    for (int k = 0; k < layer.channels; ++k)
-      for (size_t i = 0; i < n; ++i)
-        if (layer.hole[i]) layer.colour[k][i] = s.inpainted[k][i];
-  } else {
-    directionalFill(layer, options, s.directional, s.background, s.found);
-    rowRunFill(layer, options, s.runs, s.runBackground, s.runFound);
-    backgroundOnlyMask(layer, s.background, options.depthTolerance, options.inpaintRadius + 1, s.mask);
-    inpaint(layer, s.mask, options.inpaintRadius, s.inpainted, s);
-    // Three estimates of the background, mixed by weight (2 : 3 : 1 by default) over those that found
-    // one; their errors differ, and the mix has a lower error than any of them.
-    // Every sample on its own: rows in parallel.
-    parallelRanges(layer.height, [&](int y0, int y1) {
-      for (size_t i = size_t(y0) * layer.width; i < size_t(y1) * layer.width; ++i) {
-        if (!layer.hole[i]) continue;
-        const float directional = s.found[i] ? options.directionalWeight : 0.0f;
-        const float run = s.runFound[i] ? options.rowRunWeight : 0.0f, inpainted = options.inpaintWeight;
-        const float sum = directional + run + inpainted;
-        for (int k = 0; k < layer.channels; ++k)
-          layer.colour[k][i] = sum > 0 ? (directional * s.directional[k][i] + run * s.runs[k][i] + inpainted * s.inpainted[k][i]) / sum
-                                       : s.inpainted[k][i];
-        if (s.found[i]) layer.inverseDepth[i] = s.background[i];
-        else if (s.runFound[i]) layer.inverseDepth[i] = s.runBackground[i];
-      }
-    });
-  }
-  std::fill(layer.hole.begin(), layer.hole.end(), uint8_t(0));
+  fillHoles({{&layer, &options, scratch ? scratch : &local}});
   return holes;
 }
 

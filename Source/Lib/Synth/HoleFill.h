@@ -9,10 +9,10 @@
 //   - row runs (after iVSRS in VSRS 4.x): each run of holes along a row takes the mean colour of the
 //     candidates on the farthest surface among its ends and the first samples along seven rays up
 //     and down from its middle; one colour per run;
-//   - inpainting: OpenCV's Telea inpainting, with the nearer surface around each hole masked too so
+//   - inpainting: Telea's inpainting (Synth/Telea.h, the same result as OpenCV's), with the nearer surface around each hole masked too so
 //     that only background propagates; it is smooth but blurs.
 // The mix has a lower error than any one of them on the Middlebury scenes (doc/algorithms.md).
-// IvsrsInpaint 0: OpenCV Telea inpainting of the holes alone, as VSRS does. A layer without any valid
+// IvsrsInpaint 0: Telea inpainting of the holes alone, as VSRS does (with OpenCV's). A layer without any valid
 // sample is filled with `emptyValue`.
 #include <cstddef>
 #include <cstdint>
@@ -40,9 +40,14 @@ struct HoleFillScratch {
   std::vector<float> directional[3], runs[3], inpainted[3];
   std::vector<double> background, runBackground;
   std::vector<uint8_t> found, runFound, mask;
-  cv::Mat grown, groups;  // the inpainting's groups of holes (HoleFill.cpp)
-  struct InpaintTask {    // one group's crop and one channel to inpaint
-    int group, channel;
+  struct InpaintGroups {  // the inpainting's groups of holes, by blocks (HoleFill.cpp)
+    int columns = 0, rows = 0;
+    std::vector<int> label;
+    std::vector<cv::Rect> extent;
+    std::vector<int> stack;
+  } inpaintGroups;
+  struct InpaintTask {    // one group of holes and its crop, to inpaint
+    int group;
     cv::Rect crop;
   };
   std::vector<InpaintTask> tasks;
@@ -51,5 +56,14 @@ struct HoleFillScratch {
 // Fills every hole of `layer` (hole mask cleared, inverse depth set to the background's where
 // known). Returns the number of samples that were holes. `scratch`: reused buffers (nullptr: local).
 size_t fillHoles(BlendedLayer& layer, const HoleFillOptions& options, HoleFillScratch* scratch = nullptr);
+
+// Fills several layers (luma and chroma): the same result as fillHoles on each, with the inpainting
+// of all of them shared among the threads (one layer's may be a single large group of holes).
+struct HoleFillJob {
+  BlendedLayer* layer;
+  const HoleFillOptions* options;
+  HoleFillScratch* scratch;
+};
+void fillHoles(const std::vector<HoleFillJob>& jobs);
 
 }  // namespace vs

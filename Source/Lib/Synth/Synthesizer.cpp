@@ -841,12 +841,11 @@ void Synthesizer::synthesize(const std::vector<ReferenceFrame>& references, Fram
     lumaHoles = blendedLuma_.hole;  // same size every frame: no allocation once grown
     chromaHoles = blendedChroma_.hole;
   }
-  fillHoles(blendedLuma_, fillOptions_, &lumaFill_);
-  if (!rgb_ && hasChroma_) {
-    HoleFillOptions chromaFill = fillOptions_;
-    chromaFill.emptyValue[0] = chromaFill.emptyValue[1] = fillOptions_.emptyValue[1];
-    fillHoles(blendedChroma_, chromaFill, &chromaFill_);
-  }
+  HoleFillOptions chromaFill = fillOptions_;
+  chromaFill.emptyValue[0] = chromaFill.emptyValue[1] = fillOptions_.emptyValue[1];
+  std::vector<HoleFillJob> fills = {{&blendedLuma_, &fillOptions_, &lumaFill_}};
+  if (!rgb_ && hasChroma_) fills.push_back({&blendedChroma_, &chromaFill, &chromaFill_});
+  fillHoles(fills);
   if (temporal) keepStaticFill(references, lumaHoles, chromaHoles);
   times.holeFill += secondsSince(start);
 
