@@ -716,39 +716,45 @@ void Synthesizer::warpChroma(ViewState& view, const Frame& texture) {
   });
 }
 
-void Synthesizer::keepStaticFill(const std::vector<ReferenceFrame>& references, const std::vector<uint8_t>& lumaHoles,
-                                 const std::vector<uint8_t>& chromaHoles) {
+void Synthesizer::keepStaticFill(const std::vector<ReferenceFrame>& references, std::vector<uint8_t>& lumaHoles,
+                                 std::vector<uint8_t>& chromaHoles) {
   // TemporalImprovementOption: hole filling guesses; where a row of every reference is unchanged
   // since the previous frame, a sample that was a hole then and is one now keeps the previous guess,
-  // so static disocclusions do not flicker.
+  // so static disocclusions do not flicker. This frame's holes become the previous ones (swapped: the
+  // caller refills its buffer next frame), and its filled colours are kept (only the colours: the
+  // rest of the layer is not needed).
   const int h = outputFormat_.height, w = outputFormat_.width;
   std::vector<uint8_t> rowStatic(size_t(h), havePrevious_ ? 1 : 0);
   if (havePrevious_)
-    for (size_t k = 0; k < references.size(); ++k)
-      for (int y = 0; y < h; ++y)
-        rowStatic[size_t(y)] &= uint8_t(std::equal(references[k].depth->row(y), references[k].depth->row(y) + w,
-                                                   previousDepth_[k].row(y)) &&
-                                        std::equal(references[k].texture->planes[0].row(y),
-                                                   references[k].texture->planes[0].row(y) + w, previousLuma_[k].row(y)));
-  auto keep = [&](BlendedLayer& layer, const std::vector<uint8_t>& holes, std::vector<uint8_t>& previousHoles,
-                  BlendedLayer& previous, int rowsPerSample) {
+    parallelRanges(h, [&](int y0, int y1) {
+      for (size_t k = 0; k < references.size(); ++k)
+        for (int y = y0; y < y1; ++y)
+          rowStatic[size_t(y)] &= uint8_t(std::equal(references[k].depth->row(y), references[k].depth->row(y) + w,
+                                                     previousDepth_[k].row(y)) &&
+                                          std::equal(references[k].texture->planes[0].row(y),
+                                                     references[k].texture->planes[0].row(y) + w, previousLuma_[k].row(y)));
+    });
+  auto keep = [&](BlendedLayer& layer, std::vector<uint8_t>& holes, std::vector<uint8_t>& previousHoles,
+                  std::vector<float>* previousColour, int rowsPerSample) {
     if (havePrevious_ && previousHoles.size() == holes.size())
-      for (int y = 0; y < layer.height; ++y) {
-        bool unchanged = true;
-        for (int r = y * rowsPerSample; r < std::min(h, (y + 1) * rowsPerSample); ++r) unchanged = unchanged && rowStatic[size_t(r)];
-        if (!unchanged) continue;
-        for (int x = 0; x < layer.width; ++x) {
-          const size_t i = size_t(y) * layer.width + x;
-          if (holes[i] && previousHoles[i])
-            for (int c = 0; c < layer.channels; ++c) layer.colour[c][i] = previous.colour[c][i];
+      parallelRanges(layer.height, [&](int y0, int y1) {
+        for (int y = y0; y < y1; ++y) {
+          bool unchanged = true;
+          for (int r = y * rowsPerSample; r < std::min(h, (y + 1) * rowsPerSample); ++r) unchanged = unchanged && rowStatic[size_t(r)];
+          if (!unchanged) continue;
+          for (int x = 0; x < layer.width; ++x) {
+            const size_t i = size_t(y) * layer.width + x;
+            if (holes[i] && previousHoles[i])
+              for (int c = 0; c < layer.channels; ++c) layer.colour[c][i] = previousColour[c][i];
+          }
         }
-      }
-    previousHoles = holes;
-    previous = layer;
+      });
+    previousHoles.swap(holes);
+    for (int c = 0; c < layer.channels; ++c) previousColour[c] = layer.colour[c];
   };
-  keep(blendedLuma_, lumaHoles, previousHoles_, previousFilled_, 1);
+  keep(blendedLuma_, lumaHoles, previousHoles_, previousColour_, 1);
   if (!rgb_ && hasChroma_)
-    keep(blendedChroma_, chromaHoles, previousChromaHoles_, previousChromaFilled_,
+    keep(blendedChroma_, chromaHoles, previousChromaHoles_, previousChromaColour_,
          outputFormat_.chroma == ChromaFormat::Yuv420 ? 2 : 1);
   previousDepth_.resize(references.size());
   previousLuma_.resize(references.size());

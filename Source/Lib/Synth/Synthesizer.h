@@ -94,8 +94,8 @@ private:
   void rasteriseTriangles(ViewState& view, int width, int height);
   void cleanIsolatedSamples(WarpedLayer& layer);
   void flagCrowdedHoles(WarpedLayer& layer);
-  void keepStaticFill(const std::vector<ReferenceFrame>& references, const std::vector<uint8_t>& lumaHoles,
-                      const std::vector<uint8_t>& chromaHoles);
+  void keepStaticFill(const std::vector<ReferenceFrame>& references, std::vector<uint8_t>& lumaHoles,
+                      std::vector<uint8_t>& chromaHoles);
   void markReferenceEdges(ViewState& view, const Plane& depth);
   void warpTexture(ViewState& view, const std::vector<const Plane*>& planes);
   void warpChroma(ViewState& view, const Frame& texture);
@@ -125,11 +125,11 @@ private:
   std::vector<Frame> rgbReferences_;
   Frame rgbOutput_;  // ColorSpace 1: the rounded R, G, B before conversion
   FrameStats stats_;
-  // 1D TemporalImprovementOption: the previous frame's depth, texture luma, holes and filled output.
+  // 1D TemporalImprovementOption: the previous frame's depth, texture luma, holes and filled colours.
   std::vector<Plane> previousDepth_, previousLuma_;
   std::vector<uint8_t> previousHoles_, previousChromaHoles_;
   std::vector<uint8_t> lumaHolesScratch_, chromaHolesScratch_;  // this frame's holes before filling
-  BlendedLayer previousFilled_, previousChromaFilled_;
+  std::vector<float> previousColour_[3], previousChromaColour_[3];
   bool havePrevious_ = false;
 };
 
