@@ -191,16 +191,18 @@ void groupBlocks(const std::vector<uint8_t>& mask, int width, int height, int li
   std::vector<int>& label = groups.label;
   label.assign(size_t(bw) * bh, -1);
   const int kUnvisited = -2;
-  for (int y = 0; y < height; ++y) {
-    const uint8_t* m = mask.data() + size_t(y) * width;
-    int* row = label.data() + size_t(y / kBlock) * bw;
-    for (int bx = 0; bx < bw; ++bx) {
-      const int x0 = bx * kBlock, x1 = std::min(width, x0 + kBlock);
-      uint8_t any = 0;
-      for (int x = x0; x < x1; ++x) any |= m[x];
-      if (any) row[bx] = kUnvisited;
+  parallelRanges(bh, [&](int by0, int by1) {  // each block row on its own
+    for (int y = by0 * kBlock; y < std::min(height, by1 * kBlock); ++y) {
+      const uint8_t* m = mask.data() + size_t(y) * width;
+      int* row = label.data() + size_t(y / kBlock) * bw;
+      for (int bx = 0; bx < bw; ++bx) {
+        const int x0 = bx * kBlock, x1 = std::min(width, x0 + kBlock);
+        uint8_t any = 0;
+        for (int x = x0; x < x1; ++x) any |= m[x];
+        if (any) row[bx] = kUnvisited;
+      }
     }
-  }
+  });
   groups.extent.clear();
   std::vector<int>& stack = groups.stack;
   for (size_t start = 0; start < label.size(); ++start) {
