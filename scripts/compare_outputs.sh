@@ -4,7 +4,8 @@
 # Middlebury 2005/2006 scenes with seven settings that reach every path: general and 1D configs, the
 # general config on the 1D path, missing depth with MissingDepthFill, Filter 2 with
 # BoundaryNoiseRemoval, Filter 0 Precision 1 IvsrsInpaint 0 SplattingOption 1, ColorSpace 1; the
-# Teddy sets; open3d) with 1 and 2 threads, and compares the outputs' checksums.
+# Teddy sets; open3d; SceneGen's moving 10-frame demo, general and 1D) with 1 and 2 threads, and
+# compares the outputs' checksums.
 #
 # Usage: scripts/compare_outputs.sh BIN_A BIN_B [DATA_DIR]
 #   BIN_A, BIN_B  folders holding a ViewSyn each (e.g. a worktree's Bin/ built at the base commit)
@@ -13,7 +14,7 @@
 set -uo pipefail
 cd "$(dirname "$0")/.."
 if [[ $# -lt 2 ]]; then
-  sed -n '2,12p' "$0" | sed 's/^# \{0,1\}//'
+  sed -n '2,13p' "$0" | sed 's/^# \{0,1\}//'
   exit 2
 fi
 binA=$(cd "$1" && pwd) || exit 2
@@ -53,7 +54,20 @@ compare() {
   fi
 }
 
+# A moving 10-frame sequence (SceneGen's demo, rendered by BIN_B's SceneGen when it has one): what
+# only sequences reach, the 1D path's TemporalImprovementOption and reading ahead.
+demo=""
+if [[ -x "$binB/SceneGen" ]] && "$binB/SceneGen" Scene=demo OutputFolder="$work/demo" >/dev/null 2>&1; then
+  demo="$work/demo"
+else
+  echo "compare_outputs: no SceneGen in $binB: the demo sequence is not compared" >&2
+fi
+
 for threads in 1 2; do
+  if [[ -n "$demo" ]]; then
+    compare "$demo" viewsyn_cam1.cfg Threads=$threads
+    compare "$demo" viewsyn_cam1.cfg SynthesisMode=1 Threads=$threads
+  fi
   for dir in "$data"/middlebury2005/* "$data"/middlebury2006/*; do
     [[ -d "$dir" ]] || continue
     compare "$dir" synth_view3_general.cfg Threads=$threads
