@@ -139,7 +139,7 @@ void addSynthesisOptions(OptionTable& table) {
              intOption("DepthBlendDifference", 5, 0, 65535, "5",
                        "Two warped depths closer than this (in depth levels) are blended; otherwise the nearer wins"),
              intOption("IvsrsInpaint", 1, 0, 1, "1",
-                       "1: fill remaining holes from the background side, then inpaint (iVSRS); 0: plain OpenCV inpainting"),
+                       "1: fill remaining holes from the background side, then inpaint (iVSRS); 0: plain Telea inpainting of the holes, as VSRS (OpenCV's, reproduced exactly)"),
              intOption("MissingDepthLevel", -1, -1, 65535, "-",
                        "Depth level meaning 'no depth' (MPEG-I uses 0); such samples are not warped. -1: off, as in VSRS"),
              intOption("MissingDepthFill", 0, 0, 1, "-",
