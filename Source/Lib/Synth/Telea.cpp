@@ -38,9 +38,10 @@ inline float arrival(const uint8_t* flags, const float* time, size_t s, size_t c
 }
 
 // A binary heap that gives what OpenCV's sorted list gives: the least time first, equal times in
-// the order they were pushed. Times are never negative, so a time's float bits, followed by the push
-// count, order as one 64-bit key; the heap holds keys and the grid position of each push is kept by
-// its count.
+// the order they were pushed. The times pushed are never negative (the marches push 0 and arrival
+// times computed from non-negative neighbours), so a time's float bits, followed by the push count,
+// order as one 64-bit key (a -0 would not: it is made +0, which OpenCV's comparisons do not tell
+// apart from it); the heap holds keys and the grid position of each push is kept by its count.
 class Queue {
  public:
   Queue(std::vector<uint64_t>& heap, std::vector<uint32_t>& positions) : heap_(heap), positions_(positions) {
@@ -49,8 +50,9 @@ class Queue {
   }
   bool empty() const { return heap_.empty(); }
   void push(size_t position, float time) {
+    const float t = time + 0.0f;  // -0 -> +0
     uint32_t bits;
-    std::memcpy(&bits, &time, sizeof bits);
+    std::memcpy(&bits, &t, sizeof bits);
     heap_.push_back(uint64_t(bits) << 32 | uint32_t(positions_.size()));
     positions_.push_back(uint32_t(position));
     std::push_heap(heap_.begin(), heap_.end(), std::greater<uint64_t>());
