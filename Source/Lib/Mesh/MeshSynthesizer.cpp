@@ -110,7 +110,7 @@ std::vector<std::string> MeshSynthesizer::plan() const {
   std::snprintf(line, sizeof line, "blend weights: %s (%s), depth tolerance %.4g (1/depth)", weights.c_str(),
                 blendOptions_.nearestViewOnly ? "nearer view only" : "weighted blending", blendOptions_.depthTolerance);
   lines.push_back(line);
-  lines.push_back(std::string("holes: ") + (s.ivsrsInpaint ? "background-side fill, then OpenCV inpainting" : "OpenCV inpainting"));
+  lines.push_back(std::string("holes: ") + (s.ivsrsInpaint ? "background-side fill, then Telea inpainting" : "plain Telea inpainting, as VSRS (identical to OpenCV's)"));
   if (s.boundaryNoiseRemoval) lines.push_back("BoundaryNoiseRemoval 1: not applied by MeshRender");
   if (s.mode != SynthesisMode::General)
     lines.push_back("SynthesisMode: MeshRender renders every rig the same way (the 1D mode does not apply)");

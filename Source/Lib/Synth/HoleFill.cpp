@@ -2,11 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <opencv2/imgproc.hpp>
 #include <vector>
-#include <cstdlib>
 
-#include "Common/Error.h"
 #include "Synth/Parallel.h"
 #include "Synth/Telea.h"
 

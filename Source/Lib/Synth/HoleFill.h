@@ -9,11 +9,11 @@
 //   - row runs (after iVSRS in VSRS 4.x): each run of holes along a row takes the mean colour of the
 //     candidates on the farthest surface among its ends and the first samples along seven rays up
 //     and down from its middle; one colour per run;
-//   - inpainting: Telea's inpainting (Synth/Telea.h, the same result as OpenCV's), with the nearer surface around each hole masked too so
-//     that only background propagates; it is smooth but blurs.
+//   - inpainting: Telea's inpainting (Synth/Telea.h: OpenCV's result, bit for bit), with the nearer
+//     surface around each hole masked too so that only background propagates; smooth, but blurs.
 // The mix has a lower error than any one of them on the Middlebury scenes (doc/algorithms.md).
-// IvsrsInpaint 0: Telea inpainting of the holes alone, as VSRS does (with OpenCV's). A layer without any valid
-// sample is filled with `emptyValue`.
+// IvsrsInpaint 0: Telea inpainting of the holes alone, as VSRS does (VSRS calls OpenCV's). A layer
+// without any valid sample is filled with `emptyValue`.
 #include <cstddef>
 #include <cstdint>
 #include <vector>

@@ -102,7 +102,7 @@ Plan makePlan(const Scene& scene) {
   plan.lines.push_back(plan.blend ? "blend: two reference views" : "blend: off (one reference view: extrapolation)");
   plan.lines.push_back(plan.chroma ? "chroma: warped at its own sample positions" : "chroma: off (4:0:0)");
   plan.lines.push_back(std::string("holes: ") +
-                       (!s.ivsrsInpaint ? "OpenCV inpainting"
+                       (!s.ivsrsInpaint ? "plain Telea inpainting, as VSRS (identical to OpenCV's)"
                         : rectified     ? "background-side fill (directional and along rows: the rig is rectified) and "
                                           "depth-aware inpainting"
                                         : "background-side fill (directional; not along rows: the rig is not rectified) "
