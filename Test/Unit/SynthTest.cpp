@@ -314,6 +314,28 @@ TEST(Synth, ViewProjectionRoundTripsAndRejectsPointsBehind) {
   EXPECT_NEAR(1 / wv, 5.0, 1e-12);
 }
 
+// The 1D row maps: rowSource inverts rowTarget, and equals the division by rowScale it stands for,
+// bit for bit, whether the target's focal length is the reference's times a power of two (where
+// rowSource multiplies by the exact reciprocal) or not.
+TEST(Synth, RowSourceInvertsRowTargetAndEqualsTheDivisionForAnyFocalRatio) {
+  AnalyticScene analytic;
+  const Camera reference = analytic.camera("ref", 0);
+  for (double ratio : {1.0, 2.0, 0.5, 0.25, 3.0, 0.7, 1.0000001}) {
+    Camera target = analytic.camera("tgt", 2.5);
+    target.K[0][0] = target.K[1][1] = analytic.focal * ratio;
+    const ViewProjection projection(reference, target, 0, true);
+    const double rowScale = target.K[0][0] / reference.K[0][0];
+    // x_tgt = x_ref - (2.5, 0, 0): the target sits 2.5 to the right.
+    const double rowOffset = target.K[0][2] - rowScale * reference.K[0][2], rowShift = target.K[0][0] * -2.5;
+    for (double wv : {0.0, 1 / 120.0, 1 / 61.3, 1 / 50.0})
+      for (double x = -3.0; x < 70.0; x += 0.37) {
+        const double expected = ViewProjection::snapPosition((x - rowOffset - rowShift * wv) / rowScale);
+        ASSERT_EQ(projection.rowSource(x, wv), expected) << "ratio " << ratio << " x " << x << " wv " << wv;
+        EXPECT_NEAR(projection.rowTarget(projection.rowSource(x, wv), wv), x, 1e-6) << "ratio " << ratio;
+      }
+  }
+}
+
 TEST(Interpolation, IntegerPositionsReturnTheSampleForEveryFilter) {
   Plane plane(5, 4);
   for (size_t i = 0; i < plane.samples.size(); ++i) plane.samples[i] = uint16_t(i * 37 % 251);

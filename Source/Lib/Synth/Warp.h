@@ -38,7 +38,12 @@ public:
   double rowTarget(double u, double inverseDepth) const {
     return snapPosition(rowScale_ * u + rowOffset_ + rowShift_ * inverseDepth);
   }
-  double rowSource(double x, double wv) const { return snapPosition((x - rowOffset_ - rowShift_ * wv) / rowScale_); }
+  double rowSource(double x, double wv) const {
+    // Dividing by a power of two (rowScale 1 when the focal lengths are equal) is multiplying by its
+    // reciprocal, which is exact: the same bits without a division per sample.
+    const double shifted = x - rowOffset_ - rowShift_ * wv;
+    return snapPosition(rowScaleInverse_ != 0 ? shifted * rowScaleInverse_ : shifted / rowScale_);
+  }
 
   // Pixel positions are kept to 2^-30 px (1e-9), far finer than the quarter pel the filters resolve.
   // Rounding off the last bits makes positions that are mathematically equal bit-equal too, so that a
@@ -57,6 +62,7 @@ private:
   int depthType_;
   bool parallel_;
   double rowScale_ = 1, rowOffset_ = 0, rowShift_ = 0;  // parallel: x = rowScale u + rowOffset + rowShift w
+  double rowScaleInverse_ = 1;  // 1 / rowScale when rowScale is a power of two (exact), else 0
   Mat3 forwardMatrix_;   // K_tgt R K_ref^-1
   Vec3 forwardOffset_;   // K_tgt t
   Mat3 backwardMatrix_;  // K_ref R^-1 K_tgt^-1
