@@ -9,6 +9,7 @@
 #include <opencv2/photo.hpp>
 
 #include "Common/Metrics.h"
+#include "Synth/ExactDivision.h"
 #include "Synth/HoleFill.h"
 #include "Synth/Interpolation.h"
 #include "Synth/Layer.h"
@@ -334,6 +335,27 @@ TEST(Synth, RowSourceInvertsRowTargetAndEqualsTheDivisionForAnyFocalRatio) {
         EXPECT_NEAR(projection.rowTarget(projection.rowSource(x, wv), wv), x, 1e-6) << "ratio " << ratio;
       }
   }
+}
+
+// exactReciprocal stands in for divisions that decide output bits (blend weights, the 1D row map):
+// it must give x / d exactly, and refuse every d it cannot.
+TEST(Synth, ExactReciprocalGivesTheQuotientBitForBitOrRefuses) {
+  std::mt19937 random(5);
+  std::uniform_real_distribution<double> value(-1e6, 1e6);
+  for (int k = -1022; k <= 1022; k += 7)
+    for (double sign : {1.0, -1.0}) {
+      const double d = sign * std::ldexp(1.0, k), r = exactReciprocal(d);
+      ASSERT_NE(r, 0.0) << "2^" << k;
+      for (int t = 0; t < 20; ++t) {
+        const double x = value(random) * std::ldexp(1.0, int(random() % 200) - 100);
+        ASSERT_EQ(x * r, x / d) << x << " / 2^" << k;
+      }
+      const float f = float(value(random));
+      ASSERT_EQ(float(double(f) * r), float(double(f) / d));
+    }
+  for (double d : {3.0, 0.75, 1.0000000000000002, 0.0, -0.0, std::ldexp(1.0, 1023), std::ldexp(1.0, -1030),
+                   HUGE_VAL, std::nan("")})
+    EXPECT_EQ(exactReciprocal(d), 0.0) << d;
 }
 
 TEST(Interpolation, IntegerPositionsReturnTheSampleForEveryFilter) {

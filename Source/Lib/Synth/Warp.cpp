@@ -1,6 +1,6 @@
 #include "Synth/Warp.h"
 
-#include <cmath>
+#include "Synth/ExactDivision.h"
 
 namespace vs {
 
@@ -21,9 +21,7 @@ ViewProjection::ViewProjection(const Camera& reference, const Camera& target, in
     rowScale_ = target.K[0][0] / reference.K[0][0];
     rowOffset_ = target.K[0][2] - rowScale_ * reference.K[0][2];
     rowShift_ = target.K[0][0] * pose.t.x;
-    int exponent = 0;
-    const double mantissa = std::frexp(rowScale_, &exponent);  // rowScale = mantissa 2^exponent
-    rowScaleInverse_ = mantissa == 0.5 && exponent > -1000 && exponent < 1000 ? std::ldexp(1.0, 1 - exponent) : 0.0;
+    rowScaleInverse_ = exactReciprocal(rowScale_);
   }
 }
 

@@ -62,7 +62,7 @@ private:
   int depthType_;
   bool parallel_;
   double rowScale_ = 1, rowOffset_ = 0, rowShift_ = 0;  // parallel: x = rowScale u + rowOffset + rowShift w
-  double rowScaleInverse_ = 1;  // 1 / rowScale when rowScale is a power of two (exact), else 0
+  double rowScaleInverse_ = 1;  // exactReciprocal(rowScale): 1 / rowScale for a power of two, else 0
   Mat3 forwardMatrix_;   // K_tgt R K_ref^-1
   Vec3 forwardOffset_;   // K_tgt t
   Mat3 backwardMatrix_;  // K_ref R^-1 K_tgt^-1
