@@ -1,6 +1,6 @@
 #pragma once
 // Telea's fast-marching inpainting (A. Telea, "An image inpainting technique based on the fast
-// marching method", J. Graphics Tools 9(1), 2004), computing exactly what OpenCV 4's
+// marching method", J. Graphics Tools 9(1), 2004), computing exactly what OpenCV 4.6's (Debian 12's)
 // cv::inpaint(src, mask, dst, radius, cv::INPAINT_TELEA) computes for a CV_32FC1 image, bit for bit,
 // for several planes in one march (doc/algorithms.md, "Hole filling"):
 //   - the same arrival times: a march outwards over the known samples within `radius` of the mask
@@ -42,10 +42,10 @@ struct TeleaScratch {
 
 // Inpaints, in place, four float planes of width x height, interleaved: sample (row, col) of plane p
 // is samples[(row * rowStride + col) * 4 + p]. The planes are filled where `mask` (row stride
-// `maskStride` bytes) is non-zero, each as cv::inpaint would fill it alone (the planes are computed side by
-// side, lane by lane: a plane not needed can hold zeros). `radius` as cv::inpaint's (rounded,
-// clamped to 1..100). A picture one sample high or wide, where OpenCV reads outside its image, is
-// filled from its own samples.
+// `maskStride` bytes) is non-zero, each as cv::inpaint would fill it alone (the planes are computed
+// side by side, lane by lane: a plane not needed can hold zeros). `radius` as cv::inpaint's
+// (rounded, clamped to 1..100). A picture one sample high or wide, where OpenCV reads outside its
+// image, is filled from its own samples.
 void teleaInpaint(const uint8_t* mask, size_t maskStride, int width, int height, float* samples, size_t rowStride,
                   double radius, TeleaScratch& scratch);
 
