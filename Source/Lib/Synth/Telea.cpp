@@ -105,6 +105,18 @@ inline Lanes pick(LaneMask yes, Lanes a, Lanes b) { return Lanes((LaneMask(a) & 
 
 using Offset = TeleaOffset;
 
+// OpenCV's weight of a known neighbour at `o` with arrival time `neighbourTime`, for a sample with
+// arrival time `time` and time gradient (gradTx, gradTy): distance x level-set x direction. OpenCV
+// writes the level term as (float)(1. / (1 + fabs(dT))) and tests fabs(dir) <= 0.01 in double; for
+// a float 1 + |dT|, 1.0f / x is the same float (a double has more than twice float's bits, so
+// rounding twice equals rounding once), and 0.01f is the largest float not above 0.01.
+inline float neighbourWeight(const Offset& o, float neighbourTime, float time, float gradTx, float gradTy) {
+  const float level = 1.0f / (1.0f + std::fabs(neighbourTime - time));
+  float dir = o.rx * gradTx + o.ry * gradTy;
+  if (std::fabs(dir) <= 0.01f) dir = 0.000001f;
+  return std::fabs(o.distance * level * dir);
+}
+
 // For each combination of a neighbour's four neighbours being known (bit 0 right, 1 left, 2 below,
 // 3 above): which of them a colour gradient reads, and whether it is a doubled central difference.
 struct GradientRule {
@@ -136,12 +148,7 @@ void interiorSums(const float* centre, ptrdiff_t rowStep, const uint8_t* flagCen
     const size_t m = known[e];
     const ptrdiff_t g = gridOffset[m];
     const Offset& o = offsets[m];
-    // 1 / (1 + |dT|) in float is OpenCV's double quotient rounded to float: a double has more than
-    // twice float's bits. 0.01f is the largest float <= 0.01.
-    const float level = 1.0f / (1.0f + std::fabs(timeCentre[g] - time));
-    float dir = o.rx * gradTx + o.ry * gradTy;
-    if (std::fabs(dir) <= 0.01f) dir = 0.000001f;
-    const float w = std::fabs(o.distance * level * dir);
+    const float w = neighbourWeight(o, timeCentre[g], time, gradTx, gradTy);
     const uint8_t* fn = flagCentre + g;
     const GradientRule& rule = kGradientRules.rule[(fn[1] != kInside) | (fn[-1] != kInside) << 1 |
                                                    (fn[cols] != kInside) << 2 | (fn[-cols] != kInside) << 3];
@@ -187,12 +194,16 @@ void teleaInpaint(const uint8_t* mask, size_t maskStride, int width, int height,
   // The band: known interior samples beside (4-neighbours) a mask sample. Time 0.
   time.assign(n, 1.0e6f);
   outer.assign(n, kKnown);
-  auto inBand = [&](int r, int c) {
-    const size_t s = at(r, c);
-    if (flags[s] == kInside || !interior(r, c)) return false;
-    return (r > 0 && flags[s - cols] == kInside) || (r < rows - 1 && flags[s + cols] == kInside) ||
-           (c > 0 && flags[s - 1] == kInside) || (c < cols - 1 && flags[s + 1] == kInside);
-  };
+  // In raster order: both marches start from it.
+  std::vector<uint32_t>& band = scratch.band;
+  band.clear();
+  for (int r = 1; r < rows - 1; ++r)
+    for (int c = 1; c < cols - 1; ++c) {
+      const size_t s = at(r, c);
+      if (flags[s] != kInside && (flags[s - cols] == kInside || flags[s + cols] == kInside ||
+                                  flags[s - 1] == kInside || flags[s + 1] == kInside))
+        band.push_back(uint32_t(s));
+    }
   // The outer ring: known interior samples within `range` (Chebyshev) of a mask sample, band left
   // out. Row-wise then column-wise counts of mask samples in the window.
   {
@@ -220,13 +231,11 @@ void teleaInpaint(const uint8_t* mask, size_t maskStride, int width, int height,
     }
   }
   Queue queue(scratch.queue, scratch.positions);
-  for (int r = 1; r < rows - 1; ++r)
-    for (int c = 1; c < cols - 1; ++c)
-      if (inBand(r, c)) {
-        time[at(r, c)] = 0;
-        outer[at(r, c)] = kKnown;
-        queue.push(at(r, c), 0);
-      }
+  for (const uint32_t s : band) {
+    time[s] = 0;
+    outer[s] = kKnown;
+    queue.push(s, 0);
+  }
 
   // Outward march over the outer ring from the band; what it passes gets the negated time.
   march(queue, outer, kChanged, cols, rows, cols, [&](size_t s, int, int) {
@@ -261,9 +270,7 @@ void teleaInpaint(const uint8_t* mask, size_t maskStride, int width, int height,
 
   // Inward march from the band, filling each sample as it is reached. The picture is OpenCV's `out`,
   // which has no border: sample (r, c) of a grid is (r - 1, c - 1) there.
-  for (int r = 1; r < rows - 1; ++r)
-    for (int c = 1; c < cols - 1; ++c)
-      if (inBand(r, c)) queue.push(at(r, c), 0);
+  for (const uint32_t s : band) queue.push(s, 0);
   const uint8_t* f = flags.data();
   const float* tm = time.data();
   // Within the picture, OpenCV's edge rules read only picture samples; clamping keeps a picture one
@@ -310,10 +317,7 @@ void teleaInpaint(const uint8_t* mask, size_t maskStride, int width, int height,
         if (!interior(k, l)) continue;
         const size_t sn = at(k, l);
         if (f[sn] == kInside) continue;
-        const float level = float(1. / (1 + std::fabs(tm[sn] - t)));
-        float dir = o.rx * gradTx + o.ry * gradTy;
-        if (std::fabs(dir) <= 0.01) dir = 0.000001f;
-        const float w = std::fabs(o.distance * level * dir);
+        const float w = neighbourWeight(o, tm[sn], t, gradTx, gradTy);
         // OpenCV's picture rows and columns for the neighbour: the first row or column reads
         // the second; the last ones stay in the picture.
         const int km = k - 1 + (k == 1), kp = k - 1 - (k == rows - 2);

@@ -35,6 +35,7 @@ struct TeleaScratch {
   std::vector<int> rowCount;
   std::vector<uint64_t> queue;     // arrival time and push count
   std::vector<uint32_t> positions;  // grid position of each push
+  std::vector<uint32_t> band;       // the known samples beside the mask, where both marches start
   std::vector<TeleaOffset> offsets;
   std::vector<ptrdiff_t> gridOffset, sampleOffset;
   std::vector<uint16_t> known;
