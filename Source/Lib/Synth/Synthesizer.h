@@ -118,8 +118,8 @@ private:
   BlendedLayer blendedLuma_, blendedChroma_;
   // Per-frame working buffers, kept so that a sequence allocates nothing once they have grown.
   HoleFillScratch lumaFill_, chromaFill_;
-  std::vector<uint8_t> validCount_, dropScratch_;
-  std::vector<std::vector<uint8_t>> rejectScratch_;
+  std::vector<uint8_t> dropScratch_;
+  std::vector<uint8_t> soleView_, candidateRows_, rejectScratch_;  // rejectOccludedInOtherViews
   std::vector<double> farthestScratch_, oneSideScratch_, columnLastScratch_;
   std::vector<uint8_t> rowHoleScratch_, boxHoleScratch_;  // flagCrowdedHoles: holes along rows, in 7x7 boxes
   std::vector<Frame> rgbReferences_;
