@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <type_traits>
 
 #include "Common/Frame.h"
 
@@ -38,6 +39,22 @@ public:
   const float* kernel(int phase) const { return &kernels_[size_t(phase) * size_t(taps_)]; }
   int first() const { return first_; }
 
+  // Calls f(std::integral_constant<int, taps()>()): a loop over many samples that calls
+  // sampleTaps<TAPS> and sampleRowTaps<TAPS> inside f picks the kernel once, not once per sample.
+  template <class F>
+  decltype(auto) withTaps(F&& f) const {
+    if (taps_ == 4) return f(std::integral_constant<int, 4>());
+    if (taps_ == 6) return f(std::integral_constant<int, 6>());
+    return f(std::integral_constant<int, 2>());
+  }
+  // sample() and sampleRow() with the tap count known at compile time (TAPS must be taps()): the
+  // loops unroll, the arithmetic (order included) is the same for every count, and the calls inline
+  // into the warps.
+  template <int TAPS>
+  float sampleTaps(const Plane& plane, double x, double y) const;
+  template <int TAPS>
+  float sampleRowTaps(const Plane& plane, double x, long long y) const;
+
 private:
   // Rounds x to the 1/precision grid: integer part `whole` (floor, also for negative x) and phase
   // 0 .. precision-1. The grid index is an integer-valued double; below 2^52 it converts exactly and
@@ -53,13 +70,6 @@ private:
     whole = (long long)std::floor(g / precision_);  // far outside any plane
     phase = int(g - double(whole) * precision_);
   }
-
-  // The kernels with the tap count known at compile time (taps_ is TAPS): the loops unroll, the
-  // arithmetic (order included) is the same for every count, and the calls inline into the warps.
-  template <int TAPS>
-  float sampleTaps(const Plane& plane, double x, double y) const;
-  template <int TAPS>
-  float sampleRowTaps(const Plane& plane, double x, long long y) const;
 
   int precision_;
   int precisionShift_;  // log2(precision)

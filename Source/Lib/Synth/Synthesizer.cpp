@@ -475,6 +475,8 @@ void Synthesizer::warpTexture(ViewState& view, const std::vector<const Plane*>& 
   const int refW = planes[0]->width, refH = planes[0]->height;
   if (parallel_) {
     // Rows map to rows: the look-up stays in row y (as backward() gives v = y).
+    sampler_.withTaps([&](auto taps) {
+    constexpr int kTaps = decltype(taps)::value;
     parallelRanges(std::min(layer.height, refH), [&](int y0, int y1) {
       // Local copies of what the loop reads: the edge flags are bytes, and a byte store may alias
       // anything the loop would otherwise read through a pointer or a capture, reloading it per sample.
@@ -494,16 +496,19 @@ void Synthesizer::warpTexture(ViewState& view, const std::vector<const Plane*>& 
             depth[i] = kNoDepth;
             continue;
           }
-          for (int c = 0; c < channels; ++c) colour[c][i] = sampler.sampleRow(*planes[size_t(c)], u, y);
+          for (int c = 0; c < channels; ++c) colour[c][i] = sampler.sampleRowTaps<kTaps>(*planes[size_t(c)], u, y);
           edgeOut[i] = edges[std::clamp(int(std::floor(u + 0.5)), 0, referenceWidth - 1)];
         }
       }
+    });
     });
     // Rows below the reference (an output taller than it) look up nothing.
     for (size_t i = size_t(std::min(layer.height, refH)) * layer.width; i < layer.inverseDepth.size(); ++i)
       layer.inverseDepth[i] = kNoDepth;
     return;
   }
+  sampler_.withTaps([&](auto taps) {
+  constexpr int kTaps = decltype(taps)::value;
   parallelRanges(layer.height, [&](int y0, int y1) {
     // Locals, as in the 1D branch above.
     const ViewProjection projection = view.projection;
@@ -523,11 +528,12 @@ void Synthesizer::warpTexture(ViewState& view, const std::vector<const Plane*>& 
           depth[i] = kNoDepth;
           continue;
         }
-        for (int c = 0; c < channels; ++c) colour[c][i] = sampler.sample(*planes[size_t(c)], u, v);
+        for (int c = 0; c < channels; ++c) colour[c][i] = sampler.sampleTaps<kTaps>(*planes[size_t(c)], u, v);
         const int eu = std::clamp(int(std::floor(u + 0.5)), 0, referenceWidth - 1);
         const int ev = std::clamp(int(std::floor(v + 0.5)), 0, referenceHeight - 1);
         edgeOut[i] = edges[size_t(ev) * referenceWidth + eu];
       }
+  });
   });
 }
 
@@ -693,6 +699,8 @@ void Synthesizer::warpChroma(ViewState& view, const Frame& texture) {
   WarpedLayer& layer = view.chroma;
   layer.reset(cw, ch, 2);
   const double tolerance = fillOptions_.depthTolerance;
+  sampler_.withTaps([&](auto taps) {
+  constexpr int kTaps = decltype(taps)::value;
   parallelRanges(ch, [&](int j0, int j1) {
     // Locals, as in warpTexture: the byte and double stores below could alias what the loop reads.
     const ViewProjection projection = view.projection;
@@ -742,13 +750,14 @@ void Synthesizer::warpChroma(ViewState& view, const Frame& texture) {
         depthOut[c] = inverseDepth;
         edgeOut[c] = edge;
         if (rows) {  // cv is the integer j: rows map to rows
-          uOut[c] = sampler.sampleRow(texture.planes[1], cu, j);
-          vOut[c] = sampler.sampleRow(texture.planes[2], cu, j);
+          uOut[c] = sampler.sampleRowTaps<kTaps>(texture.planes[1], cu, j);
+          vOut[c] = sampler.sampleRowTaps<kTaps>(texture.planes[2], cu, j);
         } else {
-          uOut[c] = sampler.sample(texture.planes[1], cu, cv);
-          vOut[c] = sampler.sample(texture.planes[2], cu, cv);
+          uOut[c] = sampler.sampleTaps<kTaps>(texture.planes[1], cu, cv);
+          vOut[c] = sampler.sampleTaps<kTaps>(texture.planes[2], cu, cv);
         }
       }
+  });
   });
 }
 
