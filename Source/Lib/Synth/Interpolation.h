@@ -90,15 +90,18 @@ inline float SubPixelSampler::sampleRowTaps(const Plane& plane, double x, long l
   gridPosition(x, ix, px);
   const long long maxX = plane.width - 1;
   const uint16_t* row = plane.row(int(std::clamp(y, 0LL, (long long)plane.height - 1)));
-  if (px == 0) return float(row[std::clamp(ix, 0LL, maxX)]);
   const float* kx = kernel(px);
   const long long left = ix + first_;
   float rowSum = 0.0f;
   if (left >= 0 && left + TAPS - 1 <= maxX) {
+    // Phase 0 too: its kernel is (0, .., 1, .., 0), and 0 + 0 * a + 1 * b + 0 * c .. is b exactly
+    // (samples are finite and 0 * a is +0 or -0, which leave a sum unchanged), so no branch on the
+    // phase, which a slanted surface makes unpredictable.
     const uint16_t* taps = row + left;
     for (int tx = 0; tx < TAPS; ++tx) rowSum += kx[tx] * float(taps[tx]);
     return rowSum;
   }
+  if (px == 0) return float(row[std::clamp(ix, 0LL, maxX)]);
   for (int tx = 0; tx < TAPS; ++tx) {
     if (kx[tx] == 0.0f) continue;
     rowSum += kx[tx] * float(row[std::clamp(ix + first_ + tx, 0LL, maxX)]);
