@@ -32,6 +32,27 @@ inline bool coveredRange(double lo, double hi, int size, int& first, int& last) 
   return first <= last;
 }
 
+// Sizes `layer` for w x h samples of c channels without clearing it: the warps clear each row in
+// their parallel loops (clearRows), where the row is about to be written anyway, instead of in one
+// pass on one thread over the whole layer before.
+void sizeLayer(WarpedLayer& layer, int w, int h, int c) {
+  layer.width = w;
+  layer.height = h;
+  layer.channels = c;
+  const size_t n = size_t(w) * size_t(h);
+  layer.inverseDepth.resize(n);
+  for (int k = 0; k < 3; ++k) layer.colour[k].resize(k < c ? n : 0);
+  layer.edge.resize(n);
+}
+
+// What WarpedLayer::reset leaves in rows [y0, y1): no depth, colour 0, no edge.
+void clearRows(WarpedLayer& layer, int y0, int y1) {
+  const size_t begin = size_t(y0) * size_t(layer.width), end = size_t(y1) * size_t(layer.width);
+  std::fill(layer.inverseDepth.data() + begin, layer.inverseDepth.data() + end, kNoDepth);
+  for (int k = 0; k < layer.channels; ++k) std::fill(layer.colour[k].data() + begin, layer.colour[k].data() + end, 0.0f);
+  std::fill(layer.edge.data() + begin, layer.edge.data() + end, uint8_t(0));
+}
+
 void rasteriseTriangle(AtomicMaxBuffer& zbuffer, int width, int height, const double* x, const double* y,
                        const double* w) {
   const double minX = std::min(x[0], std::min(x[1], x[2])), maxX = std::max(x[0], std::max(x[1], x[2]));
@@ -340,7 +361,9 @@ void Synthesizer::warpDepthRows(ViewState& view, const Plane& depth) {
   const int w = depth.width, h = depth.height;
   const int outW = outputFormat_.width, outH = outputFormat_.height;
   const OneDOptions& oneD = scene_.settings.oneD;
-  view.luma.reset(outW, outH, rgb_ ? 3 : 1);
+  sizeLayer(view.luma, outW, outH, rgb_ ? 3 : 1);
+  // Rows below the reference (an output taller than it) receive nothing.
+  if (outH > h) clearRows(view.luma, h, outH);
   auto raise = [](double& cell, double value) {
     int64_t a, b;
     std::memcpy(&a, &value, sizeof a);
@@ -366,6 +389,7 @@ void Synthesizer::warpDepthRows(ViewState& view, const Plane& depth) {
     double* ws = wsRow.data();
     uint8_t* nearBoundary = nearRow.data();
     for (int y = y0; y < y1; ++y) {
+      clearRows(view.luma, y, y + 1);
       const uint16_t* levels = depth.row(y);
       for (int x = 0; x < width; ++x) {
         const double wv = levels[x] < levelCount ? rowDepth[levels[x]] : std::nan("");
@@ -692,72 +716,79 @@ void Synthesizer::rejectOccludedInOtherViews() {
 }
 
 void Synthesizer::warpChroma(ViewState& view, const Frame& texture) {
-  const int scale = outputFormat_.chroma == ChromaFormat::Yuv420 ? 2 : 1;
   const int cw = chromaWidth(outputFormat_.width, outputFormat_.chroma);
   const int ch = chromaHeight(outputFormat_.height, outputFormat_.chroma);
   const WarpedLayer& luma = view.luma;
   WarpedLayer& layer = view.chroma;
-  layer.reset(cw, ch, 2);
+  sizeLayer(layer, cw, ch, 2);
   const double tolerance = fillOptions_.depthTolerance;
-  sampler_.withTaps([&](auto taps) {
-  constexpr int kTaps = decltype(taps)::value;
-  parallelRanges(ch, [&](int j0, int j1) {
-    // Locals, as in warpTexture: the byte and double stores below could alias what the loop reads.
-    const ViewProjection projection = view.projection;
-    const SubPixelSampler sampler = sampler_;
-    const int lumaWidth = luma.width, lumaHeight = luma.height, chromaW = cw, chromaH = ch, block = scale;
-    const double surface = tolerance;
-    const double* lumaDepth = luma.inverseDepth.data();
-    const uint8_t* lumaEdge = luma.edge.data();
-    double* depthOut = layer.inverseDepth.data();
-    uint8_t* edgeOut = layer.edge.data();
-    float* uOut = layer.colour[0].data();
-    float* vOut = layer.colour[1].data();
-    const bool rows = parallel_;
-    for (int j = j0; j < j1; ++j)
-      for (int i = 0; i < chromaW; ++i) {
-        // The chroma sample covers a block x block square of luma samples; it takes the depth of the
-        // front-most surface there (the mean inverse depth of the block's samples on it).
-        double front = kNoDepth;
-        for (int dy = 0; dy < block; ++dy)
-          for (int dx = 0; dx < block; ++dx) {
-            const int x = i * block + dx, y = j * block + dy;
-            if (x < lumaWidth && y < lumaHeight) front = std::max(front, lumaDepth[size_t(y) * lumaWidth + x]);
-          }
-        if (front < 0) continue;
-        double sum = 0;
-        int count = 0;
-        uint8_t edge = 0;
-        for (int dy = 0; dy < block; ++dy)
-          for (int dx = 0; dx < block; ++dx) {
-            const int x = i * block + dx, y = j * block + dy;
-            if (x >= lumaWidth || y >= lumaHeight) continue;
-            const size_t k = size_t(y) * lumaWidth + x;
-            if (lumaDepth[k] >= 0 && front - lumaDepth[k] <= surface) {
-              sum += lumaDepth[k];
-              ++count;
-              edge |= lumaEdge[k];
+  // The block size (2 for 4:2:0, 1 for 4:4:4) and the kernel as compile-time constants: the block
+  // loops unroll and the division by the block size is exact as a multiplication.
+  auto warp = [&](auto blockSize, auto taps) {
+    constexpr int kBlock = decltype(blockSize)::value, kTaps = decltype(taps)::value;
+    parallelRanges(ch, [&](int j0, int j1) {
+      // Locals, as in warpTexture: the byte and double stores below could alias what the loop reads.
+      const ViewProjection projection = view.projection;
+      const SubPixelSampler sampler = sampler_;
+      const int lumaWidth = luma.width, lumaHeight = luma.height, chromaW = cw, chromaH = ch;
+      const double surface = tolerance;
+      const double* lumaDepth = luma.inverseDepth.data();
+      const uint8_t* lumaEdge = luma.edge.data();
+      double* depthOut = layer.inverseDepth.data();
+      uint8_t* edgeOut = layer.edge.data();
+      float* uOut = layer.colour[0].data();
+      float* vOut = layer.colour[1].data();
+      const bool rows = parallel_;
+      // Chroma sample centres sit in the middle of their luma block (doc/formats-yuv.md).
+      const double offset = 0.5 * (kBlock - 1);
+      for (int j = j0; j < j1; ++j) {
+        clearRows(layer, j, j + 1);
+        for (int i = 0; i < chromaW; ++i) {
+          // The chroma sample covers a block x block square of luma samples; it takes the depth of
+          // the front-most surface there (the mean inverse depth of the block's samples on it).
+          // Luma samples beyond the picture (an odd size) are not part of the block.
+          const int bw = std::min(kBlock, lumaWidth - i * kBlock), bh = std::min(kBlock, lumaHeight - j * kBlock);
+          const double* block = lumaDepth + size_t(j) * kBlock * lumaWidth + size_t(i) * kBlock;
+          double front = kNoDepth;
+          for (int dy = 0; dy < kBlock; ++dy)
+            for (int dx = 0; dx < kBlock; ++dx)
+              if (dx < bw && dy < bh) front = std::max(front, block[size_t(dy) * lumaWidth + dx]);
+          if (front < 0) continue;
+          double sum = 0;
+          int count = 0;
+          uint8_t edge = 0;
+          for (int dy = 0; dy < kBlock; ++dy)
+            for (int dx = 0; dx < kBlock; ++dx) {
+              if (dx >= bw || dy >= bh) continue;
+              const size_t k = size_t(j * kBlock + dy) * lumaWidth + size_t(i * kBlock + dx);
+              if (lumaDepth[k] >= 0 && front - lumaDepth[k] <= surface) {
+                sum += lumaDepth[k];
+                ++count;
+                edge |= lumaEdge[k];
+              }
             }
+          const double inverseDepth = sum / count;
+          double u, v;
+          if (!projection.backward(i * kBlock + offset, j * kBlock + offset, inverseDepth, u, v)) continue;
+          const double cu = (u - offset) / kBlock, cv = (v - offset) / kBlock;
+          if (cu < -1.0 || cv < -1.0 || cu > chromaW || cv > chromaH) continue;
+          const size_t c = size_t(j) * chromaW + i;
+          depthOut[c] = inverseDepth;
+          edgeOut[c] = edge;
+          if (rows) {  // cv is the integer j: rows map to rows
+            uOut[c] = sampler.sampleRowTaps<kTaps>(texture.planes[1], cu, j);
+            vOut[c] = sampler.sampleRowTaps<kTaps>(texture.planes[2], cu, j);
+          } else {
+            uOut[c] = sampler.sampleTaps<kTaps>(texture.planes[1], cu, cv);
+            vOut[c] = sampler.sampleTaps<kTaps>(texture.planes[2], cu, cv);
           }
-        const double inverseDepth = sum / count;
-        // Chroma sample centres sit in the middle of their luma block (doc/formats-yuv.md).
-        const double offset = 0.5 * (block - 1);
-        double u, v;
-        if (!projection.backward(i * block + offset, j * block + offset, inverseDepth, u, v)) continue;
-        const double cu = (u - offset) / block, cv = (v - offset) / block;
-        if (cu < -1.0 || cv < -1.0 || cu > chromaW || cv > chromaH) continue;
-        const size_t c = size_t(j) * chromaW + i;
-        depthOut[c] = inverseDepth;
-        edgeOut[c] = edge;
-        if (rows) {  // cv is the integer j: rows map to rows
-          uOut[c] = sampler.sampleRowTaps<kTaps>(texture.planes[1], cu, j);
-          vOut[c] = sampler.sampleRowTaps<kTaps>(texture.planes[2], cu, j);
-        } else {
-          uOut[c] = sampler.sampleTaps<kTaps>(texture.planes[1], cu, cv);
-          vOut[c] = sampler.sampleTaps<kTaps>(texture.planes[2], cu, cv);
         }
       }
-  });
+    });
+  };
+  sampler_.withTaps([&](auto taps) {
+    if (outputFormat_.chroma == ChromaFormat::Yuv420) warp(std::integral_constant<int, 2>(), taps);
+    else warp(std::integral_constant<int, 1>(), taps);
   });
 }
 
