@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <cstring>
 #include <vector>
 
 #include "Common/Depth.h"
@@ -44,9 +45,30 @@ int mismatch(const EdgeWitness& witness, const Line& line, int i, int level) {
   return best;
 }
 
-// Whether samples x and x + 1 of a line form a depth edge.
-bool isDepthEdge(int a, int b, const EdgeAlignOptions& o) {
-  return a != o.missingLevel && b != o.missingLevel && std::abs(a - b) >= o.minStep;
+// Flags x in [0, n) where samples a[x] and b[x] form a depth edge (neither missing, levels minStep
+// or more apart). Edges are few: the flags are found in a branch-free pass that vectorises, and the
+// callers then skip eight flags at a time (forEachFlag) instead of testing every pair with branches.
+void markDepthEdges(const uint16_t* a, const uint16_t* b, int n, const EdgeAlignOptions& o, uint8_t* flags) {
+  const int missing = o.missingLevel, minStep = o.minStep;
+  for (int x = 0; x < n; ++x) {
+    const int p = a[x], q = b[x];
+    flags[x] = uint8_t((p != missing) & (q != missing) & (std::abs(p - q) >= minStep));
+  }
+}
+
+// Calls f(x) for every x in [0, n) with flags[x] set, in increasing order.
+template <class F>
+void forEachFlag(const uint8_t* flags, int n, F&& f) {
+  int x = 0;
+  for (; x + 8 <= n; x += 8) {
+    uint64_t eight;
+    std::memcpy(&eight, flags + x, sizeof eight);
+    if (eight == 0) continue;
+    for (int k = 0; k < 8; ++k)
+      if (flags[x + k]) f(x + k);
+  }
+  for (; x < n; ++x)
+    if (flags[x]) f(x);
 }
 
 // The depth edge between samples x and x + 1 of `line`: moves it onto the texture edge when the tests
@@ -107,28 +129,37 @@ size_t alignDepthEdges(const Plane& depth, const Plane& luma, const EdgeAlignOpt
       !witness.projection || !witness.inverseDepth)
     return 0;
   const int w = depth.width, h = depth.height;
+  // Edge flags of one line, per thread (alignEdge reads the input depth and writes `out`, so flags
+  // found before aligning a line are the ones found while aligning it).
+  static thread_local std::vector<uint8_t> edgeFlags;
   parallelRanges(h, [&](int y0, int y1) {
+    edgeFlags.resize(size_t(w));
     for (int y = y0; y < y1; ++y) {
       const Line line{depth.row(y), luma.row(y), out.row(y), 1, w, 0, y, 1, 0};
       const uint16_t* d = depth.row(y);
-      for (int x = 0; x + 1 < w; ++x)
-        if (isDepthEdge(d[x], d[x + 1], options)) alignEdge(line, x, options, witness);
+      markDepthEdges(d, d + 1, w - 1, options, edgeFlags.data());
+      forEachFlag(edgeFlags.data(), w - 1, [&](int x) { alignEdge(line, x, options, witness); });
     }
   });
   // Then the columns of the aligned rows, each from top to bottom; a thread takes a range of columns
   // and finds their edges row by row, in memory order.
   scratch = out;
   parallelRanges(w, [&](int x0, int x1) {
+    edgeFlags.resize(size_t(w));
     for (int y = 0; y + 1 < h; ++y) {
-      const uint16_t *d = scratch.row(y), *below = scratch.row(y + 1);
-      for (int x = x0; x < x1; ++x)
-        if (isDepthEdge(d[x], below[x], options))
-          alignEdge({scratch.samples.data() + x, luma.samples.data() + x, out.samples.data() + x, w, h, x, 0, 0, 1}, y,
-                    options, witness);
+      markDepthEdges(scratch.row(y) + x0, scratch.row(y + 1) + x0, x1 - x0, options, edgeFlags.data());
+      forEachFlag(edgeFlags.data(), x1 - x0, [&](int offset) {
+        const int x = x0 + offset;
+        alignEdge({scratch.samples.data() + x, luma.samples.data() + x, out.samples.data() + x, w, h, x, 0, 0, 1}, y,
+                  options, witness);
+      });
     }
   });
+  // Samples moved: a branch-free count that vectorises.
   size_t changed = 0;
-  for (size_t i = 0; i < out.samples.size(); ++i) changed += out.samples[i] != depth.samples[i];
+  const uint16_t* before = depth.samples.data();
+  const uint16_t* after = out.samples.data();
+  for (size_t i = 0, n = out.samples.size(); i < n; ++i) changed += size_t(before[i] != after[i]);
   return changed;
 }
 
