@@ -17,6 +17,7 @@
 #include "Synth/HoleFill.h"
 #include "Synth/Interpolation.h"
 #include "Synth/Layer.h"
+#include "Synth/Occlusion.h"
 #include "Synth/EdgeAlign.h"
 #include "Synth/Parallel.h"
 #include "Synth/Warp.h"
@@ -119,8 +120,7 @@ private:
   // Per-frame working buffers, kept so that a sequence allocates nothing once they have grown.
   HoleFillScratch lumaFill_, chromaFill_;
   std::vector<uint8_t> dropScratch_;
-  std::vector<uint8_t> soleView_, candidateRows_, rejectScratch_;  // rejectOccludedInOtherViews
-  std::vector<double> farthestScratch_, oneSideScratch_, columnLastScratch_;
+  OcclusionScratch occlusionScratch_;
   std::vector<uint8_t> rowHoleScratch_, boxHoleScratch_;  // flagCrowdedHoles: holes along rows, in 7x7 boxes
   std::vector<Frame> rgbReferences_;
   Frame rgbOutput_;  // ColorSpace 1: the rounded R, G, B before conversion

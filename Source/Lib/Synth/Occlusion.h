@@ -1,0 +1,34 @@
+#pragma once
+// The occlusion rule between warped views (doc/algorithms.md, "Blending"): a sample that only one
+// view shows fills a hole of the other views. A disocclusion reveals surfaces behind the foreground,
+// but not far behind everything around the hole: a sample farther than every surface the other views
+// show around it is a misplaced one, typically a sample of unknown depth coded as the far plane.
+#include <cstdint>
+#include <vector>
+
+#include "Synth/Layer.h"
+
+namespace vs {
+
+// Working buffers, kept between frames so that a sequence allocates nothing once they have grown.
+struct OcclusionScratch {
+  std::vector<uint8_t> soleView;       // per sample: the one view that covers it, or none
+  std::vector<uint8_t> candidateRows;  // per row: whether it holds a candidate
+  std::vector<uint8_t> stillBehind;    // per candidate: behind the surroundings of every view so far
+  std::vector<double> around;          // per candidate: the surroundings in the view looked at
+  std::vector<double> above;           // per sample: the nearest valid sample above it in that view
+  std::vector<double> columnLast;      // per column: the last valid sample met by a column scan
+};
+
+// Drops (sets to kNoDepth) every sample of `views` that exactly one view k covers, when weights[k] is
+// below 1 and, in every other view o, the sample lies more than `behind` (inverse depth) behind the
+// surroundings of its spot in o. The surroundings in o: along the sample's row, and along its column,
+// the nearest valid samples of o on both sides, when there are both; the farther (smaller inverse
+// depth) of all those. A view o without surroundings there (a hole of o open on one side of both
+// lines, such as a strip along the picture's border that o cannot see) keeps the sample. A view of
+// weight 1 (the virtual camera sits on it) shows what the virtual camera sees and keeps every sample.
+// Every decision is made on the layers as they come in. All layers have one size; at most 254 views.
+void rejectMisplacedSamples(const std::vector<WarpedLayer*>& views, const std::vector<double>& weights, double behind,
+                            OcclusionScratch& scratch);
+
+}  // namespace vs
