@@ -1,16 +1,50 @@
 #include "Common/Memory.h"
 
+#include <algorithm>
+#include <cstdint>
 #include <cstdlib>  // brings in the C library's feature macros (__GLIBC__)
 #if defined(__GLIBC__)
 #include <malloc.h>
 #endif
+#if defined(__linux__)
+#include <sys/mman.h>
+#endif
 
 namespace vs {
 
+namespace {
+
+bool heapKept = false;  // keepFreedMemoryForReuse() has raised the thresholds
+
+}  // namespace
+
 void keepFreedMemoryForReuse() {
 #if defined(__GLIBC__)
-  mallopt(M_MMAP_THRESHOLD, 256 << 20);  // blocks up to 256 MiB come from the heap
-  mallopt(M_TRIM_THRESHOLD, 1 << 30);    // free heap is kept up to 1 GiB
+  const bool mapped = mallopt(M_MMAP_THRESHOLD, 256 << 20) == 1;  // blocks up to 256 MiB come from the heap
+  const bool trimmed = mallopt(M_TRIM_THRESHOLD, 1 << 30) == 1;   // free heap is kept up to 1 GiB
+  heapKept = mapped && trimmed;
+#endif
+}
+
+void reserveHugePageHeap(size_t bytes) {
+#if defined(__GLIBC__) && defined(__linux__) && defined(MADV_HUGEPAGE) && !defined(__SANITIZE_ADDRESS__)
+  if (!heapKept) return;
+  // Blocks below the mmap threshold come from the top of the heap, one after the other; freed, they
+  // return to it and stay (below the trim threshold). Only their headers are written.
+  constexpr size_t kChunk = size_t(192) << 20, kHugePage = size_t(2) << 20;
+  constexpr int kMostChunks = 4;
+  void* chunks[kMostChunks] = {};
+  bytes = std::min(bytes, size_t(kMostChunks) * kChunk);
+  for (int k = 0; k < kMostChunks && size_t(k) * kChunk < bytes; ++k) {
+    chunks[k] = std::malloc(kChunk);
+    if (!chunks[k]) break;
+    const uintptr_t begin = (uintptr_t(chunks[k]) + kHugePage - 1) & ~uintptr_t(kHugePage - 1);
+    const uintptr_t end = (uintptr_t(chunks[k]) + kChunk) & ~uintptr_t(kHugePage - 1);
+    if (end > begin) madvise(reinterpret_cast<void*>(begin), end - begin, MADV_HUGEPAGE);  // advice only
+  }
+  for (void* chunk : chunks) std::free(chunk);
+#else
+  (void)bytes;
 #endif
 }
 

@@ -1,5 +1,6 @@
 #pragma once
 // Process-wide memory settings for the executables.
+#include <cstddef>
 
 namespace vs {
 
@@ -11,5 +12,14 @@ namespace vs {
 // process's peak memory is unchanged, it is only not returned before exit. No effect outside glibc
 // (or under a sanitizer's allocator).
 void keepFreedMemoryForReuse();
+
+// Grows the heap by `bytes` (at most 768 MiB) and asks Linux for transparent huge pages over it, so
+// that the frame buffers a run then allocates there are faulted in 2 MiB at a time instead of 4 KiB:
+// the first frame of a run touches all of its memory for the first time, and a one-frame run spent
+// about a third of its time in the kernel's page faults. The memory is only reserved (address space):
+// none of it is touched here, and resident memory grows only as the run uses it. Does nothing unless
+// keepFreedMemoryForReuse() set the heap up (the reservation would otherwise be unmapped when freed),
+// or outside glibc on Linux; where transparent huge pages are off, the advice has no effect.
+void reserveHugePageHeap(size_t bytes);
 
 }  // namespace vs
