@@ -1,7 +1,13 @@
 // SynthBench: seconds per frame of every ViewSyn stage, median of N runs, on the SceneGen demo at
 // three sizes and on the real Middlebury configs, with 1 and 2 threads. Prints seconds per frame,
-// seconds per megapixel and frames per second. See --help.
+// seconds per megapixel and frames per second, and the wall clock of the whole ViewSyn process on the
+// same job (what VSRS's figures are). See --help.
+#include <fcntl.h>
+#include <spawn.h>
+#include <sys/wait.h>
+
 #include <algorithm>
+#include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -17,15 +23,19 @@
 #include "Scene/SceneGen.h"
 #include "Synth/Run.h"
 
+extern char** environ;  // the environment the whole-process runs inherit (POSIX)
+
 namespace {
 
 namespace fs = std::filesystem;
 
 const char* kUsage =
     "SynthBench %s: times ViewSyn's stages (read, depth warp, texture warp, blend, hole fill, write) on\n"
-    "one frame, whole pipeline with file I/O, median of N runs, for each case and thread count.\n\n"
+    "one frame, whole pipeline with file I/O, median of N runs, for each case and thread count; then\n"
+    "the same job as a whole ViewSyn process (start-up and first touch of its memory included, as in\n"
+    "VSRS's figures), median of N runs.\n\n"
     "Usage: SynthBench [--runs N] [--threads 1,2] [--work DIR] [--data DIR] [--no-demo] [--no-data]\n"
-    "                  [--all-scenes] [CONFIG.cfg ...]\n\n"
+    "                  [--all-scenes] [--no-process] [CONFIG.cfg ...]\n\n"
     "  --runs N        runs per case (default 5)\n"
     "  --threads LIST  thread counts (default 1,2)\n"
     "  --work DIR      folder for generated scenes and outputs (default out/bench)\n"
@@ -33,6 +43,7 @@ const char* kUsage =
     "  --no-demo       skip the SceneGen demo at 640x480, 1024x768 and 1920x1080\n"
     "  --no-data       skip the real data\n"
     "  --all-scenes    every Middlebury 2005/2006 scene (default: Art, Books, Aloe)\n"
+    "  --no-process    skip the whole-process runs (columns proc s/MP and proc fps)\n"
     "  CONFIG.cfg      further ViewSyn configs to time\n";
 
 struct Case {
@@ -44,6 +55,28 @@ struct Case {
 double median(std::vector<double> v) {
   std::sort(v.begin(), v.end());
   return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
+}
+
+// Wall-clock seconds of one run of `exe` with `args`, its output discarded; throws when it fails.
+double processSeconds(const fs::path& exe, const std::vector<std::string>& args) {
+  std::vector<std::string> words = {exe.string()};
+  words.insert(words.end(), args.begin(), args.end());
+  std::vector<char*> argv;
+  for (std::string& word : words) argv.push_back(word.data());
+  argv.push_back(nullptr);
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_addopen(&actions, 1, "/dev/null", O_WRONLY, 0);
+  posix_spawn_file_actions_addopen(&actions, 2, "/dev/null", O_WRONLY, 0);
+  const auto start = std::chrono::steady_clock::now();
+  pid_t child = 0;
+  const int spawned = posix_spawn(&child, argv[0], &actions, nullptr, argv.data(), environ);
+  posix_spawn_file_actions_destroy(&actions);
+  int status = 0;
+  if (spawned != 0 || waitpid(child, &status, 0) != child || !WIFEXITED(status) || WEXITSTATUS(status) != 0)
+    throw vs::InputError(exe.string() + " failed on " + (args.empty() ? std::string() : args[0]) +
+                         " (run it by hand to see why)");
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
 std::string demoConfig(const fs::path& work, int width, int height) {
@@ -69,7 +102,7 @@ int main(int argc, char** argv) {
   fs::path work = "out/bench";
   const char* env = std::getenv("VS_DATA_DIR");
   fs::path data = env && *env ? fs::path(env) : fs::path("../shared/data");
-  bool demo = true, real = true, allScenes = false;
+  bool demo = true, real = true, allScenes = false, process = true;
   std::vector<Case> cases;
   for (size_t i = 0; i < args.size(); ++i) {
     const std::string& a = args[i];
@@ -98,6 +131,8 @@ int main(int argc, char** argv) {
       real = false;
     } else if (a == "--all-scenes") {
       allScenes = true;
+    } else if (a == "--no-process") {
+      process = false;
     } else if (a.rfind("--", 0) == 0) {
       std::fprintf(stderr, "SynthBench: unknown option '%s' (see --help)\n", a.c_str());
       return 2;
@@ -132,8 +167,14 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "SynthBench: %s is absent: real data skipped\n", data.string().c_str());
     }
 
-    std::printf("%-28s %3s %8s %8s %8s %8s %8s %8s %9s %9s %7s\n", "case", "thr", "read", "d.warp", "t.warp", "blend",
-                "holes", "write", "s/frame", "s/MP", "fps");
+    // ViewSyn beside this executable, for the whole-process runs.
+    const fs::path viewSyn = fs::read_symlink("/proc/self/exe").parent_path() / "ViewSyn";
+    if (process && !fs::exists(viewSyn)) {
+      std::fprintf(stderr, "SynthBench: no %s: whole-process runs skipped\n", viewSyn.string().c_str());
+      process = false;
+    }
+    std::printf("%-28s %3s %8s %8s %8s %8s %8s %8s %9s %9s %7s %10s %8s\n", "case", "thr", "read", "d.warp", "t.warp",
+                "blend", "holes", "write", "s/frame", "s/MP", "fps", "proc s/MP", "proc fps");
     const vs::OptionTable table = vs::viewSynOptionTable();
     std::map<std::string, double> medians;  // "case|threads" -> median s/frame, for the ratios below
     for (const Case& c : cases)
@@ -155,9 +196,19 @@ int main(int argc, char** argv) {
         const double total = median(stage[6]);
         medians[c.name + "|" + std::to_string(threads)] = total;
         medians[c.name + "|warp|" + std::to_string(threads)] = median(stage[1]) + median(stage[2]);
-        std::printf("%-28s %3d %8.4f %8.4f %8.4f %8.4f %8.4f %8.4f %9.4f %9.4f %7.1f\n", c.name.c_str(), threads,
+        std::printf("%-28s %3d %8.4f %8.4f %8.4f %8.4f %8.4f %8.4f %9.4f %9.4f %7.1f", c.name.c_str(), threads,
                     median(stage[0]), median(stage[1]), median(stage[2]), median(stage[3]), median(stage[4]),
                     median(stage[5]), total, total / megapixels, 1.0 / total);
+        if (process) {
+          // The same job as its own process: start-up, first touch of every buffer and exit included.
+          std::vector<std::string> args = {c.config};
+          args.insert(args.end(), overrides.begin(), overrides.end());
+          std::vector<double> seconds;
+          for (int r = 0; r < runs; ++r) seconds.push_back(processSeconds(viewSyn, args));
+          const double wall = median(seconds);
+          std::printf(" %10.4f %8.1f", wall / megapixels, 1.0 / wall);
+        }
+        std::printf("\n");
         std::fflush(stdout);
       }
     // The 1D path against the general path on the same settings and data: whole frame, and the two
