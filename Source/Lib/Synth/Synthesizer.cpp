@@ -317,36 +317,36 @@ void Synthesizer::warpDepth(ViewState& view, const Plane& depth) {
 }
 
 void Synthesizer::rasteriseTriangles(ViewState& view, int w, int h) {
-  // Triangles of each quad of neighbouring samples, when all three lie on one surface.
+  // Triangles of each quad of neighbouring samples, when all three lie on one surface: corners
+  // (0, 1, 3) and (0, 3, 2) of the quad (x, y), (x + 1, y), (x, y + 1), (x + 1, y + 1), in that order.
   const int outW = view.luma.width, outH = view.luma.height;
-  static const int corners[2][3] = {{0, 1, 3}, {0, 3, 2}};
   parallelRanges(h - 1, [&](int y0, int y1) {
-  // Locals for what the loop reads (members and captures would be reloaded around every call).
-  const double* warpedX = view.warpedX.data();
-  const double* warpedY = view.warpedY.data();
-  const double* warpedW = view.warpedW.data();
-  const double discontinuity = discontinuity_;
-  const int width = w;
-  for (int y = y0; y < y1; ++y)
-    for (int x = 0; x + 1 < width; ++x) {
-      const size_t quad[4] = {size_t(y) * width + x, size_t(y) * width + x + 1, size_t(y + 1) * width + x,
-                              size_t(y + 1) * width + x + 1};
-      // A quad with a corner not warped has no triangle: most of them, in a hole, skip here.
-      if (warpedW[quad[0]] < 0 || warpedW[quad[3]] < 0 || (warpedW[quad[1]] < 0 && warpedW[quad[2]] < 0)) continue;
-      for (const auto& triangle : corners) {
-        double tx[3], ty[3], tw[3];
-        bool ok = true;
-        double lo = HUGE_VAL, hi = -HUGE_VAL;
-        for (int k = 0; k < 3 && ok; ++k) {
-          const size_t i = quad[triangle[k]];
-          ok = warpedW[i] >= 0;
-          tx[k] = warpedX[i];
-          ty[k] = warpedY[i];
-          tw[k] = warpedW[i];
-          lo = std::min(lo, tw[k]);
-          hi = std::max(hi, tw[k]);
+    // Locals for what the loop reads (members and captures would be reloaded around every call).
+    const double discontinuity = discontinuity_;
+    const int width = w;
+    for (int y = y0; y < y1; ++y) {
+      // The quad's two rows, read once for both triangles.
+      const double* x0 = view.warpedX.data() + size_t(y) * width;
+      const double* y0Row = view.warpedY.data() + size_t(y) * width;
+      const double* w0 = view.warpedW.data() + size_t(y) * width;
+      const double *x1 = x0 + width, *y1Row = y0Row + width, *w1 = w0 + width;
+      for (int x = 0; x + 1 < width; ++x) {
+        const double d0 = w0[x], d1 = w0[x + 1], d2 = w1[x], d3 = w1[x + 1];
+        // A quad with a corner not warped has no triangle: most of them, in a hole, skip here.
+        if (d0 < 0 || d3 < 0 || (d1 < 0 && d2 < 0)) continue;
+        // Corners 0 and 3 belong to both triangles; a triangle whose depths span more than the
+        // discontinuity crosses a depth edge.
+        const double lo03 = std::min(d0, d3), hi03 = std::max(d0, d3);
+        if (d1 >= 0 && std::max(hi03, d1) - std::min(lo03, d1) <= discontinuity) {
+          const double tx[3] = {x0[x], x0[x + 1], x1[x + 1]}, ty[3] = {y0Row[x], y0Row[x + 1], y1Row[x + 1]};
+          const double tw[3] = {d0, d1, d3};
+          rasteriseTriangle(zbuffer_, outW, outH, tx, ty, tw);
         }
-        if (ok && hi - lo <= discontinuity) rasteriseTriangle(zbuffer_, outW, outH, tx, ty, tw);
+        if (d2 >= 0 && std::max(hi03, d2) - std::min(lo03, d2) <= discontinuity) {
+          const double tx[3] = {x0[x], x1[x + 1], x1[x]}, ty[3] = {y0Row[x], y1Row[x + 1], y1Row[x]};
+          const double tw[3] = {d0, d3, d2};
+          rasteriseTriangle(zbuffer_, outW, outH, tx, ty, tw);
+        }
       }
     }
   });
