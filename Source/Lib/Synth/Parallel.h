@@ -3,6 +3,7 @@
 // run from the Threads key (cv::setNumThreads). Every parallel loop in the synthesizer writes only
 // its own rows, or combines by max (AtomicMaxBuffer), so the output is bit-identical whatever the
 // number of threads.
+#include <algorithm>
 #include <atomic>
 #include <cstdint>
 #include <cstring>
@@ -24,10 +25,14 @@ void parallelRanges(int count, const Body& body) {
 // integer atomic max is a max of the doubles; the result does not depend on the order of writes.
 class AtomicMaxBuffer {
 public:
+  // A frame-sized buffer is set in blocks on the threads.
   void reset(size_t size, double value) {
     if (cells_.size() != size) cells_ = std::vector<std::atomic<int64_t>>(size);
     const int64_t bits = toBits(value);
-    for (auto& cell : cells_) cell.store(bits, std::memory_order_relaxed);
+    parallelRanges(int((size + kBlock - 1) / kBlock), [&](int b0, int b1) {
+      const size_t end = std::min(size, size_t(b1) * kBlock);
+      for (size_t i = size_t(b0) * kBlock; i < end; ++i) cells_[i].store(bits, std::memory_order_relaxed);
+    });
   }
   void raise(size_t i, double value) {
     const int64_t bits = toBits(value);
@@ -35,12 +40,13 @@ public:
     while (bits > current && !cells_[i].compare_exchange_weak(current, bits, std::memory_order_relaxed)) {
     }
   }
-  void copyTo(std::vector<double>& out) const {
-    out.resize(cells_.size());
-    for (size_t i = 0; i < cells_.size(); ++i) out[i] = fromBits(cells_[i].load(std::memory_order_relaxed));
+  // Cells [begin, end) as doubles into out[0 .. end - begin).
+  void copyTo(size_t begin, size_t end, double* out) const {
+    for (size_t i = begin; i < end; ++i) out[i - begin] = fromBits(cells_[i].load(std::memory_order_relaxed));
   }
 
 private:
+  static constexpr size_t kBlock = size_t(1) << 16;
   static int64_t toBits(double v) {
     int64_t bits;
     std::memcpy(&bits, &v, sizeof bits);

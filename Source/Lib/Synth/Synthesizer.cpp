@@ -300,7 +300,7 @@ void Synthesizer::warpDepth(ViewState& view, const Plane& depth) {
     }
   });
   const int outW = outputFormat_.width, outH = outputFormat_.height;
-  view.luma.reset(outW, outH, rgb_ ? 3 : 1);
+  sizeLayer(view.luma, outW, outH, rgb_ ? 3 : 1);
   zbuffer_.reset(size_t(outW) * outH, kNoDepth);
   rasteriseTriangles(view, w, h);
   // Every sample also lands as a point, so thin foreground keeps its width.
@@ -312,7 +312,11 @@ void Synthesizer::warpDepth(ViewState& view, const Plane& depth) {
       zbuffer_.raise(size_t(py) * outW + size_t(px), view.warpedW[i]);
     }
   });
-  zbuffer_.copyTo(view.luma.inverseDepth);
+  // The z-buffer becomes the layer's depth, and the rest of the layer is cleared, row by row.
+  parallelRanges(outH, [&](int y0, int y1) {
+    clearRows(view.luma, y0, y1);
+    zbuffer_.copyTo(size_t(y0) * outW, size_t(y1) * outW, view.luma.inverseDepth.data() + size_t(y0) * outW);
+  });
   closeCracks(view.luma.inverseDepth, outW, outH, discontinuity_);
 }
 
