@@ -237,8 +237,11 @@ void Synthesizer::markReferenceEdges(ViewState& view, const Plane& depth) {
   // Dilated by one sample: the colours on both sides of an edge are mixed by the camera's optics.
   // (1D mode with WarpEnhancementOption 0 does without these reliability flags.)
   std::vector<uint8_t>& edge = view.referenceEdge;
-  edge.assign(size_t(w) * h, 0);
-  if (parallel_ && !scene_.settings.oneD.warpEnhancement) return;
+  if (parallel_ && !scene_.settings.oneD.warpEnhancement) {
+    edge.assign(size_t(w) * h, 0);
+    return;
+  }
+  edge.resize(size_t(w) * h);  // every sample is written below
   // Separable: OR over three samples along rows, then along columns.
   std::vector<uint8_t>& rows = view.referenceStepRows;
   rows.resize(size_t(w) * h);
