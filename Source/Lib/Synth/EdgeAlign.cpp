@@ -3,11 +3,11 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
-#include <cstring>
 #include <vector>
 
 #include "Common/Depth.h"
 #include "Common/Geometry.h"
+#include "Synth/Flags.h"
 #include "Synth/Parallel.h"
 
 namespace vs {
@@ -47,28 +47,13 @@ int mismatch(const EdgeWitness& witness, const Line& line, int i, int level) {
 
 // Flags x in [0, n) where samples a[x] and b[x] form a depth edge (neither missing, levels minStep
 // or more apart). Edges are few: the flags are found in a branch-free pass that vectorises, and the
-// callers then skip eight flags at a time (forEachFlag) instead of testing every pair with branches.
+// callers then visit the set ones (Flags.h) instead of testing every pair with branches.
 void markDepthEdges(const uint16_t* a, const uint16_t* b, int n, const EdgeAlignOptions& o, uint8_t* flags) {
   const int missing = o.missingLevel, minStep = o.minStep;
   for (int x = 0; x < n; ++x) {
     const int p = a[x], q = b[x];
     flags[x] = uint8_t((p != missing) & (q != missing) & (std::abs(p - q) >= minStep));
   }
-}
-
-// Calls f(x) for every x in [0, n) with flags[x] set, in increasing order.
-template <class F>
-void forEachFlag(const uint8_t* flags, int n, F&& f) {
-  int x = 0;
-  for (; x + 8 <= n; x += 8) {
-    uint64_t eight;
-    std::memcpy(&eight, flags + x, sizeof eight);
-    if (eight == 0) continue;
-    for (int k = 0; k < 8; ++k)
-      if (flags[x + k]) f(x + k);
-  }
-  for (; x < n; ++x)
-    if (flags[x]) f(x);
 }
 
 // The depth edge between samples x and x + 1 of `line`: moves it onto the texture edge when the tests

@@ -10,6 +10,7 @@
 #include "Common/Depth.h"
 #include "Common/Error.h"
 #include "Synth/Colour.h"
+#include "Synth/Flags.h"
 #include "Synth/Occlusion.h"
 #include "Synth/Plan.h"
 
@@ -408,17 +409,8 @@ void Synthesizer::warpDepthRows(ViewState& view, const Plane& depth) {
       double* z = view.luma.inverseDepth.data() + size_t(y) * outWidth;
       if (splatting != 0) {
         if (splatting == 2) {
-          // Within BoundaryGrowth samples of a reference depth edge: the nearest edge on the left,
-          // then on the right.
-          const uint8_t* step = view.referenceStep.data() + size_t(y) * width;
-          for (int x = 0, last = -1; x < width; ++x) {
-            if (step[x]) last = x;
-            nearBoundary[x] = last >= 0 && x - last <= growth;
-          }
-          for (int x = width - 1, next = -1; x >= 0; --x) {
-            if (step[x]) next = x;
-            if (next >= 0 && next - x <= growth) nearBoundary[x] = 1;
-          }
+          // Within BoundaryGrowth samples of a reference depth edge.
+          markWithinReach(view.referenceStep.data() + size_t(y) * width, width, growth, nearBoundary);
         }
         for (int x = 0; x + 1 < width; ++x) {
           const double w0 = ws[x], w1 = ws[x + 1];
