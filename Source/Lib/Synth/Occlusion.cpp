@@ -34,19 +34,34 @@ void rejectMisplacedSamples(const std::vector<WarpedLayer*>& views, const std::v
     const size_t viewCount = depths.size(), width = size_t(w);
     uint8_t* out = sole.data();
     uint8_t* stillBehind = reject.data();
+    // Two views (nearly every run): which one covers the sample alone, without branches.
+    const bool two = viewCount == 2;
+    const uint8_t first = weights[0] < 1.0 ? 0 : kNone, second = weights[1] < 1.0 ? 1 : kNone;
     for (int y = y0; y < y1; ++y) {
-      bool any = false;
-      for (size_t i = size_t(y) * width; i < size_t(y + 1) * width; ++i) {
-        size_t count = 0, only = 0;
-        for (size_t k = 0; k < viewCount; ++k)
-          if (depth[k][i] >= 0.0) {
-            ++count;
-            only = k;
-          }
-        const bool candidate = count == 1 && weights[only] < 1.0;
-        out[i] = candidate ? uint8_t(only) : kNone;
-        stillBehind[i] = candidate;
-        any = any || candidate;
+      uint8_t any = 0;
+      const size_t begin = size_t(y) * width, end = size_t(y + 1) * width;
+      if (two) {
+        const double *d0 = depth[0], *d1 = depth[1];
+        for (size_t i = begin; i < end; ++i) {
+          const bool v0 = d0[i] >= 0.0, v1 = d1[i] >= 0.0;
+          const uint8_t view = v0 == v1 ? kNone : v0 ? first : second;
+          out[i] = view;
+          stillBehind[i] = uint8_t(view != kNone);
+          any |= uint8_t(view != kNone);
+        }
+      } else {
+        for (size_t i = begin; i < end; ++i) {
+          size_t count = 0, only = 0;
+          for (size_t k = 0; k < viewCount; ++k)
+            if (depth[k][i] >= 0.0) {
+              ++count;
+              only = k;
+            }
+          const bool candidate = count == 1 && weights[only] < 1.0;
+          out[i] = candidate ? uint8_t(only) : kNone;
+          stillBehind[i] = candidate;
+          any |= uint8_t(candidate);
+        }
       }
       candidateRow[size_t(y)] = any;
     }
