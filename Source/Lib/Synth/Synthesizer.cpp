@@ -10,6 +10,7 @@
 #include "Common/Depth.h"
 #include "Common/Error.h"
 #include "Synth/Colour.h"
+#include "Synth/Cracks.h"
 #include "Synth/Flags.h"
 #include "Synth/Occlusion.h"
 #include "Synth/Plan.h"
@@ -77,47 +78,6 @@ void rasteriseTriangle(AtomicMaxBuffer& zbuffer, int width, int height, const do
       zbuffer.raise(size_t(py) * width + px, w[0] + b1 * dw1 + b2 * dw2);
     }
   }
-}
-
-// Closes one- and two-sample gaps between two samples of one surface (inverse depths within the
-// tolerance), along rows and columns, by interpolating between them. A gap is a sample that received
-// nothing, or one that lies behind both ends by more than the tolerance: a one- or two-sample sliver
-// of a far surface inside a surface is a crack through which the warp let a background sample show
-// (typically unknown depth coded as the far plane), not something the virtual camera sees. A gap is
-// never filled with foreground: both ends are one surface, and nearer than what they replace.
-void closeCracks(std::vector<double>& zbuffer, int width, int height, double tolerance) {
-  auto close = [&](size_t a, size_t gap1, size_t gap2, size_t b, bool two) {
-    const double wa = zbuffer[a], wb = zbuffer[b];
-    if (wa < 0 || wb < 0 || std::fabs(wa - wb) > tolerance) return false;
-    const double behind = std::min(wa, wb) - tolerance;  // kNoDepth is behind everything
-    if (!(zbuffer[gap1] < behind) || (two && !(zbuffer[gap2] < behind))) return false;
-    if (two) {
-      zbuffer[gap1] = (2 * wa + wb) / 3;
-      zbuffer[gap2] = (wa + 2 * wb) / 3;
-    } else {
-      zbuffer[gap1] = 0.5 * (wa + wb);
-    }
-    return true;
-  };
-  // Rows (each row by one thread), then columns (each column by one thread). A gap starts only where
-  // a sample lies more than the tolerance behind the one before it (close() asks at least that):
-  // the rest is skipped at the cost of one comparison.
-  parallelRanges(height, [&](int y0, int y1) {
-    for (int y = y0; y < y1; ++y)
-      for (int x = 1; x + 1 < width; ++x) {
-        const size_t i = size_t(y) * width + x;
-        if (!(zbuffer[i] < zbuffer[i - 1] - tolerance)) continue;
-        if (!close(i - 1, i, i, i + 1, false) && x + 2 < width) close(i - 1, i, i + 1, i + 2, true);
-      }
-  });
-  parallelRanges(width, [&](int x0, int x1) {
-    for (int y = 1; y + 1 < height; ++y)
-      for (int x = x0; x < x1; ++x) {
-        const size_t i = size_t(y) * width + x, up = i - width, down = i + width;
-        if (!(zbuffer[i] < zbuffer[up] - tolerance)) continue;
-        if (!close(up, i, i, down, false) && y + 2 < height) close(up, i, down, down + width, true);
-      }
-  });
 }
 
 }  // namespace

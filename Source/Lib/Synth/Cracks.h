@@ -1,0 +1,17 @@
+#pragma once
+// Crack closing in a warped depth layer (doc/algorithms.md, "Warping").
+#include <vector>
+
+namespace vs {
+
+// Closes one- and two-sample gaps between two samples of one surface (inverse depths within the
+// tolerance), along rows and columns, by interpolating between them. A gap is a sample that received
+// nothing, or one that lies behind both ends by more than the tolerance: a one- or two-sample sliver
+// of a far surface inside a surface is a crack through which the warp let a background sample show
+// (typically unknown depth coded as the far plane), not something the virtual camera sees. A gap is
+// never filled with foreground: both ends are one surface, and nearer than what they replace.
+// Rows first, each from left to right, then columns, each from top to bottom; a closed gap counts as
+// closed for the tests after it, as in one sequential pass (any thread count gives the same layer).
+void closeCracks(std::vector<double>& inverseDepth, int width, int height, double tolerance);
+
+}  // namespace vs
