@@ -236,16 +236,16 @@ void Synthesizer::warpDepth(ViewState& view, const Plane& depth) {
   }
   const int w = depth.width, h = depth.height;
   const size_t n = size_t(w) * size_t(h);
-  view.warpedX.resize(n);
-  view.warpedY.resize(n);
-  view.warpedW.resize(n);
+  warpedX_.resize(n);
+  warpedY_.resize(n);
+  warpedW_.resize(n);
   parallelRanges(h, [&](int y0, int y1) {
     // Locals: the stores below are doubles, which may alias the projection's and the table's.
     const ViewProjection projection = view.projection;
     const double* levelToInverseDepth = view.levelToInverseDepth.data();
-    double* warpedX = view.warpedX.data();
-    double* warpedY = view.warpedY.data();
-    double* warpedW = view.warpedW.data();
+    double* warpedX = warpedX_.data();
+    double* warpedY = warpedY_.data();
+    double* warpedW = warpedW_.data();
     const int width = w;
     for (int y = y0; y < y1; ++y) {
       const uint16_t* levels = depth.row(y);
@@ -270,10 +270,10 @@ void Synthesizer::warpDepth(ViewState& view, const Plane& depth) {
   // Every sample also lands as a point, so thin foreground keeps its width.
   parallelRanges(h, [&](int y0, int y1) {
     for (size_t i = size_t(y0) * w; i < size_t(y1) * w; ++i) {
-      if (view.warpedW[i] < 0) continue;
-      const double px = std::floor(view.warpedX[i] + 0.5), py = std::floor(view.warpedY[i] + 0.5);
+      if (warpedW_[i] < 0) continue;
+      const double px = std::floor(warpedX_[i] + 0.5), py = std::floor(warpedY_[i] + 0.5);
       if (px < 0 || py < 0 || px >= outW || py >= outH) continue;
-      zbuffer_.raise(size_t(py) * outW + size_t(px), view.warpedW[i]);
+      zbuffer_.raise(size_t(py) * outW + size_t(px), warpedW_[i]);
     }
   });
   // The z-buffer becomes the layer's depth, and the rest of the layer is cleared, row by row.
@@ -294,9 +294,9 @@ void Synthesizer::rasteriseTriangles(ViewState& view, int w, int h) {
     const int width = w;
     for (int y = y0; y < y1; ++y) {
       // The quad's two rows, read once for both triangles.
-      const double* x0 = view.warpedX.data() + size_t(y) * width;
-      const double* y0Row = view.warpedY.data() + size_t(y) * width;
-      const double* w0 = view.warpedW.data() + size_t(y) * width;
+      const double* x0 = warpedX_.data() + size_t(y) * width;
+      const double* y0Row = warpedY_.data() + size_t(y) * width;
+      const double* w0 = warpedW_.data() + size_t(y) * width;
       const double *x1 = x0 + width, *y1Row = y0Row + width, *w1 = w0 + width;
       for (int x = 0; x + 1 < width; ++x) {
         const double d0 = w0[x], d1 = w0[x + 1], d2 = w1[x], d3 = w1[x + 1];

@@ -82,7 +82,6 @@ private:
     std::vector<double> levelToRowDepth;      // 1D: inverse camera depth per level; NaN: not warped
     WarpedLayer luma;                         // or RGB in ColorSpace 1
     WarpedLayer chroma;                       // U, V at chroma resolution (ColorSpace 0 with colour)
-    std::vector<double> warpedX, warpedY, warpedW;  // forward-projected reference samples
     std::vector<uint8_t> referenceStep;             // reference samples at a depth discontinuity
     std::vector<uint8_t> referenceEdge;             // the same, dilated by one sample: mixed colours
     std::vector<uint8_t> referenceStepRows;         // scratch of the dilation
@@ -116,6 +115,9 @@ private:
   DepthEdgeAligner aligner_;
   std::vector<ViewState> views_;
   AtomicMaxBuffer zbuffer_;  // depth warp target, shared by the threads of one view's warp
+  // The general depth warp's forward-projected reference samples, of the view being warped (one set
+  // for all views: the views are warped one after the other).
+  std::vector<double> warpedX_, warpedY_, warpedW_;
   BlendedLayer blendedLuma_, blendedChroma_;
   // Per-frame working buffers, kept so that a sequence allocates nothing once they have grown.
   HoleFillScratch lumaFill_, chromaFill_;
