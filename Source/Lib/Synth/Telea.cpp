@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
-#include <functional>
 
 namespace vs {
 namespace {
@@ -37,55 +36,94 @@ inline float arrival(const uint8_t* flags, const float* time, size_t s, size_t c
                  smaller(solve(flags, time, up, right), solve(flags, time, down, right)));
 }
 
-// A binary heap that gives what OpenCV's sorted list gives: the least time first, equal times in
-// the order they were pushed. The times pushed are never negative (the marches push 0 and arrival
+// A queue that gives what OpenCV's sorted list gives: the least time first, equal times in the
+// order they were pushed. The times pushed are never negative (the marches push 0 and arrival
 // times computed from non-negative neighbours), so a time's float bits, followed by the push count,
 // order as one 64-bit key (a -0 would not: it is made +0, which OpenCV's comparisons do not tell
-// apart from it); the heap holds keys and the grid position of each push is kept by its count.
+// apart from it). A march starts from its seeds (the band), all at time 0 and pushed before anything
+// else: they are read from their list in order, and only the times computed later go into a heap.
+// Each pop compares the next seed's key with the heap's least, so the order is the one queue's
+// whatever the times. The heap is 4-ary: half the levels of a binary one, each level's four children
+// side by side in memory. It holds keys; the grid position of each push is kept by its count.
 class Queue {
  public:
-  Queue(std::vector<uint64_t>& heap, std::vector<uint32_t>& positions) : heap_(heap), positions_(positions) {
+  Queue(std::vector<uint64_t>& heap, std::vector<uint32_t>& positions) : heap_(heap), positions_(positions) {}
+  // Starts a march from `count` seeds (time 0, in this order); the queue must be empty.
+  void seed(const uint32_t* seeds, size_t count) {
     heap_.clear();
     positions_.clear();
+    seeds_ = seeds;
+    seedCount_ = count;
+    nextSeed_ = 0;
   }
-  bool empty() const { return heap_.empty(); }
+  bool empty() const { return nextSeed_ == seedCount_ && heap_.empty(); }
   void push(size_t position, float time) {
     const float t = time + 0.0f;  // -0 -> +0
     uint32_t bits;
     std::memcpy(&bits, &t, sizeof bits);
-    heap_.push_back(uint64_t(bits) << 32 | uint32_t(positions_.size()));
+    const uint64_t key = uint64_t(bits) << 32 | uint32_t(seedCount_ + positions_.size());
     positions_.push_back(uint32_t(position));
-    std::push_heap(heap_.begin(), heap_.end(), std::greater<uint64_t>());
+    heap_.push_back(key);
+    uint64_t* h = heap_.data();
+    size_t i = heap_.size() - 1;
+    while (i > 0) {
+      const size_t parent = (i - 1) / 4;
+      if (h[parent] <= key) break;
+      h[i] = h[parent];
+      i = parent;
+    }
+    h[i] = key;
   }
   size_t pop() {
-    std::pop_heap(heap_.begin(), heap_.end(), std::greater<uint64_t>());
-    const uint64_t key = heap_.back();
+    // A seed's key is its index: time 0.
+    if (nextSeed_ < seedCount_ && (heap_.empty() || uint64_t(nextSeed_) < heap_.front())) return seeds_[nextSeed_++];
+    uint64_t* h = heap_.data();
+    const uint64_t top = h[0], last = heap_.back();
+    const size_t size = heap_.size() - 1;
     heap_.pop_back();
-    return positions_[uint32_t(key)];
+    // Sift `last` down from the root: the hole moves to the least child while that is less.
+    // Keys are distinct (their counts are): the least child is picked without a branch, which the
+    // keys' order would leave to chance.
+    size_t i = 0;
+    for (;;) {
+      const size_t first = 4 * i + 1;
+      if (first >= size) break;
+      size_t least = first;
+      uint64_t leastKey = h[first];
+      const size_t end = std::min(first + 4, size);
+      for (size_t c = first + 1; c < end; ++c) {
+        const uint64_t k = h[c];
+        const bool less = k < leastKey;
+        leastKey = less ? k : leastKey;
+        least = less ? c : least;
+      }
+      if (leastKey >= last) break;
+      h[i] = leastKey;
+      i = least;
+    }
+    if (size > 0) h[i] = last;
+    return positions_[uint32_t(top) - seedCount_];
   }
 
  private:
   std::vector<uint64_t>& heap_;
   std::vector<uint32_t>& positions_;
+  const uint32_t* seeds_ = nullptr;
+  size_t seedCount_ = 0, nextSeed_ = 0;
 };
 
-// Takes samples off the queue in order, marks each `poppedState` and calls visit(s, row, col) for
-// each of its 4-neighbours (up, left, down, right, OpenCV's order) that is still kInside, within
-// rows 1..lastRow and columns 1..lastCol (OpenCV's bounds differ between its two marches).
+// Takes samples off the queue in order, marks each `poppedState` and calls visit(s) for each of its
+// 4-neighbours (up, left, down, right, OpenCV's order) that is still kInside. OpenCV's marches visit
+// rows and columns from 1 (and its two marches differ in their last ones), but every sample popped
+// is inside the grid's border and no border sample is ever kInside: no bound needs testing.
 template <class Visit>
-void march(Queue& queue, std::vector<uint8_t>& flags, uint8_t poppedState, int cols, int lastRow, int lastCol,
-           const Visit& visit) {
-  const int dRow[4] = {-1, 0, 1, 0}, dCol[4] = {0, -1, 0, 1};
+void march(Queue& queue, uint8_t* flags, uint8_t poppedState, size_t cols, const Visit& visit) {
   while (!queue.empty()) {
     const size_t popped = queue.pop();
-    const int row = int(popped / size_t(cols)), col = int(popped % size_t(cols));
     flags[popped] = poppedState;
-    for (int q = 0; q < 4; ++q) {
-      const int r = row + dRow[q], c = col + dCol[q];
-      if (r <= 0 || c <= 0 || r > lastRow || c > lastCol) continue;
-      const size_t s = size_t(r) * cols + c;
-      if (flags[s] == kInside) visit(s, r, c);
-    }
+    const size_t neighbour[4] = {popped - cols, popped - 1, popped + cols, popped + 1};
+    for (const size_t s : neighbour)
+      if (flags[s] == kInside) visit(s);
   }
 }
 
@@ -179,73 +217,109 @@ void teleaInpaint(const uint8_t* mask, size_t maskStride, int width, int height,
   std::vector<uint8_t>& flags = scratch.flags;
   std::vector<uint8_t>& outer = scratch.outer;
   std::vector<float>& time = scratch.time;
-  flags.assign(n, kKnown);
-  bool any = false;
-  for (int y = 0; y < height; ++y)
-    for (int x = 0; x < width; ++x)
-      if (mask[size_t(y) * maskStride + x]) {
-        flags[size_t(y + 1) * cols + x + 1] = kInside;
-        any = true;
-      }
+  // The passes over the grids below go through local pointers: a byte store may alias anything, and
+  // a vector's data pointer reloaded after each one keeps a loop from being vectorised.
+  flags.resize(n);
+  uint8_t* fl = flags.data();
+  std::memset(fl, kKnown, cols);
+  std::memset(fl + (n - cols), kKnown, cols);
+  uint8_t any = 0;
+  for (int y = 0; y < height; ++y) {
+    const uint8_t* m = mask + size_t(y) * maskStride;
+    uint8_t* to = fl + size_t(y + 1) * cols;
+    to[0] = to[cols - 1] = kKnown;
+    for (int x = 0; x < width; ++x) {
+      to[x + 1] = m[x] ? kInside : kKnown;
+      any |= m[x];
+    }
+  }
   if (!any) return;
   auto at = [cols](int r, int c) { return size_t(r) * cols + c; };
   auto interior = [rows, cols](int r, int c) { return r > 0 && c > 0 && r < rows - 1 && c < cols - 1; };
 
   // The band: known interior samples beside (4-neighbours) a mask sample. Time 0.
   time.assign(n, 1.0e6f);
-  outer.assign(n, kKnown);
-  // In raster order: both marches start from it.
+  // In raster order: both marches start from it. Written without a branch (the band follows the
+  // mask's shape): every sample is stored and the count moves past the band's.
   std::vector<uint32_t>& band = scratch.band;
-  band.clear();
-  for (int r = 1; r < rows - 1; ++r)
-    for (int c = 1; c < cols - 1; ++c) {
-      const size_t s = at(r, c);
-      if (flags[s] != kInside && (flags[s - cols] == kInside || flags[s + cols] == kInside ||
-                                  flags[s - 1] == kInside || flags[s + 1] == kInside))
-        band.push_back(uint32_t(s));
-    }
-  // The outer ring: known interior samples within `range` (Chebyshev) of a mask sample, band left
-  // out. Row-wise then column-wise counts of mask samples in the window.
+  if (band.size() < n) band.resize(n);
+  size_t bandCount = 0;
   {
-    std::vector<int>& rowCount = scratch.rowCount;  // mask samples within range along the row
-    rowCount.resize(n);
-    for (int r = 0; r < rows; ++r) {
-      int count = 0;
-      const size_t base = at(r, 0);
-      for (int c = 0; c < std::min(range, cols); ++c) count += flags[base + c] == kInside;
-      for (int c = 0; c < cols; ++c) {
-        if (c + range < cols) count += flags[base + c + range] == kInside;
-        rowCount[base + c] = count;
-        if (c - range >= 0) count -= flags[base + c - range] == kInside;
+    uint32_t* to = band.data();
+    for (int r = 1; r < rows - 1; ++r) {
+      const uint8_t* f = fl + at(r, 0);
+      const uint32_t base = uint32_t(at(r, 0));
+      for (int c = 1; c < cols - 1; ++c) {
+        const bool beside = (f[c - cols] == kInside) | (f[c + cols] == kInside) | (f[c - 1] == kInside) |
+                            (f[c + 1] == kInside);
+        to[bandCount] = base + uint32_t(c);
+        bandCount += (f[c] != kInside) & beside;
       }
     }
-    for (int c = 0; c < cols; ++c) {
+  }
+  // The outer ring: known interior samples within `range` (Chebyshev) of a mask sample, band left
+  // out. Row-wise counts of mask samples in the window, then, row by row, the count of rows of the
+  // window that hold one, per column.
+  outer.resize(n);
+  {
+    std::vector<int>& rowCount = scratch.rowCount;  // rows 0..rows-1: whether the row's window holds
+    rowCount.resize(n + cols);                      // mask samples; then the column counts
+    int* near = rowCount.data();
+    for (int r = 0; r < rows; ++r) {
       int count = 0;
-      for (int r = 0; r < std::min(range, rows); ++r) count += rowCount[at(r, c)] > 0;
-      for (int r = 0; r < rows; ++r) {
-        if (r + range < rows) count += rowCount[at(r + range, c)] > 0;
-        const size_t s = at(r, c);
-        if (count > 0 && interior(r, c) && flags[s] != kInside) outer[s] = kInside;
-        if (r - range >= 0) count -= rowCount[at(r - range, c)] > 0;
+      const uint8_t* f = fl + at(r, 0);
+      int* to = near + at(r, 0);
+      for (int c = 0; c < std::min(range, cols); ++c) count += f[c] == kInside;
+      for (int c = 0; c < cols; ++c) {
+        if (c + range < cols) count += f[c + range] == kInside;
+        to[c] = count > 0;
+        if (c - range >= 0) count -= f[c - range] == kInside;
+      }
+    }
+    int* columnCount = near + n;
+    std::fill(columnCount, columnCount + cols, 0);
+    for (int r = 0; r < std::min(range, rows); ++r) {
+      const int* from = near + at(r, 0);
+      for (int c = 0; c < cols; ++c) columnCount[c] += from[c];
+    }
+    for (int r = 0; r < rows; ++r) {
+      if (r + range < rows) {
+        const int* from = near + at(r + range, 0);
+        for (int c = 0; c < cols; ++c) columnCount[c] += from[c];
+      }
+      const uint8_t* f = fl + at(r, 0);
+      uint8_t* to = outer.data() + at(r, 0);
+      if (r == 0 || r == rows - 1) {
+        std::memset(to, kKnown, cols);
+      } else {
+        to[0] = to[cols - 1] = kKnown;
+        for (int c = 1; c < cols - 1; ++c) to[c] = columnCount[c] > 0 && f[c] != kInside ? kInside : kKnown;
+      }
+      if (r - range >= 0) {
+        const int* from = near + at(r - range, 0);
+        for (int c = 0; c < cols; ++c) columnCount[c] -= from[c];
       }
     }
   }
   Queue queue(scratch.queue, scratch.positions);
-  for (const uint32_t s : band) {
-    time[s] = 0;
-    outer[s] = kKnown;
-    queue.push(s, 0);
+  for (size_t b = 0; b < bandCount; ++b) {
+    time[band[b]] = 0;
+    outer[band[b]] = kKnown;
   }
+  queue.seed(band.data(), bandCount);
 
   // Outward march over the outer ring from the band; what it passes gets the negated time.
-  march(queue, outer, kChanged, cols, rows, cols, [&](size_t s, int, int) {
+  march(queue, outer.data(), kChanged, size_t(cols), [&](size_t s) {
     const float t = arrival(outer.data(), time.data(), s, size_t(cols));
     time[s] = t;
     outer[s] = kBand;
     queue.push(s, t);
   });
-  for (size_t s = 0; s < n; ++s)
-    if (outer[s] == kChanged) time[s] = -time[s];
+  {
+    const uint8_t* o = outer.data();
+    float* tm = time.data();
+    for (size_t s = 0; s < n; ++s) tm[s] = o[s] == kChanged ? -tm[s] : tm[s];
+  }
 
   // The neighbours within the radius, in OpenCV's order (row by row).
   std::vector<Offset>& offsets = scratch.offsets;
@@ -270,7 +344,7 @@ void teleaInpaint(const uint8_t* mask, size_t maskStride, int width, int height,
 
   // Inward march from the band, filling each sample as it is reached. The picture is OpenCV's `out`,
   // which has no border: sample (r, c) of a grid is (r - 1, c - 1) there.
-  for (const uint32_t s : band) queue.push(s, 0);
+  queue.seed(band.data(), bandCount);
   const uint8_t* f = flags.data();
   const float* tm = time.data();
   // Within the picture, OpenCV's edge rules read only picture samples; clamping keeps a picture one
@@ -280,7 +354,8 @@ void teleaInpaint(const uint8_t* mask, size_t maskStride, int width, int height,
     col = std::min(std::max(col, 0), width - 1);
     return samples[(size_t(row) * rowStride + col) * 4 + lane];
   };
-  march(queue, flags, kKnown, cols, rows - 1, cols - 1, [&](size_t s, int i, int j) {
+  march(queue, flags.data(), kKnown, size_t(cols), [&](size_t s) {
+    const int i = int(uint32_t(s) / uint32_t(cols)), j = int(uint32_t(s) % uint32_t(cols));
     const float t = arrival(f, tm, s, size_t(cols));
     time[s] = t;
     float gradTx, gradTy;

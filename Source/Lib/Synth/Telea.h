@@ -6,8 +6,9 @@
 //   - the same arrival times: a march outwards over the known samples within `radius` of the mask
 //     (their times are negative), then the inward march that fills;
 //   - the same order: samples leave the queue by arrival time, equal times in the order they entered
-//     (OpenCV's queue is a sorted list whose every insert walks it; here a binary heap gives the same
-//     order at a logarithmic cost);
+//     (OpenCV's queue is a sorted list whose every insert walks it; here the band, which enters
+//     first at time 0, is read in order and a 4-ary heap holds the rest: the same order at a
+//     logarithmic cost);
 //   - the same float and double arithmetic, expression by expression, and the same quirks: a
 //     neighbour in the picture's first row or column reads its colour from the second, a central
 //     difference of colour is doubled, and 0.5 is added to every filled value (meant for rounding
@@ -32,10 +33,11 @@ struct TeleaOffset {
 struct TeleaScratch {
   std::vector<uint8_t> flags, outer;
   std::vector<float> time;
-  std::vector<int> rowCount;
+  std::vector<int> rowCount;        // the outer ring's window counts
   std::vector<uint64_t> queue;     // arrival time and push count
   std::vector<uint32_t> positions;  // grid position of each push
   std::vector<uint32_t> band;       // the known samples beside the mask, where both marches start
+                                    // (its first entries: it is sized to the largest grid)
   std::vector<TeleaOffset> offsets;
   std::vector<ptrdiff_t> gridOffset, sampleOffset;
   std::vector<uint16_t> known;
