@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <vector>
 
 #include "Synth/Parallel.h"
@@ -10,6 +11,13 @@
 namespace vs {
 
 namespace {
+
+// Whether the eight bytes from `p` are all 0: a quick way past samples without holes.
+inline bool noneOfEight(const uint8_t* p) {
+  uint64_t word;
+  std::memcpy(&word, p, sizeof word);
+  return word == 0;
+}
 
 // An estimate's buffers for `layer`, sized but not cleared: the estimates write every hole sample
 // (colour 0, background HUGE_VAL and found 0 where they find nothing), and nothing reads them
@@ -31,46 +39,60 @@ void directionalFill(const BlendedLayer& layer, const HoleFillOptions& options, 
   sizeEstimate(layer, estimate, background, found);
   // Each hole sample writes only its own estimate: rows in parallel.
   parallelRanges(h, [&](int rowBegin, int rowEnd) {
+  // Locals: the byte stores to `found` could alias the vectors' own pointers (and anything the
+  // lambda captures by reference).
+  const uint8_t* hole = layer.hole.data();
+  const double* depth = layer.inverseDepth.data();
+  const int channels = layer.channels, maxReach = options.maxReach;
+  const double tolerance = options.depthTolerance;
+  const float* colour[3] = {layer.colour[0].data(), layer.colour[1].data(), layer.colour[2].data()};
+  float* out[3] = {estimate[0].data(), estimate[1].data(), estimate[2].data()};
+  double* far = background.data();
+  uint8_t* any = found.data();
   for (int y = rowBegin; y < rowEnd; ++y)
     for (int x = 0; x < w; ++x) {
       const size_t i = size_t(y) * w + x;
-      if (!layer.hole[i]) continue;
+      if (x + 8 <= w && noneOfEight(hole + i)) {
+        x += 7;
+        continue;
+      }
+      if (!hole[i]) continue;
       size_t hit[8];
       double distance[8];
       int count = 0;
       double farthest = HUGE_VAL;
       for (const auto& d : directions) {
         int px = x, py = y;
-        for (int step = 1; step <= options.maxReach; ++step) {
+        for (int step = 1; step <= maxReach; ++step) {
           px += d[0];
           py += d[1];
           if (px < 0 || py < 0 || px >= w || py >= h) break;
           const size_t k = size_t(py) * w + px;
-          if (layer.hole[k]) continue;
+          if (hole[k]) continue;
           hit[count] = k;
           distance[count] = step * ((d[0] && d[1]) ? std::sqrt(2.0) : 1.0);
-          farthest = std::min(farthest, layer.inverseDepth[k]);
+          farthest = std::min(farthest, depth[k]);
           ++count;
           break;
         }
       }
       if (count == 0) {
-        for (int k = 0; k < layer.channels; ++k) estimate[k][i] = 0.0f;
-        background[i] = HUGE_VAL;
-        found[i] = 0;
+        for (int k = 0; k < channels; ++k) out[k][i] = 0.0f;
+        far[i] = HUGE_VAL;
+        any[i] = 0;
         continue;
       }
       double weightSum = 0;
       double sum[3] = {0, 0, 0};
       for (int c = 0; c < count; ++c) {
-        if (layer.inverseDepth[hit[c]] > farthest + options.depthTolerance) continue;
+        if (depth[hit[c]] > farthest + tolerance) continue;
         const double weight = 1.0 / distance[c];
         weightSum += weight;
-        for (int k = 0; k < layer.channels; ++k) sum[k] += weight * layer.colour[k][hit[c]];
+        for (int k = 0; k < channels; ++k) sum[k] += weight * colour[k][hit[c]];
       }
-      for (int k = 0; k < layer.channels; ++k) estimate[k][i] = float(sum[k] / weightSum);
-      background[i] = farthest;
-      found[i] = 1;
+      for (int k = 0; k < channels; ++k) out[k][i] = float(sum[k] / weightSum);
+      far[i] = farthest;
+      any[i] = 1;
     }
   });
 }
@@ -90,6 +112,10 @@ void rowRunFill(const BlendedLayer& layer, const HoleFillOptions& options, std::
     for (int y = rowBegin; y < rowEnd; ++y) {
       const uint8_t* holes = layer.hole.data() + size_t(y) * w;
       for (int x = 0; x < w;) {
+        if (x + 8 <= w && noneOfEight(holes + x)) {
+          x += 8;
+          continue;
+        }
         if (!holes[x]) {
           ++x;
           continue;
@@ -147,6 +173,10 @@ void rowRunFill(const BlendedLayer& layer, const HoleFillOptions& options, std::
 
 // The inpainting mask: the holes, plus valid samples of a nearer surface than the hole's background
 // within `band` samples of it, so that inpainting continues the background and not the occluder.
+// A valid sample is nearer than some hole's background + tolerance exactly when it is nearer than
+// the least of them (a NaN marks nothing either way): each run of holes along a row marks, in each
+// row within `band`, the samples nearer than the least threshold of its holes within `band` columns,
+// one pass over its span per row instead of one window per hole.
 void backgroundOnlyMask(const BlendedLayer& layer, const std::vector<double>& background, double tolerance, int band,
                         std::vector<uint8_t>& mask) {
   const int w = layer.width, h = layer.height;
@@ -157,20 +187,58 @@ void backgroundOnlyMask(const BlendedLayer& layer, const std::vector<double>& ba
   const int blockRows = std::max(32, 2 * band + 1), blocks = (h + blockRows - 1) / blockRows;
   for (int parity = 0; parity < 2; ++parity)
     parallelRanges((blocks + 1 - parity) / 2, [&](int first, int last) {
+      thread_local std::vector<double> runThreshold, spanThreshold;
+      runThreshold.resize(size_t(w));
+      spanThreshold.resize(size_t(w) + 2 * size_t(band));
+      // Local pointers: the mask's byte stores could alias the vectors' own pointers (and anything
+      // the lambda captures by reference).
+      const uint8_t* hole = layer.hole.data();
+      const double* depth = layer.inverseDepth.data();
+      const double* far = background.data();
+      uint8_t* out = mask.data();
+      double* run = runThreshold.data();
+      double* span = spanThreshold.data();
       for (int b = first; b < last; ++b) {
         const int block = 2 * b + parity;
-        for (int y = block * blockRows; y < std::min(h, (block + 1) * blockRows); ++y)
-          for (int x = 0; x < w; ++x) {
-            const size_t i = size_t(y) * w + x;
-            if (!layer.hole[i] || background[i] == HUGE_VAL) continue;
-            for (int dy = -band; dy <= band; ++dy)
-              for (int dx = -band; dx <= band; ++dx) {
-                const int nx = x + dx, ny = y + dy;
-                if (nx < 0 || ny < 0 || nx >= w || ny >= h) continue;
-                const size_t k = size_t(ny) * w + nx;
-                if (!layer.hole[k] && layer.inverseDepth[k] > background[i] + tolerance) mask[k] = 1;
+        for (int y = block * blockRows; y < std::min(h, (block + 1) * blockRows); ++y) {
+          const uint8_t* holes = hole + size_t(y) * w;
+          const double* farRow = far + size_t(y) * w;
+          for (int x = 0; x < w;) {
+            if (x + 8 <= w && noneOfEight(holes + x)) {
+              x += 8;
+              continue;
+            }
+            if (!holes[x]) {
+              ++x;
+              continue;
+            }
+            // The run [x, end) and its holes' thresholds; HUGE_VAL (no background) marks nothing.
+            int end = x;
+            bool any = false;
+            for (; end < w && holes[end]; ++end) {
+              const bool known = farRow[end] != HUGE_VAL;
+              run[end - x] = known ? farRow[end] + tolerance : HUGE_VAL;
+              any |= known;
+            }
+            if (any) {
+              // Columns x0..x1 are within `band` of the run: each takes its holes' least threshold.
+              const int x0 = std::max(0, x - band), x1 = std::min(w - 1, end - 1 + band);
+              for (int c = x0; c <= x1; ++c) {
+                double least = HUGE_VAL;
+                for (int i = std::max(x, c - band); i <= std::min(end - 1, c + band); ++i)
+                  least = run[i - x] < least ? run[i - x] : least;
+                span[c - x0] = least;
               }
+              for (int ny = std::max(0, y - band); ny <= std::min(h - 1, y + band); ++ny) {
+                const size_t row = size_t(ny) * w;
+                // Without a branch: which neighbours are nearer follows the picture.
+                for (int c = x0; c <= x1; ++c)
+                  out[row + c] |= uint8_t(!hole[row + c] & (depth[row + c] > span[c - x0]));
+              }
+            }
+            x = end;
           }
+        }
       }
     });
 }
@@ -194,8 +262,15 @@ void groupBlocks(const std::vector<uint8_t>& mask, int width, int height, int li
       int* row = label.data() + size_t(y / kBlock) * bw;
       for (int bx = 0; bx < bw; ++bx) {
         const int x0 = bx * kBlock, x1 = std::min(width, x0 + kBlock);
-        uint8_t any = 0;
-        for (int x = x0; x < x1; ++x) any |= m[x];
+        bool any = false;
+        if (x1 - x0 == kBlock) {  // a whole block's row: its bytes at once
+          uint32_t bytes;
+          static_assert(sizeof bytes == kBlock, "a block's row is four bytes");
+          std::memcpy(&bytes, m + x0, sizeof bytes);
+          any = bytes != 0;
+        } else {
+          for (int x = x0; x < x1; ++x) any |= m[x] != 0;
+        }
         if (any) row[bx] = kUnvisited;
       }
     }
@@ -264,17 +339,24 @@ void inpaintGroup(const BlendedLayer& layer, const std::vector<uint8_t>& mask, i
   const size_t cw = size_t(c.width), area = cw * size_t(c.height);
   // The group's mask samples: in the crop, those of other groups are more than 2 reach away.
   groupMask.resize(area);
-  samples.assign(area * 4, 0.0f);
+  samples.resize(area * 4);
+  const int group = task.group;
   for (int y = 0; y < c.height; ++y) {
     const int* label = groups.label.data() + size_t((c.y + y) / kBlock) * groups.columns;
     const size_t row = size_t(c.y + y) * w + c.x;
     const uint8_t* m = mask.data() + row;
     uint8_t* g = groupMask.data() + size_t(y) * cw;
-    for (int x = 0; x < c.width; ++x) g[x] = uint8_t(m[x] != 0 && label[(c.x + x) / kBlock] == task.group);
-    for (int k = 0; k < channels; ++k) {
-      const float* from = layer.colour[k].data() + row;
-      float* to = samples.data() + size_t(y) * cw * 4 + k;
-      for (int x = 0; x < c.width; ++x) to[size_t(x) * 4] = from[x];
+    for (int x = 0; x < c.width; ++x) g[x] = uint8_t((m[x] != 0) & (label[(c.x + x) / kBlock] == group));
+    // The planes the layer lacks hold zeros.
+    float* to = samples.data() + size_t(y) * cw * 4;
+    for (int k = 0; k < 4; ++k) {
+      float* lane = to + k;
+      if (k < channels) {
+        const float* from = layer.colour[k].data() + row;
+        for (int x = 0; x < c.width; ++x) lane[size_t(x) * 4] = from[x];
+      } else {
+        for (int x = 0; x < c.width; ++x) lane[size_t(x) * 4] = 0.0f;
+      }
     }
   }
   teleaInpaint(groupMask.data(), cw, c.width, c.height, samples.data(), cw, radius, telea);
@@ -354,16 +436,40 @@ void fillHoles(const std::vector<HoleFillJob>& jobs) {
       // found one; their errors differ, and the mix has a lower error than any of them.
       // Every sample on its own: rows in parallel.
       parallelRanges(layer.height, [&](int y0, int y1) {
-        for (size_t i = size_t(y0) * layer.width; i < size_t(y1) * layer.width; ++i) {
-          if (!layer.hole[i]) continue;
-          const float directional = s.found[i] ? options.directionalWeight : 0.0f;
-          const float run = s.runFound[i] ? options.rowRunWeight : 0.0f, inpainted = options.inpaintWeight;
+        // Locals: stores to the layer could otherwise alias every vector's pointer and size.
+        const uint8_t* hole = layer.hole.data();
+        const uint8_t* found = s.found.data();
+        const uint8_t* runFound = s.runFound.data();
+        const double* background = s.background.data();
+        const double* runBackground = s.runBackground.data();
+        double* depth = layer.inverseDepth.data();
+        const int channels = layer.channels;
+        const float directionalWeight = options.directionalWeight, rowRunWeight = options.rowRunWeight;
+        const float inpaintWeight = options.inpaintWeight;
+        float* colour[3];
+        const float *directionalColour[3], *runColour[3], *inpaintedColour[3];
+        for (int k = 0; k < 3; ++k) {
+          colour[k] = layer.colour[k].data();
+          directionalColour[k] = s.directional[k].data();
+          runColour[k] = s.runs[k].data();
+          inpaintedColour[k] = s.inpainted[k].data();
+        }
+        const size_t end = size_t(y1) * layer.width;
+        for (size_t i = size_t(y0) * layer.width; i < end; ++i) {
+          if (i + 8 <= end && noneOfEight(hole + i)) {
+            i += 7;
+            continue;
+          }
+          if (!hole[i]) continue;
+          const float directional = found[i] ? directionalWeight : 0.0f;
+          const float run = runFound[i] ? rowRunWeight : 0.0f, inpainted = inpaintWeight;
           const float sum = directional + run + inpainted;
-          for (int k = 0; k < layer.channels; ++k)
-            layer.colour[k][i] = sum > 0 ? (directional * s.directional[k][i] + run * s.runs[k][i] + inpainted * s.inpainted[k][i]) / sum
-                                         : s.inpainted[k][i];
-          if (s.found[i]) layer.inverseDepth[i] = s.background[i];
-          else if (s.runFound[i]) layer.inverseDepth[i] = s.runBackground[i];
+          for (int k = 0; k < channels; ++k)
+            colour[k][i] = sum > 0 ? (directional * directionalColour[k][i] + run * runColour[k][i] +
+                                      inpainted * inpaintedColour[k][i]) / sum
+                                   : inpaintedColour[k][i];
+          if (found[i]) depth[i] = background[i];
+          else if (runFound[i]) depth[i] = runBackground[i];
         }
       });
     }
