@@ -32,13 +32,24 @@ void sizeEstimate(const BlendedLayer& layer, std::vector<float> estimate[3], std
 
 // Directional background estimate for every hole sample; `found` is 0 where no direction reached a
 // valid sample. `background` receives the farthest inverse depth found.
+// Along a row or a column, the samples of one run of holes share their nearest valid samples: the
+// run's ends. A row's run is found once; a column's ends are kept per column while its samples come
+// row after row, and only found anew where the sample above was not a hole of this range of rows.
+// The diagonals, which leave a run of holes soon, are walked.
 void directionalFill(const BlendedLayer& layer, const HoleFillOptions& options, std::vector<float> estimate[3],
                      std::vector<double>& background, std::vector<uint8_t>& found) {
-  static const int directions[8][2] = {{1, 0}, {-1, 0}, {0, 1}, {0, -1}, {1, 1}, {-1, -1}, {1, -1}, {-1, 1}};
+  static const int diagonals[4][2] = {{1, 1}, {-1, -1}, {1, -1}, {-1, 1}};
   const int w = layer.width, h = layer.height;
   sizeEstimate(layer, estimate, background, found);
   // Each hole sample writes only its own estimate: rows in parallel.
   parallelRanges(h, [&](int rowBegin, int rowEnd) {
+  // Per column: the last row of this range whose hole was estimated, and the nearest valid rows
+  // above (-1: none) and below (h: none) it.
+  thread_local std::vector<int> columns;
+  columns.assign(size_t(w) * 3, -2);
+  int* lastRow = columns.data();
+  int* above = lastRow + w;
+  int* below = above + w;
   // Locals: the byte stores to `found` could alias the vectors' own pointers (and anything the
   // lambda captures by reference).
   const uint8_t* hole = layer.hole.data();
@@ -49,30 +60,54 @@ void directionalFill(const BlendedLayer& layer, const HoleFillOptions& options, 
   float* out[3] = {estimate[0].data(), estimate[1].data(), estimate[2].data()};
   double* far = background.data();
   uint8_t* any = found.data();
-  for (int y = rowBegin; y < rowEnd; ++y)
+  for (int y = rowBegin; y < rowEnd; ++y) {
+    const uint8_t* holes = hole + size_t(y) * w;
+    int runStart = 0, runEnd = 0;  // the row's run of holes [runStart, runEnd) holding x
     for (int x = 0; x < w; ++x) {
       const size_t i = size_t(y) * w + x;
-      if (x + 8 <= w && noneOfEight(hole + i)) {
+      if (x + 8 <= w && noneOfEight(holes + x)) {
         x += 7;
         continue;
       }
-      if (!hole[i]) continue;
+      if (!holes[x]) continue;
+      if (x >= runEnd) {  // every hole is visited: the first one past the last run starts a run
+        runStart = x;
+        for (runEnd = x + 1; runEnd < w && holes[runEnd];) ++runEnd;
+      }
+      if (lastRow[x] != y - 1) {
+        int r = y - 1;
+        while (r >= 0 && hole[size_t(r) * w + x]) --r;
+        above[x] = r;
+        for (r = y + 1; r < h && hole[size_t(r) * w + x];) ++r;
+        below[x] = r;
+      }
+      lastRow[x] = y;
       size_t hit[8];
       double distance[8];
       int count = 0;
       double farthest = HUGE_VAL;
-      for (const auto& d : directions) {
+      // The first valid sample `step` samples away, if within reach; in the order (1, 0), (-1, 0),
+      // (0, 1), (0, -1), then the diagonals.
+      auto take = [&](int px, int py, int step, bool diagonal) {
+        if (step > maxReach) return;
+        const size_t k = size_t(py) * w + px;
+        hit[count] = k;
+        distance[count] = step * (diagonal ? std::sqrt(2.0) : 1.0);
+        farthest = std::min(farthest, depth[k]);
+        ++count;
+      };
+      if (runEnd < w) take(runEnd, y, runEnd - x, false);
+      if (runStart > 0) take(runStart - 1, y, x - runStart + 1, false);
+      if (below[x] < h) take(x, below[x], below[x] - y, false);
+      if (above[x] >= 0) take(x, above[x], y - above[x], false);
+      for (const auto& d : diagonals) {
         int px = x, py = y;
         for (int step = 1; step <= maxReach; ++step) {
           px += d[0];
           py += d[1];
           if (px < 0 || py < 0 || px >= w || py >= h) break;
-          const size_t k = size_t(py) * w + px;
-          if (hole[k]) continue;
-          hit[count] = k;
-          distance[count] = step * ((d[0] && d[1]) ? std::sqrt(2.0) : 1.0);
-          farthest = std::min(farthest, depth[k]);
-          ++count;
+          if (hole[size_t(py) * w + px]) continue;
+          take(px, py, step, true);
           break;
         }
       }
@@ -94,6 +129,7 @@ void directionalFill(const BlendedLayer& layer, const HoleFillOptions& options, 
       far[i] = farthest;
       any[i] = 1;
     }
+  }
   });
 }
 
