@@ -148,11 +148,15 @@ using Offset = TeleaOffset;
 // writes the level term as (float)(1. / (1 + fabs(dT))) and tests fabs(dir) <= 0.01 in double; for
 // a float 1 + |dT|, 1.0f / x is the same float (a double has more than twice float's bits, so
 // rounding twice equals rounding once), and 0.01f is the largest float not above 0.01.
-inline float neighbourWeight(const Offset& o, float neighbourTime, float time, float gradTx, float gradTy) {
+inline float neighbourWeight(float rx, float ry, float distance, float neighbourTime, float time, float gradTx,
+                             float gradTy) {
   const float level = 1.0f / (1.0f + std::fabs(neighbourTime - time));
-  float dir = o.rx * gradTx + o.ry * gradTy;
+  float dir = rx * gradTx + ry * gradTy;
   if (std::fabs(dir) <= 0.01f) dir = 0.000001f;
-  return std::fabs(o.distance * level * dir);
+  return std::fabs(distance * level * dir);
+}
+inline float neighbourWeight(const Offset& o, float neighbourTime, float time, float gradTx, float gradTy) {
+  return neighbourWeight(o.rx, o.ry, o.distance, neighbourTime, time, gradTx, gradTy);
 }
 
 // For each combination of a neighbour's four neighbours being known (bit 0 right, 1 left, 2 below,
@@ -175,21 +179,21 @@ const GradientRules kGradientRules;
 // The sums of one sample's neighbours, four planes at once, when the whole neighbourhood, and a
 // sample around each neighbour, lies inside the picture (none of OpenCV's edge rules applies).
 // `centre` points at the sample's first plane and `flagCentre`, `timeCentre` at its grid entries;
-// `known` lists the neighbours that are not still to be filled (OpenCV skips those), in OpenCV's order.
-void interiorSums(const float* centre, ptrdiff_t rowStep, const uint8_t* flagCentre, const float* timeCentre,
-                  ptrdiff_t cols, float time, float gradTx, float gradTy, const Offset* offsets,
-                  const ptrdiff_t* gridOffset, const ptrdiff_t* sampleOffset, const uint16_t* known, size_t count,
-                  Lanes& ia, Lanes& jx, Lanes& jy, float& sum) {
+// `known` lists the neighbours that are not still to be filled (OpenCV skips those), in OpenCV's order;
+// `weight` holds every neighbour's weight; `knownSides` points at the sample's entry of the grid of
+// which 4-neighbours are known (GradientRules' bits).
+void interiorSums(const float* centre, ptrdiff_t rowStep, const uint8_t* knownSides,
+                  const Offset* offsets, const ptrdiff_t* gridOffset, const ptrdiff_t* sampleOffset,
+                  const float* weight, const uint16_t* known, size_t count, Lanes& ia, Lanes& jx, Lanes& jy,
+                  float& sum) {
   Lanes a = {}, x = {}, y = {};
   float s = sum;
   for (size_t e = 0; e < count; ++e) {
     const size_t m = known[e];
     const ptrdiff_t g = gridOffset[m];
     const Offset& o = offsets[m];
-    const float w = neighbourWeight(o, timeCentre[g], time, gradTx, gradTy);
-    const uint8_t* fn = flagCentre + g;
-    const GradientRule& rule = kGradientRules.rule[(fn[1] != kInside) | (fn[-1] != kInside) << 1 |
-                                                   (fn[cols] != kInside) << 2 | (fn[-cols] != kInside) << 3];
+    const float w = weight[m];
+    const GradientRule& rule = kGradientRules.rule[knownSides[g]];
     const float* q = centre + sampleOffset[m];
     const Lanes c = load(q);
     const Lanes gx = (pick(rule.right, load(q + 4), c) - pick(rule.left, load(q - 4), c)) * rule.scaleX;
@@ -240,16 +244,29 @@ void teleaInpaint(const uint8_t* mask, size_t maskStride, int width, int height,
   // The band: known interior samples beside (4-neighbours) a mask sample. Time 0.
   time.assign(n, 1.0e6f);
   // In raster order: both marches start from it. Written without a branch (the band follows the
-  // mask's shape): every sample is stored and the count moves past the band's.
+  // mask's shape): every sample is stored and the count moves past the band's. The flags are only
+  // kKnown (0) and kInside so far: eight samples whose own and neighbours' bytes are all 0 are
+  // passed at once.
+  static_assert(kKnown == 0, "a word of known flags is 0");
   std::vector<uint32_t>& band = scratch.band;
   if (band.size() < n) band.resize(n);
   size_t bandCount = 0;
   {
     uint32_t* to = band.data();
+    auto word = [](const uint8_t* p) {
+      uint64_t w;
+      std::memcpy(&w, p, sizeof w);
+      return w;
+    };
     for (int r = 1; r < rows - 1; ++r) {
       const uint8_t* f = fl + at(r, 0);
       const uint32_t base = uint32_t(at(r, 0));
       for (int c = 1; c < cols - 1; ++c) {
+        // Samples c..c+7 read columns c-1..c+8 of this row and c..c+7 of the rows beside it.
+        if (c + 9 <= cols && (word(f + c - 1) | word(f + c + 1) | word(f + c - cols) | word(f + c + cols)) == 0) {
+          c += 7;
+          continue;
+        }
         const bool beside = (f[c - cols] == kInside) | (f[c + cols] == kInside) | (f[c - 1] == kInside) |
                             (f[c + 1] == kInside);
         to[bandCount] = base + uint32_t(c);
@@ -341,6 +358,32 @@ void teleaInpaint(const uint8_t* mask, size_t maskStride, int width, int height,
   const size_t offsetCount = offsets.size();
   std::vector<uint16_t>& known = scratch.known;
   known.resize(offsetCount);
+  // The offsets' fields side by side, and room for each sample's neighbour times and weights.
+  std::vector<float>& lanes = scratch.offsetLanes;
+  lanes.resize(offsetCount * 5);
+  float* __restrict rx = lanes.data();
+  float* __restrict ry = rx + offsetCount;
+  float* __restrict distance = ry + offsetCount;
+  float* __restrict neighbourTime = distance + offsetCount;
+  float* __restrict weight = neighbourTime + offsetCount;
+  for (size_t m = 0; m < offsetCount; ++m) {
+    rx[m] = offsets[m].rx;
+    ry[m] = offsets[m].ry;
+    distance[m] = offsets[m].distance;
+  }
+
+  // Which 4-neighbours of each interior sample are known (bit 0 right, 1 left, 2 below, 3 above), kept
+  // as the march fills: a neighbour's gradient rule is then one byte, not four flags.
+  std::vector<uint8_t>& knownSides = scratch.knownSides;
+  knownSides.resize(n);
+  uint8_t* sides = knownSides.data();
+  for (int r = 1; r < rows - 1; ++r) {
+    const uint8_t* fr = fl + at(r, 0);
+    uint8_t* to = sides + at(r, 0);
+    for (int c = 1; c < cols - 1; ++c)
+      to[c] = uint8_t((fr[c + 1] != kInside) | (fr[c - 1] != kInside) << 1 | (fr[c + cols] != kInside) << 2 |
+                      (fr[c - cols] != kInside) << 3);
+  }
 
   // Inward march from the band, filling each sample as it is reached. The picture is OpenCV's `out`,
   // which has no border: sample (r, c) of a grid is (r - 1, c - 1) there.
@@ -371,15 +414,21 @@ void teleaInpaint(const uint8_t* mask, size_t maskStride, int width, int height,
     float ia[4], jx[4], jy[4], sum = 1.0e-20f;
     if (i - range >= 2 && i + range <= rows - 3 && j - range >= 2 && j + range <= cols - 3) {
       // Away from the grid's edges: the neighbours that are known, then their sums.
+      // Every neighbour's weight, known or not, lane by lane four at a time (the same float
+      // operations, so the same bits): fewer divisions than one per known neighbour.
       const uint8_t* fc = f + s;
+      const float* tc = tm + s;
       size_t knownCount = 0;
       for (size_t m = 0; m < offsetCount; ++m) {
         known[knownCount] = uint16_t(m);
         knownCount += fc[gridOffset[m]] != kInside;
+        neighbourTime[m] = tc[gridOffset[m]];
       }
+      for (size_t m = 0; m < offsetCount; ++m)
+        weight[m] = neighbourWeight(rx[m], ry[m], distance[m], neighbourTime[m], t, gradTx, gradTy);
       Lanes a, x, y;
-      interiorSums(centre, rowStep, fc, tm + s, cols, t, gradTx, gradTy, offsets.data(), gridOffset.data(),
-                   sampleOffset.data(), known.data(), knownCount, a, x, y, sum);
+      interiorSums(centre, rowStep, sides + s, offsets.data(), gridOffset.data(), sampleOffset.data(), weight,
+                   known.data(), knownCount, a, x, y, sum);
       for (int p = 0; p < 4; ++p) {
         ia[p] = a[p];
         jx[p] = x[p];
@@ -420,6 +469,11 @@ void teleaInpaint(const uint8_t* mask, size_t maskStride, int width, int height,
     for (int p = 0; p < 4; ++p)
       centre[p] = float(ia[p] / sum + (jx[p] + jy[p]) / (std::sqrt(jx[p] * jx[p] + jy[p] * jy[p]) + 1.0e-20f) + 0.5f);
     flags[s] = kBand;
+    // s is known now: its neighbours' bits (s is the right one of s - 1, and so on).
+    sides[s - 1] |= 1;
+    sides[s + 1] |= 2;
+    sides[s - cols] |= 4;
+    sides[s + cols] |= 8;
     queue.push(s, t);
   });
 }

@@ -31,7 +31,7 @@ struct TeleaOffset {
 
 // Reused working memory of teleaInpaint (one per thread).
 struct TeleaScratch {
-  std::vector<uint8_t> flags, outer;
+  std::vector<uint8_t> flags, outer, knownSides;
   std::vector<float> time;
   std::vector<int> rowCount;        // the outer ring's window counts
   std::vector<uint64_t> queue;     // arrival time and push count
@@ -41,6 +41,7 @@ struct TeleaScratch {
   std::vector<TeleaOffset> offsets;
   std::vector<ptrdiff_t> gridOffset, sampleOffset;
   std::vector<uint16_t> known;
+  std::vector<float> offsetLanes;   // the offsets' rx, ry and distance, neighbour times, weights
 };
 
 // Inpaints, in place, four float planes of width x height, interleaved: sample (row, col) of plane p
