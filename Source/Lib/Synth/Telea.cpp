@@ -178,10 +178,10 @@ const GradientRules kGradientRules;
 
 // The sums of one sample's neighbours, four planes at once, when the whole neighbourhood, and a
 // sample around each neighbour, lies inside the picture (none of OpenCV's edge rules applies).
-// `centre` points at the sample's first plane and `flagCentre`, `timeCentre` at its grid entries;
-// `known` lists the neighbours that are not still to be filled (OpenCV skips those), in OpenCV's order;
-// `weight` holds every neighbour's weight; `knownSides` points at the sample's entry of the grid of
-// which 4-neighbours are known (GradientRules' bits).
+// `centre` points at the sample's first plane; `known` lists the neighbours that are not still to be
+// filled (OpenCV skips those), in OpenCV's order; `weight` holds every neighbour's weight;
+// `knownSides` points at the sample's entry of the grid of which 4-neighbours are known
+// (GradientRules' bits).
 void interiorSums(const float* centre, ptrdiff_t rowStep, const uint8_t* knownSides,
                   const Offset* offsets, const ptrdiff_t* gridOffset, const ptrdiff_t* sampleOffset,
                   const float* weight, const uint16_t* known, size_t count, Lanes& ia, Lanes& jx, Lanes& jy,
