@@ -20,6 +20,17 @@ void parallelRanges(int count, const Body& body) {
   cv::parallel_for_(cv::Range(0, count), [&](const cv::Range& range) { body(range.start, range.end); });
 }
 
+// Copies `from` into `to` (resized to match) in blocks on the threads: for frame-sized copies.
+template <class T>
+void copyOnThreads(const std::vector<T>& from, std::vector<T>& to) {
+  to.resize(from.size());
+  constexpr size_t kBlock = size_t(1) << 16;
+  parallelRanges(int((from.size() + kBlock - 1) / kBlock), [&](int b0, int b1) {
+    const size_t begin = size_t(b0) * kBlock, end = std::min(from.size(), size_t(b1) * kBlock);
+    if (end > begin) std::memcpy(to.data() + begin, from.data() + begin, (end - begin) * sizeof(T));
+  });
+}
+
 // A z-buffer of inverse depths that many threads may raise at once. Non-negative doubles order like
 // their bit patterns read as signed integers, and kNoDepth (-1) reads as a negative one, so an
 // integer atomic max is a max of the doubles; the result does not depend on the order of writes.

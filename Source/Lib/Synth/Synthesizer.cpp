@@ -663,7 +663,7 @@ void Synthesizer::keepStaticFill(const std::vector<ReferenceFrame>& references, 
         }
       });
     previousHoles.swap(holes);
-    for (int c = 0; c < layer.channels; ++c) previousColour[c] = layer.colour[c];
+    for (int c = 0; c < layer.channels; ++c) copyOnThreads(layer.colour[c], previousColour[c]);
   };
   keep(blendedLuma_, lumaHoles, previousHoles_, previousColour_, 1);
   if (!rgb_ && hasChroma_)
@@ -671,9 +671,14 @@ void Synthesizer::keepStaticFill(const std::vector<ReferenceFrame>& references, 
          outputFormat_.chroma == ChromaFormat::Yuv420 ? 2 : 1);
   previousDepth_.resize(references.size());
   previousLuma_.resize(references.size());
+  auto keepPlane = [](const Plane& from, Plane& to) {
+    to.width = from.width;
+    to.height = from.height;
+    copyOnThreads(from.samples, to.samples);
+  };
   for (size_t k = 0; k < references.size(); ++k) {
-    previousDepth_[k] = *references[k].depth;
-    previousLuma_[k] = references[k].texture->planes[0];
+    keepPlane(*references[k].depth, previousDepth_[k]);
+    keepPlane(references[k].texture->planes[0], previousLuma_[k]);
   }
   havePrevious_ = true;
 }
@@ -757,8 +762,8 @@ void Synthesizer::synthesize(const std::vector<ReferenceFrame>& references, Fram
   std::vector<uint8_t>& lumaHoles = lumaHolesScratch_;
   std::vector<uint8_t>& chromaHoles = chromaHolesScratch_;
   if (temporal) {
-    lumaHoles = blendedLuma_.hole;  // same size every frame: no allocation once grown
-    chromaHoles = blendedChroma_.hole;
+    copyOnThreads(blendedLuma_.hole, lumaHoles);  // same size every frame: no allocation once grown
+    copyOnThreads(blendedChroma_.hole, chromaHoles);
   }
   HoleFillOptions chromaFill = fillOptions_;
   chromaFill.emptyValue[0] = chromaFill.emptyValue[1] = fillOptions_.emptyValue[1];
