@@ -1,0 +1,124 @@
+// blendLayers' two-view path against its any-number-of-views path, bit for bit.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <random>
+
+#include "Synth/Layer.h"
+
+namespace vs {
+namespace {
+
+// A layer that exercises every decision of the blend: holes (kNoDepth, other negatives, NaN), -0.0,
+// depths on one of a few surfaces (so that the two views agree within the tolerance, or one is
+// nearer by more), a few beyond any tolerance (+inf), edge flags (1 and another non-zero value).
+WarpedLayer randomLayer(int w, int h, int channels, std::mt19937& random) {
+  WarpedLayer layer;
+  layer.reset(w, h, channels);
+  std::uniform_int_distribution<int> kind(0, 19), surface(0, 3), flag(0, 5);
+  std::uniform_real_distribution<double> offset(-0.004, 0.004);
+  std::uniform_real_distribution<float> colour(0.0f, 255.0f);
+  for (size_t i = 0; i < layer.inverseDepth.size(); ++i) {
+    const int k = kind(random);
+    double depth = 0.02 * (1 + surface(random)) + offset(random);  // tolerance 0.005 in the tests
+    if (k < 5) depth = kNoDepth;
+    else if (k == 5) depth = -0.25;
+    else if (k == 6) depth = std::numeric_limits<double>::quiet_NaN();
+    else if (k == 7) depth = -0.0;
+    else if (k == 8 && flag(random) == 0) depth = HUGE_VAL;
+    layer.inverseDepth[i] = depth;
+    const int f = flag(random);
+    layer.edge[i] = f == 0 ? 1 : f == 1 ? 2 : 0;
+    for (int c = 0; c < channels; ++c) layer.colour[c][i] = colour(random);
+  }
+  return layer;
+}
+
+template <class T>
+bool sameBits(const std::vector<T>& a, const std::vector<T>& b) {
+  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0;
+}
+
+void expectSameBits(const BlendedLayer& a, const BlendedLayer& b) {
+  EXPECT_EQ(a.width, b.width);
+  EXPECT_EQ(a.height, b.height);
+  EXPECT_EQ(a.channels, b.channels);
+  EXPECT_TRUE(sameBits(a.inverseDepth, b.inverseDepth));
+  for (int c = 0; c < 3; ++c) EXPECT_TRUE(sameBits(a.colour[c], b.colour[c])) << "channel " << c;
+  EXPECT_TRUE(sameBits(a.hole, b.hole));
+}
+
+// Two views take a path of their own; a third view that is a hole everywhere, with weight 0, changes
+// nothing in the result but sends the blend down the path for any number of views.
+TEST(Blend, TwoViewPathMatchesTheGeneralPathBitForBit) {
+  std::mt19937 random(12345);
+  const int w = 97, h = 61;
+  WarpedLayer none;
+  const std::vector<std::vector<double>> weightSets = {{0.5, 0.5}, {0.3, 0.7}, {0.7, 0.3}, {1.0, 0.0},
+                                                       {0.0, 1.0}, {1.0, 1.0}, {0.0, 0.0}};
+  size_t holes = 0, mixed = 0;
+  for (int channels = 1; channels <= 3; ++channels) {
+    const WarpedLayer a = randomLayer(w, h, channels, random), b = randomLayer(w, h, channels, random);
+    none.reset(w, h, channels);
+    for (const std::vector<double>& weights : weightSets)
+      for (double tolerance : {0.005, 0.0})
+        for (bool nearestViewOnly : {false, true}) {
+          SCOPED_TRACE(testing::Message() << channels << " channels, weights " << weights[0] << " " << weights[1]
+                                          << ", tolerance " << tolerance << ", nearestViewOnly " << nearestViewOnly);
+          BlendOptions two;
+          two.weights = weights;
+          two.depthTolerance = tolerance;
+          two.nearestViewOnly = nearestViewOnly;
+          BlendOptions three = two;
+          three.weights.push_back(0.0);
+          BlendedLayer fast, general;
+          blendLayers({&a, &b}, two, fast);
+          blendLayers({&a, &b, &none}, three, general);
+          expectSameBits(fast, general);
+          holes += fast.holeCount();
+          // Samples that are neither view's own: mixed by weight.
+          for (size_t i = 0; i < fast.hole.size(); ++i)
+            if (!fast.hole[i] && fast.colour[0][i] != a.colour[0][i] && fast.colour[0][i] != b.colour[0][i]) ++mixed;
+        }
+  }
+  // The random layers reach the holes and the mixing, not only the copies.
+  EXPECT_GT(holes, 0u);
+  EXPECT_GT(mixed, 0u);
+}
+
+// The blend writes every sample, holes included: a layer that held another blend (other size, more
+// channels) comes out as a fresh one does, holes as reset() leaves them.
+TEST(Blend, ReusedOutputMatchesAFreshOne) {
+  std::mt19937 random(777);
+  for (size_t viewCount : {size_t(2), size_t(3)}) {
+    const WarpedLayer big0 = randomLayer(40, 30, 3, random), big1 = randomLayer(40, 30, 3, random), big2 = randomLayer(40, 30, 3, random);
+    const WarpedLayer small0 = randomLayer(23, 17, 2, random), small1 = randomLayer(23, 17, 2, random), small2 = randomLayer(23, 17, 2, random);
+    BlendOptions options;
+    options.weights.assign(viewCount, 1.0 / double(viewCount + 1));
+    options.depthTolerance = 0.005;
+    std::vector<const WarpedLayer*> big = {&big0, &big1, &big2}, small = {&small0, &small1, &small2};
+    big.resize(viewCount);
+    small.resize(viewCount);
+    BlendedLayer reused, fresh;
+    blendLayers(big, options, reused);
+    blendLayers(small, options, reused);
+    blendLayers(small, options, fresh);
+    expectSameBits(reused, fresh);
+    EXPECT_TRUE(reused.colour[2].empty());
+    size_t holes = 0;
+    for (size_t i = 0; i < fresh.hole.size(); ++i) {
+      if (!fresh.hole[i]) continue;
+      ++holes;
+      EXPECT_EQ(fresh.inverseDepth[i], kNoDepth);
+      EXPECT_EQ(fresh.colour[0][i], 0.0f);
+      EXPECT_EQ(fresh.colour[1][i], 0.0f);
+    }
+    EXPECT_GT(holes, 0u);
+  }
+}
+
+}  // namespace
+}  // namespace vs
