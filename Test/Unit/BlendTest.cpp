@@ -1,4 +1,5 @@
-// blendLayers' two-view path against its any-number-of-views path, bit for bit.
+// blendLayers' two-view path against its any-number-of-views path, bit for bit, and holeCount
+// against std::count.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -118,6 +119,19 @@ TEST(Blend, ReusedOutputMatchesAFreshOne) {
     }
     EXPECT_GT(holes, 0u);
   }
+}
+
+TEST(Blend, HoleCountCountsTheFlagsThatAreOne) {
+  std::mt19937 random(99);
+  std::uniform_int_distribution<int> flag(0, 2);
+  BlendedLayer layer;
+  for (size_t n : {size_t(0), size_t(1), size_t(65535), size_t(65536), size_t(200003)}) {
+    layer.hole.resize(n);
+    for (uint8_t& h : layer.hole) h = uint8_t(flag(random));
+    EXPECT_EQ(layer.holeCount(), size_t(std::count(layer.hole.begin(), layer.hole.end(), uint8_t(1)))) << n;
+  }
+  layer.hole.assign(200003, 1);  // more than a 16-bit count holds
+  EXPECT_EQ(layer.holeCount(), 200003u);
 }
 
 }  // namespace
