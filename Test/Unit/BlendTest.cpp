@@ -1,5 +1,5 @@
-// blendLayers' two-view path against its any-number-of-views path, bit for bit, and holeCount
-// against std::count.
+// blendLayers' two-view path against its any-number-of-views path, and the per-frame helpers around
+// the blend (holeCount, roundLayersToFrame) against their plain definitions: bit for bit.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -8,6 +8,7 @@
 #include <limits>
 #include <random>
 
+#include "Synth/Colour.h"
 #include "Synth/Layer.h"
 
 namespace vs {
@@ -132,6 +133,34 @@ TEST(Blend, HoleCountCountsTheFlagsThatAreOne) {
   }
   layer.hole.assign(200003, 1);  // more than a 16-bit count holds
   EXPECT_EQ(layer.holeCount(), 200003u);
+}
+
+TEST(Blend, RoundingToSamplesMatchesFloorOfHalfUpClamped) {
+  const float specials[] = {std::numeric_limits<float>::quiet_NaN(), -HUGE_VALF, -1.0f, -0.0f, 0.0f, 1e-30f, 0.49999997f,
+                            0.5f, 1.5f, 2.5f, 254.49998f, 254.5f, 255.0f, 255.5f, 1022.6f, 1023.49994f, 1023.5f,
+                            65534.5f, 65535.0f, 70000.0f, 1e30f, HUGE_VALF};
+  std::mt19937 random(5);
+  std::uniform_real_distribution<float> spread(-10.0f, 70000.0f);
+  for (int bitDepth : {8, 10, 16}) {
+    const int maxValue = (1 << bitDepth) - 1;
+    Frame output(FrameFormat{16, 8, bitDepth, ChromaFormat::Yuv420}), scratch;
+    BlendedLayer luma, chroma;
+    luma.reset(16, 8, 1);
+    chroma.reset(8, 4, 2);
+    std::vector<float*> values = {luma.colour[0].data(), chroma.colour[0].data(), chroma.colour[1].data()};
+    size_t k = 0;
+    for (int p = 0; p < 3; ++p)
+      for (size_t i = 0; i < output.planes[p].samples.size(); ++i, ++k)
+        values[p][i] = k < std::size(specials) ? specials[k] : spread(random);
+    roundLayersToFrame(luma, chroma, false, scratch, output);
+    for (int p = 0; p < 3; ++p)
+      for (size_t i = 0; i < output.planes[p].samples.size(); ++i) {
+        const float v = values[p][i];
+        const float rounded = std::floor(v + 0.5f);
+        const uint16_t expected = !(v > 0.0f) ? 0 : rounded >= float(maxValue) ? uint16_t(maxValue) : uint16_t(rounded);
+        EXPECT_EQ(output.planes[p].samples[i], expected) << "bit depth " << bitDepth << ", value " << v;
+      }
+  }
 }
 
 }  // namespace

@@ -80,14 +80,21 @@ void rgbToYuv(const Frame& rgb, Frame& yuv) {
 
 namespace {
 
-uint16_t roundToSample(float value, int maxValue) {
-  if (!(value > 0.0f)) return 0;  // also NaN
-  const float rounded = std::floor(value + 0.5f);
-  return rounded >= float(maxValue) ? uint16_t(maxValue) : uint16_t(rounded);
-}
-
+// Each value rounded half up and clamped to [0, maxValue], 0 for NaN. Written without branches so
+// that the loop vectorises: for v > 0, min(v + 0.5, maxValue) truncated is floor(v + 0.5) capped at
+// maxValue, as maxValue is a whole number and truncation is floor for positive values. (The addition
+// runs for every value, selected after: the compiler will not start a floating-point operation that
+// might trap where the source has none, and would keep a branch.)
 void roundInto(const std::vector<float>& colour, int maxValue, Plane& plane) {
-  for (size_t i = 0; i < plane.samples.size(); ++i) plane.samples[i] = roundToSample(colour[i], maxValue);
+  const float top = float(maxValue);
+  const float* const in = colour.data();
+  uint16_t* const out = plane.samples.data();
+  const size_t n = plane.samples.size();
+  for (size_t i = 0; i < n; ++i) {
+    const float value = in[i];
+    const float capped = std::min(value + 0.5f, top);
+    out[i] = uint16_t(int(value > 0.0f ? capped : 0.0f));  // !(value > 0): also NaN
+  }
 }
 
 }  // namespace
