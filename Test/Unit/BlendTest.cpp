@@ -14,7 +14,7 @@
 namespace vs {
 namespace {
 
-// A layer that exercises every decision of the blend: holes (kNoDepth, other negatives, NaN), -0.0,
+// A layer that exercises every decision of the blend: holes (kNoDepth, other negatives, NaN), -0, +0,
 // depths on one of a few surfaces (so that the two views agree within the tolerance, or one is
 // nearer by more), a few beyond any tolerance (+inf), edge flags (1 and another non-zero value).
 WarpedLayer randomLayer(int w, int h, int channels, std::mt19937& random) {
@@ -30,6 +30,7 @@ WarpedLayer randomLayer(int w, int h, int channels, std::mt19937& random) {
     else if (k == 5) depth = -0.25;
     else if (k == 6) depth = std::numeric_limits<double>::quiet_NaN();
     else if (k == 7) depth = -0.0;
+    else if (k == 9) depth = 0.0;
     else if (k == 8 && flag(random) == 0) depth = HUGE_VAL;
     layer.inverseDepth[i] = depth;
     const int f = flag(random);

@@ -220,15 +220,20 @@ struct TwoViewBlend {
 
 #if defined(__SSE4_1__)
   // Samples i and i + 1, as sample() does them, in the two lanes of SSE registers (masks: all ones
-  // for true); the lanes where blendViews finds no bestView come back set.
+  // for true); the lanes where blendViews finds no bestView come back set. Plain: no view has weight
+  // 1 and both weights are numbers, so nothing is copied but for NearestViewOnly, and bestView is
+  // the heavier of the views used (the first of equal ones), found wherever one is used.
+  template <bool Plain>
   __m128d pair(size_t i) const {
     const __m128d zero = _mm_setzero_pd(), ones = _mm_castsi128_pd(_mm_set1_epi32(-1));
     auto flag = [&](bool b) { return b ? ones : zero; };
     const __m128d d0 = _mm_loadu_pd(depth0 + i), d1 = _mm_loadu_pd(depth1 + i);
     const __m128d valid0 = _mm_cmpge_pd(d0, zero), valid1 = _mm_cmpge_pd(d1, zero);
     const __m128d hole = _mm_xor_pd(_mm_or_pd(valid0, valid1), ones);
-    const __m128d larger = _mm_blendv_pd(d0, d1, _mm_cmplt_pd(d0, d1));
-    const __m128d nearest = _mm_blendv_pd(d1, _mm_blendv_pd(d0, larger, valid1), valid0);
+    // sample()'s nearest: with x0 = -1 where the first view is not valid, max(d1, x0), which is
+    // d1 > x0 ? d1 : x0, is std::max(d0, d1) where both are valid (-0 included) and the valid one
+    // where one is: a d1 not valid (negative, or NaN, which compares false) never wins.
+    const __m128d nearest = _mm_max_pd(d1, _mm_blendv_pd(_mm_set1_pd(-1.0), d0, valid0));
     const __m128d gap0 = _mm_sub_pd(nearest, d0), gap1 = _mm_sub_pd(nearest, d1);
     const __m128d surface = _mm_set1_pd(tolerance);
     uint16_t edgePair0, edgePair1;
@@ -241,18 +246,31 @@ struct TwoViewBlend {
     // use = valid & !(gap > tolerance) & !(anyClean & onEdge)
     const __m128d use0 = _mm_andnot_pd(_mm_andnot_pd(clean0, anyClean), _mm_andnot_pd(_mm_cmpgt_pd(gap0, surface), valid0));
     const __m128d use1 = _mm_andnot_pd(_mm_andnot_pd(clean1, anyClean), _mm_andnot_pd(_mm_cmpgt_pd(gap1, surface), valid1));
-    const __m128d takeSecond =
-        _mm_and_pd(use1, _mm_or_pd(_mm_and_pd(use0, flag(pickSecondOfBoth)), _mm_andnot_pd(use0, flag(pickSecondAlone))));
-    const __m128d takeFirst = _mm_andnot_pd(takeSecond, _mm_and_pd(use0, flag(pickFirstAlone)));
-    const __m128d dominantCopy = _mm_or_pd(_mm_and_pd(flag(dominantFirst), valid0), _mm_and_pd(flag(dominantSecond), valid1));
-    const __m128d copy = NearestViewOnly ? ones : dominantCopy;
-    const __m128d fromSecond = _mm_blendv_pd(takeSecond, flag(dominantSecond), dominantCopy);
+    __m128d lost, copy, fromSecond;
+    if constexpr (Plain) {
+      lost = _mm_andnot_pd(_mm_or_pd(hole, _mm_or_pd(use0, use1)), ones);
+      copy = NearestViewOnly ? ones : zero;
+      fromSecond = _mm_and_pd(use1, _mm_or_pd(flag(pickSecondOfBoth), _mm_andnot_pd(use0, ones)));
+    } else {
+      const __m128d takeSecond =
+          _mm_and_pd(use1, _mm_or_pd(_mm_and_pd(use0, flag(pickSecondOfBoth)), _mm_andnot_pd(use0, flag(pickSecondAlone))));
+      const __m128d takeFirst = _mm_andnot_pd(takeSecond, _mm_and_pd(use0, flag(pickFirstAlone)));
+      const __m128d dominantCopy = _mm_or_pd(_mm_and_pd(flag(dominantFirst), valid0), _mm_and_pd(flag(dominantSecond), valid1));
+      lost = _mm_andnot_pd(_mm_or_pd(_mm_or_pd(dominantCopy, hole), _mm_or_pd(takeFirst, takeSecond)), ones);
+      copy = NearestViewOnly ? ones : dominantCopy;
+      fromSecond = _mm_blendv_pd(takeSecond, flag(dominantSecond), dominantCopy);
+    }
+    // Plain without NearestViewOnly copies nothing: the selects of copies are left out.
+    constexpr bool copies = NearestViewOnly || !Plain, mixes = !NearestViewOnly;
     const __m128d w0 = _mm_set1_pd(weight0), w1 = _mm_set1_pd(weight1);
     const __m128d weightSum = _mm_add_pd(_mm_add_pd(zero, _mm_and_pd(use0, w0)), _mm_and_pd(use1, w1));
-    const __m128d depthSum =
-        _mm_add_pd(_mm_add_pd(zero, _mm_and_pd(use0, _mm_mul_pd(w0, d0))), _mm_and_pd(use1, _mm_mul_pd(w1, d1)));
-    __m128d depth = _mm_blendv_pd(d0, d1, fromSecond);
-    if (!NearestViewOnly) depth = _mm_blendv_pd(_mm_div_pd(depthSum, weightSum), depth, copy);
+    __m128d depth = zero;
+    if (copies) depth = _mm_blendv_pd(d0, d1, fromSecond);
+    if (mixes) {
+      const __m128d depthSum =
+          _mm_add_pd(_mm_add_pd(zero, _mm_and_pd(use0, _mm_mul_pd(w0, d0))), _mm_and_pd(use1, _mm_mul_pd(w1, d1)));
+      depth = copies ? _mm_blendv_pd(_mm_div_pd(depthSum, weightSum), depth, copy) : _mm_div_pd(depthSum, weightSum);
+    }
     _mm_storeu_pd(depthOut + i, _mm_blendv_pd(depth, _mm_set1_pd(kNoDepth), hole));
     // The colours: two floats in the low lanes, with the masks narrowed to 32 bits.
     auto narrow = [](__m128d mask) { return _mm_shuffle_ps(_mm_castpd_ps(mask), _mm_castpd_ps(mask), _MM_SHUFFLE(2, 0, 2, 0)); };
@@ -262,19 +280,20 @@ struct TwoViewBlend {
     for (int c = 0; c < Channels; ++c) {
       const __m128 a = _mm_castsi128_ps(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(colour0[c] + i)));
       const __m128 b = _mm_castsi128_ps(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(colour1[c] + i)));
-      __m128 value = _mm_blendv_ps(a, b, fromSecondf);
-      if (!NearestViewOnly) {
+      __m128 value = _mm_setzero_ps();
+      if (copies) value = _mm_blendv_ps(a, b, fromSecondf);
+      if (mixes) {
         const __m128 colourSum =
             _mm_add_ps(_mm_add_ps(_mm_setzero_ps(), _mm_and_ps(use0f, _mm_mul_ps(fw0, a))), _mm_and_ps(use1f, _mm_mul_ps(fw1, b)));
         const __m128 mixed = _mm_cvtpd_ps(_mm_div_pd(_mm_cvtps_pd(colourSum), weightSum));
-        value = _mm_blendv_ps(mixed, value, copyf);
+        value = copies ? _mm_blendv_ps(mixed, value, copyf) : mixed;
       }
       _mm_storel_epi64(reinterpret_cast<__m128i*>(colourOut[c] + i), _mm_castps_si128(_mm_andnot_ps(holef, value)));
     }
     const int holes = _mm_movemask_pd(hole);
     holeOut[i] = uint8_t(holes & 1);
     holeOut[i + 1] = uint8_t(holes >> 1);
-    return _mm_andnot_pd(_mm_or_pd(_mm_or_pd(dominantCopy, hole), _mm_or_pd(takeFirst, takeSecond)), ones);
+    return lost;
   }
 #endif
 };
@@ -304,6 +323,7 @@ void blendTwoViews(const ViewPlanes& first, const ViewPlanes& second, int domina
   blend.pickSecondOfBoth = second.weight > (blend.pickFirstAlone ? first.weight : -1.0);
   blend.depthOut = out.inverseDepth.data();
   blend.holeOut = out.hole.data();
+  const bool plain = dominant < 0 && blend.pickFirstAlone && blend.pickSecondAlone;
   const size_t width = size_t(out.width);
   parallelRanges(out.height, [&](int rowBegin, int rowEnd) {
     const TwoViewBlend<Channels, NearestViewOnly> local = blend;  // a local: the stores cannot alias it
@@ -312,7 +332,10 @@ void blendTwoViews(const ViewPlanes& first, const ViewPlanes& second, int domina
     bool lost = false;
 #if defined(__SSE4_1__)
     __m128d lostPairs = _mm_setzero_pd();
-    for (; i + 2 <= end; i += 2) lostPairs = _mm_or_pd(lostPairs, local.pair(i));
+    if (plain)
+      for (; i + 2 <= end; i += 2) lostPairs = _mm_or_pd(lostPairs, local.template pair<true>(i));
+    else
+      for (; i + 2 <= end; i += 2) lostPairs = _mm_or_pd(lostPairs, local.template pair<false>(i));
     lost = _mm_movemask_pd(lostPairs) != 0;
 #endif
     for (; i < end; ++i) lost |= local.sample(i);
