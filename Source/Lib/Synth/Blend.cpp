@@ -31,6 +31,26 @@ void BlendedLayer::reset(int w, int h, int c) {
   hole.assign(n, 1);
 }
 
+void WarpedLayer::resize(int w, int h, int c) {
+  width = w;
+  height = h;
+  channels = c;
+  const size_t n = size_t(w) * size_t(h);
+  inverseDepth.resize(n);
+  for (int k = 0; k < 3; ++k) colour[k].resize(k < c ? n : 0);
+  edge.resize(n);
+}
+
+void BlendedLayer::resize(int w, int h, int c) {
+  width = w;
+  height = h;
+  channels = c;
+  const size_t n = size_t(w) * size_t(h);
+  inverseDepth.resize(n);
+  for (int k = 0; k < 3; ++k) colour[k].resize(k < c ? n : 0);
+  hole.resize(n);
+}
+
 size_t BlendedLayer::holeCount() const {
   // Counted in blocks whose count fits 16 bits: the compiler then compares and adds 16 flags at a
   // time, where std::count adds them one by one to a 64-bit count.
@@ -89,17 +109,6 @@ struct ViewPlanes {
   double weight;  // a tiny floor keeps a view with weight 0 usable where it is the only one on the surface
 };
 
-// Sizes out without filling it: the blend writes every sample, holes included, so reset()'s fill
-// would only be written over.
-void shapeForBlend(BlendedLayer& out, int w, int h, int c) {
-  out.width = w;
-  out.height = h;
-  out.channels = c;
-  const size_t n = size_t(w) * size_t(h);
-  out.inverseDepth.resize(n);
-  for (int k = 0; k < 3; ++k) out.colour[k].resize(k < c ? n : 0);
-  out.hole.resize(n);
-}
 
 // Any number of views.
 void blendViews(const std::vector<ViewPlanes>& planes, int dominant, const BlendOptions& options, BlendedLayer& out) {
@@ -355,7 +364,7 @@ void blendLayers(const std::vector<const WarpedLayer*>& views, const BlendOption
   VS_CHECK(!views.empty() && views.size() == options.weights.size());
   const int width = views[0]->width, height = views[0]->height, channels = views[0]->channels;
   for (const WarpedLayer* view : views) VS_CHECK(view->width == width && view->height == height && view->channels == channels);
-  shapeForBlend(out, width, height, channels);
+  out.resize(width, height, channels);  // the blend writes every sample, holes included
   const size_t viewCount = views.size();
   int dominant = -1;
   for (size_t k = 0; k < viewCount; ++k)

@@ -19,6 +19,9 @@ struct WarpedLayer {
   std::vector<uint8_t> edge;         // 1 where the colour comes from next to a depth edge in the reference
 
   void reset(int w, int h, int c);
+  // Sizes the planes for w x h samples of c channels and leaves what they hold: for a writer that
+  // writes every sample anyway (reset's fill would only be written over).
+  void resize(int w, int h, int c);
   bool valid(size_t i) const { return inverseDepth[i] >= 0.0; }
 };
 
@@ -31,6 +34,7 @@ struct BlendedLayer {
   std::vector<uint8_t> hole;         // 1 where no view contributed
 
   void reset(int w, int h, int c);
+  void resize(int w, int h, int c);  // as WarpedLayer::resize
   size_t holeCount() const;
 };
 

@@ -35,20 +35,10 @@ inline bool coveredRange(double lo, double hi, int size, int& first, int& last) 
   return first <= last;
 }
 
-// Sizes `layer` for w x h samples of c channels without clearing it: the warps clear each row in
-// their parallel loops (clearRows), where the row is about to be written anyway, instead of in one
-// pass on one thread over the whole layer before.
-void sizeLayer(WarpedLayer& layer, int w, int h, int c) {
-  layer.width = w;
-  layer.height = h;
-  layer.channels = c;
-  const size_t n = size_t(w) * size_t(h);
-  layer.inverseDepth.resize(n);
-  for (int k = 0; k < 3; ++k) layer.colour[k].resize(k < c ? n : 0);
-  layer.edge.resize(n);
-}
 
-// What WarpedLayer::reset leaves in rows [y0, y1): no depth, colour 0, no edge.
+// What WarpedLayer::reset leaves in rows [y0, y1): no depth, colour 0, no edge. The warps size their
+// layers with resize() and clear each row in their parallel loops, where the row is about to be
+// written anyway, instead of in one pass on one thread over the whole layer before.
 void clearRows(WarpedLayer& layer, int y0, int y1) {
   const size_t begin = size_t(y0) * size_t(layer.width), end = size_t(y1) * size_t(layer.width);
   std::fill(layer.inverseDepth.data() + begin, layer.inverseDepth.data() + end, kNoDepth);
@@ -264,7 +254,7 @@ void Synthesizer::warpDepth(ViewState& view, const Plane& depth) {
     }
   });
   const int outW = outputFormat_.width, outH = outputFormat_.height;
-  sizeLayer(view.luma, outW, outH, rgb_ ? 3 : 1);
+  view.luma.resize(outW, outH, rgb_ ? 3 : 1);  // cleared row by row below (clearRows)
   zbuffer_.reset(size_t(outW) * outH, kNoDepth);
   rasteriseTriangles(view, w, h);
   // Every sample also lands as a point, so thin foreground keeps its width.
@@ -330,7 +320,7 @@ void Synthesizer::warpDepthRows(ViewState& view, const Plane& depth) {
   const int w = depth.width, h = depth.height;
   const int outW = outputFormat_.width, outH = outputFormat_.height;
   const OneDOptions& oneD = scene_.settings.oneD;
-  sizeLayer(view.luma, outW, outH, rgb_ ? 3 : 1);
+  view.luma.resize(outW, outH, rgb_ ? 3 : 1);  // cleared row by row below (clearRows)
   // Rows below the reference (an output taller than it) receive nothing.
   if (outH > h) clearRows(view.luma, h, outH);
   auto raise = [](double& cell, double value) {
@@ -557,7 +547,7 @@ void Synthesizer::warpChroma(ViewState& view, const Frame& texture) {
   const int ch = chromaHeight(outputFormat_.height, outputFormat_.chroma);
   const WarpedLayer& luma = view.luma;
   WarpedLayer& layer = view.chroma;
-  sizeLayer(layer, cw, ch, 2);
+  layer.resize(cw, ch, 2);  // cleared row by row below (clearRows)
   const double tolerance = fillOptions_.depthTolerance;
   // The block size (2 for 4:2:0, 1 for 4:4:4) and the kernel as compile-time constants: the block
   // loops unroll and the division by the block size is exact as a multiplication.
