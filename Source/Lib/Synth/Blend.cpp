@@ -11,45 +11,34 @@
 
 namespace vs {
 
-void WarpedLayer::reset(int w, int h, int c) {
-  width = w;
-  height = h;
-  channels = c;
+namespace {
+
+// Sizes a layer (WarpedLayer or BlendedLayer, whose byte flags are `flags`) for w x h samples of c
+// channels. `clear`: no depth, colour 0 and the flags `flagValue` everywhere; else what the planes
+// hold is left for a writer that writes every sample.
+template <class Layer>
+void shapeLayer(Layer& layer, std::vector<uint8_t>& flags, int w, int h, int c, bool clear, uint8_t flagValue) {
+  layer.width = w;
+  layer.height = h;
+  layer.channels = c;
   const size_t n = size_t(w) * size_t(h);
-  inverseDepth.assign(n, kNoDepth);
-  for (int k = 0; k < 3; ++k) colour[k].assign(k < c ? n : 0, 0.0f);
-  edge.assign(n, 0);
+  if (clear) {
+    layer.inverseDepth.assign(n, kNoDepth);
+    for (int k = 0; k < 3; ++k) layer.colour[k].assign(k < c ? n : 0, 0.0f);
+    flags.assign(n, flagValue);
+  } else {
+    layer.inverseDepth.resize(n);
+    for (int k = 0; k < 3; ++k) layer.colour[k].resize(k < c ? n : 0);
+    flags.resize(n);
+  }
 }
 
-void BlendedLayer::reset(int w, int h, int c) {
-  width = w;
-  height = h;
-  channels = c;
-  const size_t n = size_t(w) * size_t(h);
-  inverseDepth.assign(n, kNoDepth);
-  for (int k = 0; k < 3; ++k) colour[k].assign(k < c ? n : 0, 0.0f);
-  hole.assign(n, 1);
-}
+}  // namespace
 
-void WarpedLayer::resize(int w, int h, int c) {
-  width = w;
-  height = h;
-  channels = c;
-  const size_t n = size_t(w) * size_t(h);
-  inverseDepth.resize(n);
-  for (int k = 0; k < 3; ++k) colour[k].resize(k < c ? n : 0);
-  edge.resize(n);
-}
-
-void BlendedLayer::resize(int w, int h, int c) {
-  width = w;
-  height = h;
-  channels = c;
-  const size_t n = size_t(w) * size_t(h);
-  inverseDepth.resize(n);
-  for (int k = 0; k < 3; ++k) colour[k].resize(k < c ? n : 0);
-  hole.resize(n);
-}
+void WarpedLayer::reset(int w, int h, int c) { shapeLayer(*this, edge, w, h, c, true, 0); }
+void WarpedLayer::resize(int w, int h, int c) { shapeLayer(*this, edge, w, h, c, false, 0); }
+void BlendedLayer::reset(int w, int h, int c) { shapeLayer(*this, hole, w, h, c, true, 1); }
+void BlendedLayer::resize(int w, int h, int c) { shapeLayer(*this, hole, w, h, c, false, 1); }
 
 size_t BlendedLayer::holeCount() const {
   // Counted in blocks whose count fits 16 bits: the compiler then compares and adds 16 flags at a
