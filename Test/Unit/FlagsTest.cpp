@@ -35,6 +35,20 @@ TEST(Flags, ForEachFlagVisitsTheSetFlagsInOrder) {
   }
 }
 
+TEST(Flags, ForEachRunVisitsTheRunsOfSetFlagsInOrder) {
+  for (const std::vector<uint8_t>& row : flagRows()) {
+    std::vector<std::pair<int, int>> expected, visited;
+    for (int x = 0; x < int(row.size()); ++x)
+      if (row[size_t(x)] && (x == 0 || !row[size_t(x) - 1])) {
+        int end = x;
+        while (end < int(row.size()) && row[size_t(end)]) ++end;
+        expected.emplace_back(x, end);
+      }
+    forEachRun(row.data(), int(row.size()), [&](int begin, int end) { visited.emplace_back(begin, end); });
+    EXPECT_EQ(visited, expected);
+  }
+}
+
 TEST(Flags, MarkWithinReachMarksEverySampleNearASetFlagAndNoOther) {
   for (const std::vector<uint8_t>& row : flagRows())
     for (int reach : {0, 1, 3, 8, 40, 1000}) {

@@ -22,6 +22,26 @@ void forEachFlag(const uint8_t* flags, int n, F&& f) {
     if (flags[x]) f(x);
 }
 
+// Calls f(begin, end) for every run [begin, end) of set flags in [0, n), from left to right.
+template <class F>
+void forEachRun(const uint8_t* flags, int n, F&& f) {
+  for (int x = 0; x < n;) {
+    uint64_t eight;
+    if (x + 8 <= n && (std::memcpy(&eight, flags + x, sizeof eight), eight == 0)) {
+      x += 8;
+      continue;
+    }
+    if (!flags[x]) {
+      ++x;
+      continue;
+    }
+    int end = x + 1;
+    while (end < n && flags[end]) ++end;
+    f(x, end);
+    x = end;
+  }
+}
+
 // near[x] = 1 where some flags[s] is set with |x - s| <= reach, else 0, for x in [0, n). Each set
 // flag marks its reach, starting where the previous one's ended when they overlap.
 inline void markWithinReach(const uint8_t* flags, int n, int reach, uint8_t* near) {

@@ -5,6 +5,7 @@
 #include <cstring>
 #include <vector>
 
+#include "Synth/Flags.h"
 #include "Synth/Parallel.h"
 #include "Synth/Telea.h"
 
@@ -146,19 +147,8 @@ void rowRunFill(const BlendedLayer& layer, const HoleFillOptions& options, std::
   // Each run is one row's: rows in parallel.
   parallelRanges(h, [&](int rowBegin, int rowEnd) {
     for (int y = rowBegin; y < rowEnd; ++y) {
-      const uint8_t* holes = layer.hole.data() + size_t(y) * w;
-      for (int x = 0; x < w;) {
-        if (x + 8 <= w && noneOfEight(holes + x)) {
-          x += 8;
-          continue;
-        }
-        if (!holes[x]) {
-          ++x;
-          continue;
-        }
-        const int left = x - 1;  // the run is (left, right), ends excluded
-        int right = x;
-        while (right < w && holes[right]) ++right;
+      forEachRun(layer.hole.data() + size_t(y) * w, w, [&](int begin, int right) {
+        const int left = begin - 1;  // the run is (left, right), ends excluded
         size_t candidate[16];
         int count = 0;
         double farthest = HUGE_VAL;
@@ -201,8 +191,7 @@ void rowRunFill(const BlendedLayer& layer, const HoleFillOptions& options, std::
           background[k] = farthest;
           found[k] = count > 0;
         }
-        x = right;
-      }
+      });
     }
   });
 }
@@ -237,23 +226,13 @@ void backgroundOnlyMask(const BlendedLayer& layer, const std::vector<double>& ba
       for (int b = first; b < last; ++b) {
         const int block = 2 * b + parity;
         for (int y = block * blockRows; y < std::min(h, (block + 1) * blockRows); ++y) {
-          const uint8_t* holes = hole + size_t(y) * w;
           const double* farRow = far + size_t(y) * w;
-          for (int x = 0; x < w;) {
-            if (x + 8 <= w && noneOfEight(holes + x)) {
-              x += 8;
-              continue;
-            }
-            if (!holes[x]) {
-              ++x;
-              continue;
-            }
+          forEachRun(hole + size_t(y) * w, w, [&](int x, int end) {
             // The run [x, end) and its holes' thresholds; HUGE_VAL (no background) marks nothing.
-            int end = x;
             bool any = false;
-            for (; end < w && holes[end]; ++end) {
-              const bool known = farRow[end] != HUGE_VAL;
-              run[end - x] = known ? farRow[end] + tolerance : HUGE_VAL;
+            for (int i = x; i < end; ++i) {
+              const bool known = farRow[i] != HUGE_VAL;
+              run[i - x] = known ? farRow[i] + tolerance : HUGE_VAL;
               any |= known;
             }
             if (any) {
@@ -272,8 +251,7 @@ void backgroundOnlyMask(const BlendedLayer& layer, const std::vector<double>& ba
                   out[row + c] |= uint8_t(!hole[row + c] & (depth[row + c] > span[c - x0]));
               }
             }
-            x = end;
-          }
+          });
         }
       }
     });
