@@ -159,7 +159,7 @@ BlendedLayer referenceFill(const BlendedLayer& in, const HoleFillOptions& o) {
 
 template <class T>
 bool sameBits(const std::vector<T>& a, const std::vector<T>& b) {
-  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0;
+  return a.size() == b.size() && (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0);
 }
 
 // Random layers: widths that are not multiples of eight, surfaces at several depths, holes as the
