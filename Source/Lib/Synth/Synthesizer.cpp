@@ -35,7 +35,6 @@ inline bool coveredRange(double lo, double hi, int size, int& first, int& last) 
   return first <= last;
 }
 
-
 // What WarpedLayer::reset leaves in rows [y0, y1): no depth, colour 0, no edge. The warps size their
 // layers with resize() and clear each row in their parallel loops, where the row is about to be
 // written anyway, instead of in one pass on one thread over the whole layer before.
@@ -284,24 +283,24 @@ void Synthesizer::rasteriseTriangles(ViewState& view, int w, int h) {
     const int width = w;
     for (int y = y0; y < y1; ++y) {
       // The quad's two rows, read once for both triangles.
-      const double* x0 = warpedX_.data() + size_t(y) * width;
-      const double* y0Row = warpedY_.data() + size_t(y) * width;
-      const double* w0 = warpedW_.data() + size_t(y) * width;
-      const double *x1 = x0 + width, *y1Row = y0Row + width, *w1 = w0 + width;
+      const double* xTop = warpedX_.data() + size_t(y) * width;
+      const double* yTop = warpedY_.data() + size_t(y) * width;
+      const double* wTop = warpedW_.data() + size_t(y) * width;
+      const double *xBottom = xTop + width, *yBottom = yTop + width, *wBottom = wTop + width;
       for (int x = 0; x + 1 < width; ++x) {
-        const double d0 = w0[x], d1 = w0[x + 1], d2 = w1[x], d3 = w1[x + 1];
+        const double d0 = wTop[x], d1 = wTop[x + 1], d2 = wBottom[x], d3 = wBottom[x + 1];
         // A quad with a corner not warped has no triangle: most of them, in a hole, skip here.
         if (d0 < 0 || d3 < 0 || (d1 < 0 && d2 < 0)) continue;
         // Corners 0 and 3 belong to both triangles; a triangle whose depths span more than the
         // discontinuity crosses a depth edge.
         const double lo03 = std::min(d0, d3), hi03 = std::max(d0, d3);
         if (d1 >= 0 && std::max(hi03, d1) - std::min(lo03, d1) <= discontinuity) {
-          const double tx[3] = {x0[x], x0[x + 1], x1[x + 1]}, ty[3] = {y0Row[x], y0Row[x + 1], y1Row[x + 1]};
+          const double tx[3] = {xTop[x], xTop[x + 1], xBottom[x + 1]}, ty[3] = {yTop[x], yTop[x + 1], yBottom[x + 1]};
           const double tw[3] = {d0, d1, d3};
           rasteriseTriangle(zbuffer_, outW, outH, tx, ty, tw);
         }
         if (d2 >= 0 && std::max(hi03, d2) - std::min(lo03, d2) <= discontinuity) {
-          const double tx[3] = {x0[x], x1[x + 1], x1[x]}, ty[3] = {y0Row[x], y1Row[x + 1], y1Row[x]};
+          const double tx[3] = {xTop[x], xBottom[x + 1], xBottom[x]}, ty[3] = {yTop[x], yBottom[x + 1], yBottom[x]};
           const double tw[3] = {d0, d3, d2};
           rasteriseTriangle(zbuffer_, outW, outH, tx, ty, tw);
         }
