@@ -13,13 +13,6 @@ namespace vs {
 
 namespace {
 
-// Whether the eight bytes from `p` are all 0: a quick way past samples without holes.
-inline bool noneOfEight(const uint8_t* p) {
-  uint64_t word;
-  std::memcpy(&word, p, sizeof word);
-  return word == 0;
-}
-
 // An estimate's buffers for `layer`, sized but not cleared: the estimates write every hole sample
 // (colour 0, background HUGE_VAL and found 0 where they find nothing), and nothing reads them
 // elsewhere.
@@ -62,19 +55,10 @@ void directionalFill(const BlendedLayer& layer, const HoleFillOptions& options, 
   double* far = background.data();
   uint8_t* any = found.data();
   for (int y = rowBegin; y < rowEnd; ++y) {
-    const uint8_t* holes = hole + size_t(y) * w;
-    int runStart = 0, runEnd = 0;  // the row's run of holes [runStart, runEnd) holding x
-    for (int x = 0; x < w; ++x) {
+    // Each run of holes [runStart, runEnd) of the row, and each of its samples x.
+    forEachRun(hole + size_t(y) * w, w, [&](int runStart, int runEnd) {
+    for (int x = runStart; x < runEnd; ++x) {
       const size_t i = size_t(y) * w + x;
-      if (x + 8 <= w && noneOfEight(holes + x)) {
-        x += 7;
-        continue;
-      }
-      if (!holes[x]) continue;
-      if (x >= runEnd) {  // every hole is visited: the first one past the last run starts a run
-        runStart = x;
-        for (runEnd = x + 1; runEnd < w && holes[runEnd];) ++runEnd;
-      }
       if (lastRow[x] != y - 1) {
         int r = y - 1;
         while (r >= 0 && hole[size_t(r) * w + x]) --r;
@@ -130,6 +114,7 @@ void directionalFill(const BlendedLayer& layer, const HoleFillOptions& options, 
       far[i] = farthest;
       any[i] = 1;
     }
+    });
   }
   });
 }
@@ -468,13 +453,9 @@ void fillHoles(const std::vector<HoleFillJob>& jobs) {
           runColour[k] = s.runs[k].data();
           inpaintedColour[k] = s.inpainted[k].data();
         }
-        const size_t end = size_t(y1) * layer.width;
-        for (size_t i = size_t(y0) * layer.width; i < end; ++i) {
-          if (i + 8 <= end && noneOfEight(hole + i)) {
-            i += 7;
-            continue;
-          }
-          if (!hole[i]) continue;
+        const size_t begin = size_t(y0) * layer.width;
+        forEachFlag(hole + begin, int(size_t(y1 - y0) * layer.width), [&](int offset) {
+          const size_t i = begin + size_t(offset);
           const float directional = found[i] ? directionalWeight : 0.0f;
           const float run = runFound[i] ? rowRunWeight : 0.0f, inpainted = inpaintWeight;
           const float sum = directional + run + inpainted;
@@ -484,7 +465,7 @@ void fillHoles(const std::vector<HoleFillJob>& jobs) {
                                    : inpaintedColour[k][i];
           if (found[i]) depth[i] = background[i];
           else if (runFound[i]) depth[i] = runBackground[i];
-        }
+        });
       });
     }
     std::fill(layer.hole.begin(), layer.hole.end(), uint8_t(0));
