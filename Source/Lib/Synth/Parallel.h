@@ -20,14 +20,22 @@ void parallelRanges(int count, const Body& body) {
   cv::parallel_for_(cv::Range(0, count), [&](const cv::Range& range) { body(range.start, range.end); });
 }
 
-// Copies `from` into `to` (resized to match) in blocks on the threads: for frame-sized copies.
+// Calls body(begin, end) on disjoint sub-ranges of [0, count) made of whole blocks of 64 Ki
+// elements: for passes over a frame-sized array that has no rows.
+template <class Body>
+void parallelBlocks(size_t count, const Body& body) {
+  constexpr size_t kBlock = size_t(1) << 16;
+  parallelRanges(int((count + kBlock - 1) / kBlock), [&](int b0, int b1) {
+    body(size_t(b0) * kBlock, std::min(count, size_t(b1) * kBlock));
+  });
+}
+
+// Copies `from` into `to` (resized to match) on the threads: for frame-sized copies.
 template <class T>
 void copyOnThreads(const std::vector<T>& from, std::vector<T>& to) {
   to.resize(from.size());
-  constexpr size_t kBlock = size_t(1) << 16;
-  parallelRanges(int((from.size() + kBlock - 1) / kBlock), [&](int b0, int b1) {
-    const size_t begin = size_t(b0) * kBlock, end = std::min(from.size(), size_t(b1) * kBlock);
-    if (end > begin) std::memcpy(to.data() + begin, from.data() + begin, (end - begin) * sizeof(T));
+  parallelBlocks(from.size(), [&](size_t begin, size_t end) {
+    std::memcpy(to.data() + begin, from.data() + begin, (end - begin) * sizeof(T));
   });
 }
 
@@ -36,13 +44,12 @@ void copyOnThreads(const std::vector<T>& from, std::vector<T>& to) {
 // integer atomic max is a max of the doubles; the result does not depend on the order of writes.
 class AtomicMaxBuffer {
 public:
-  // A frame-sized buffer is set in blocks on the threads.
+  // A frame-sized buffer is set on the threads.
   void reset(size_t size, double value) {
     if (cells_.size() != size) cells_ = std::vector<std::atomic<int64_t>>(size);
     const int64_t bits = toBits(value);
-    parallelRanges(int((size + kBlock - 1) / kBlock), [&](int b0, int b1) {
-      const size_t end = std::min(size, size_t(b1) * kBlock);
-      for (size_t i = size_t(b0) * kBlock; i < end; ++i) cells_[i].store(bits, std::memory_order_relaxed);
+    parallelBlocks(size, [&](size_t begin, size_t end) {
+      for (size_t i = begin; i < end; ++i) cells_[i].store(bits, std::memory_order_relaxed);
     });
   }
   void raise(size_t i, double value) {
@@ -57,7 +64,6 @@ public:
   }
 
 private:
-  static constexpr size_t kBlock = size_t(1) << 16;
   static int64_t toBits(double v) {
     int64_t bits;
     std::memcpy(&bits, &v, sizeof bits);
