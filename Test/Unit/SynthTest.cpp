@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 #include <numeric>
 #include <random>
 
@@ -505,6 +506,39 @@ TEST(SubPixelSampler, RowSamplingEqualsTwoDimensionalSamplingOnWholeRows) {
         }
       }
     }
+}
+
+// A row sampled once at every grid position (SampledRow, the 1D warps' look-up table) gives
+// sampleRowTaps bit for bit: every Precision and Filter, rows narrower than the kernel, tables that
+// cover the row, part of it or more than it, positions inside, on and beyond the borders and far
+// outside (the general rounding), rows outside the plane.
+TEST(SubPixelSampler, SampledRowEqualsRowSamplingAtEveryPosition) {
+  std::mt19937 random(5);
+  for (int width : {1, 2, 3, 5, 23, 64}) {
+    Plane plane(width, 3);
+    for (uint16_t& v : plane.samples) v = uint16_t(random() % 1024);
+    std::uniform_real_distribution<double> position(-4.0, width + 4.0);
+    for (int precision : {1, 2, 4})
+      for (int filter : {0, 1, 2}) {
+        const SubPixelSampler sampler(precision, filter);
+        sampler.withTaps([&](auto taps) {
+          constexpr int kTaps = decltype(taps)::value;
+          const long long ranges[][2] = {{-1, width}, {0, width - 1}, {2, width / 2}, {-6, width + 6}, {3, 1}};
+          for (const auto& range : ranges)
+            for (long long y : {-1LL, 0LL, 2LL, 5LL}) {
+              SampledRow row;
+              row.build<kTaps>(sampler, plane, y, range[0], range[1]);
+              for (int k = 0; k < 600; ++k) {
+                const double x = k < 160 ? -5.0 + k * 0.0625 : k < 164 ? (k % 2 ? 1e17 : -3e16) : position(random);
+                const float a = sampler.sampleRowTaps<kTaps>(plane, x, y), b = row.at<kTaps>(x);
+                ASSERT_EQ(std::memcmp(&a, &b, sizeof a), 0)
+                    << "width " << width << " Precision " << precision << " Filter " << filter << " range ["
+                    << range[0] << ", " << range[1] << "] y " << y << " x " << x << ": " << a << " vs " << b;
+              }
+            }
+        });
+      }
+  }
 }
 
 // fillHoles inpaints groups of holes apart, each in a crop (HoleFill.cpp), all channels in one march

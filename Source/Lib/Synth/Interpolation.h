@@ -13,6 +13,7 @@
 #include <array>
 #include <cmath>
 #include <type_traits>
+#include <vector>
 
 #include "Common/Frame.h"
 
@@ -54,6 +55,10 @@ public:
   float sampleTaps(const Plane& plane, double x, double y) const;
   template <int TAPS>
   float sampleRowTaps(const Plane& plane, double x, long long y) const;
+  // sampleRowTaps at the grid position with integer part ix and phase px of a row `width` samples
+  // wide (what sampleRowTaps computes once it has rounded x).
+  template <int TAPS>
+  float sampleGridTaps(const uint16_t* row, int width, long long ix, int px) const;
 
 private:
   // Rounds x to the 1/precision grid: integer part `whole` (floor, also for negative x) and phase
@@ -88,8 +93,12 @@ inline float SubPixelSampler::sampleRowTaps(const Plane& plane, double x, long l
   long long ix;
   int px;
   gridPosition(x, ix, px);
-  const long long maxX = plane.width - 1;
-  const uint16_t* row = plane.row(int(std::clamp(y, 0LL, (long long)plane.height - 1)));
+  return sampleGridTaps<TAPS>(plane.row(int(std::clamp(y, 0LL, (long long)plane.height - 1))), plane.width, ix, px);
+}
+
+template <int TAPS>
+inline float SubPixelSampler::sampleGridTaps(const uint16_t* row, int width, long long ix, int px) const {
+  const long long maxX = width - 1;
   const float* kx = kernel(px);
   const long long left = ix + first_;
   float rowSum = 0.0f;
@@ -152,5 +161,83 @@ inline float SubPixelSampler::sampleTaps(const Plane& plane, double x, double y)
   }
   return sum;
 }
+
+// One row of a plane sampled at every grid position of a range of integer parts, once, so that many
+// look-ups along the row cost a load each instead of a kernel sum each (the 1D warps, where every
+// warped sample of a row reads the same reference row). at(x) is sampleRowTaps(plane, x, y), bit for
+// bit, for any x; positions whose integer part lies outside [first, last] are computed directly.
+// The table holds precision() planes of (last - first + 1) values, phase by phase, so that the
+// interior of each phase is one loop over consecutive samples that the compiler vectorises (each lane
+// does the scalar float arithmetic in the same order).
+class SampledRow {
+public:
+  template <int TAPS>
+  void build(const SubPixelSampler& sampler, const Plane& plane, long long y, long long first, long long last) {
+    sampler_ = &sampler;
+    row_ = plane.row(int(std::clamp(y, 0LL, (long long)plane.height - 1)));
+    width_ = plane.width;
+    first_ = first;
+    last_ = std::max(first, last);
+    stride_ = size_t(last_ - first_ + 1);
+    shift_ = sampler.precision() == 1 ? 0 : sampler.precision() == 2 ? 1 : 2;
+    mask_ = sampler.precision() - 1;
+    values_.resize(stride_ * size_t(sampler.precision()));
+    // Integer parts whose taps all lie inside the row: [-offset, width - 1 - offset - (TAPS - 1)].
+    const long long offset = sampler.first();
+    const long long innerFirst = std::max(first_, -offset);
+    const long long innerLast = std::min(last_, (long long)width_ - 1 - offset - (TAPS - 1));
+    for (int phase = 0; phase < sampler.precision(); ++phase) {
+      float* out = values_.data() + size_t(phase) * stride_;  // out[ix - first] for ix in [first, last]
+      const float* kernel = sampler.kernel(phase);
+      float k[TAPS];
+      for (int t = 0; t < TAPS; ++t) k[t] = kernel[t];
+      long long ix = first_;
+      for (; ix < std::min(innerFirst, last_ + 1); ++ix)
+        out[ix - first_] = sampler.sampleGridTaps<TAPS>(row_, width_, ix, phase);
+      if (ix <= innerLast) {
+        // Locals: the float stores could otherwise alias the row and the counts.
+        const uint16_t* taps = row_ + (ix + offset);
+        float* to = out + (ix - first_);
+        const long long count = innerLast - ix + 1;
+        for (long long n = 0; n < count; ++n) {
+          float sum = 0.0f;
+          for (int t = 0; t < TAPS; ++t) sum += k[t] * float(taps[n + t]);
+          to[n] = sum;
+        }
+        ix = innerLast + 1;
+      }
+      for (; ix <= last_; ++ix) out[ix - first_] = sampler.sampleGridTaps<TAPS>(row_, width_, ix, phase);
+    }
+  }
+
+  template <int TAPS>
+  float at(double x) const {
+    // The grid index as SubPixelSampler::gridPosition finds it.
+    const double g = std::floor(x * double(mask_ + 1) + 0.5);
+    if (std::fabs(g) < 4503599627370496.0) {  // 2^52
+      const long long index = (long long)g, ix = index >> shift_;
+      const int phase = int(index & mask_);
+      if (ix >= first_ && ix <= last_) return values_[size_t(phase) * stride_ + size_t(ix - first_)];
+      return sampler_->sampleGridTaps<TAPS>(row_, width_, ix, phase);
+    }
+    return sampleFar<TAPS>(x);  // far outside any plane
+  }
+
+private:
+  template <int TAPS>
+  float sampleFar(double x) const {
+    const double g = std::floor(x * double(mask_ + 1) + 0.5);
+    const long long whole = (long long)std::floor(g / double(mask_ + 1));
+    return sampler_->sampleGridTaps<TAPS>(row_, width_, whole, int(g - double(whole) * double(mask_ + 1)));
+  }
+
+  const SubPixelSampler* sampler_ = nullptr;
+  const uint16_t* row_ = nullptr;
+  int width_ = 0;
+  long long first_ = 0, last_ = 0;
+  size_t stride_ = 1;
+  int shift_ = 0, mask_ = 0;
+  std::vector<float> values_;
+};
 
 }  // namespace vs

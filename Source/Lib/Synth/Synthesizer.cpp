@@ -462,8 +462,12 @@ void Synthesizer::warpTexture(ViewState& view, const std::vector<const Plane*>& 
       double* depth = layer.inverseDepth.data();
       float* colour[3] = {layer.colour[0].data(), layer.colour[1].data(), layer.colour[2].data()};
       uint8_t* edgeOut = layer.edge.data();
+      // Each reference row sampled once at every grid position (SampledRow): the look-ups below are
+      // loads. Positions in [-0.5, width - 0.5] have integer parts in [-1, width].
+      static thread_local SampledRow sampledRows[3];
       for (int y = y0; y < y1; ++y) {
         const uint8_t* edges = view.referenceEdge.data() + size_t(y) * referenceWidth;
+        for (int c = 0; c < channels; ++c) sampledRows[c].build<kTaps>(sampler, *planes[size_t(c)], y, -1, referenceWidth);
         for (int x = 0; x < width; ++x) {
           const size_t i = size_t(y) * width + x;
           if (depth[i] < 0) continue;
@@ -472,7 +476,7 @@ void Synthesizer::warpTexture(ViewState& view, const std::vector<const Plane*>& 
             depth[i] = kNoDepth;
             continue;
           }
-          for (int c = 0; c < channels; ++c) colour[c][i] = sampler.sampleRowTaps<kTaps>(*planes[size_t(c)], u, y);
+          for (int c = 0; c < channels; ++c) colour[c][i] = sampledRows[c].at<kTaps>(u);
           edgeOut[i] = edges[std::clamp(int(std::floor(u + 0.5)), 0, referenceWidth - 1)];
         }
       }
@@ -567,8 +571,15 @@ void Synthesizer::warpChroma(ViewState& view, const Frame& texture) {
       const bool rows = parallel_;
       // Chroma sample centres sit in the middle of their luma block (doc/formats-yuv.md).
       const double offset = 0.5 * (kBlock - 1);
+      // 1D: each reference chroma row sampled once at every grid position (SampledRow, as in
+      // warpTexture); positions in [-1, chromaW] have integer parts in [-1, chromaW].
+      static thread_local SampledRow sampledU, sampledV;
       for (int j = j0; j < j1; ++j) {
         clearRows(layer, j, j + 1);
+        if (rows) {
+          sampledU.build<kTaps>(sampler, texture.planes[1], j, -1, chromaW);
+          sampledV.build<kTaps>(sampler, texture.planes[2], j, -1, chromaW);
+        }
         for (int i = 0; i < chromaW; ++i) {
           // The chroma sample covers a block x block square of luma samples; it takes the depth of
           // the front-most surface there (the mean inverse depth of the block's samples on it).
@@ -602,8 +613,8 @@ void Synthesizer::warpChroma(ViewState& view, const Frame& texture) {
           depthOut[c] = inverseDepth;
           edgeOut[c] = edge;
           if (rows) {  // cv is the integer j: rows map to rows
-            uOut[c] = sampler.sampleRowTaps<kTaps>(texture.planes[1], cu, j);
-            vOut[c] = sampler.sampleRowTaps<kTaps>(texture.planes[2], cu, j);
+            uOut[c] = sampledU.at<kTaps>(cu);
+            vOut[c] = sampledV.at<kTaps>(cu);
           } else {
             uOut[c] = sampler.sampleTaps<kTaps>(texture.planes[1], cu, cv);
             vOut[c] = sampler.sampleTaps<kTaps>(texture.planes[2], cu, cv);
