@@ -450,15 +450,16 @@ void Synthesizer::warpTexture(ViewState& view, const std::vector<const Plane*>& 
   WarpedLayer& layer = view.luma;
   const int refW = planes[0]->width, refH = planes[0]->height;
   if (parallel_) {
-    // Rows map to rows: the look-up stays in row y (as backward() gives v = y).
-    sampler_.withTaps([&](auto taps) {
-    constexpr int kTaps = decltype(taps)::value;
+    // Rows map to rows: the look-up stays in row y (as backward() gives v = y). The tap and channel
+    // counts are compile-time constants, so that the channel loop unrolls.
+    auto warpRows = [&](auto taps, auto channelCount) {
+    constexpr int kTaps = decltype(taps)::value, kChannels = decltype(channelCount)::value;
     parallelRanges(std::min(layer.height, refH), [&](int y0, int y1) {
       // Local copies of what the loop reads: the edge flags are bytes, and a byte store may alias
       // anything the loop would otherwise read through a pointer or a capture, reloading it per sample.
       const ViewProjection projection = view.projection;
       const SubPixelSampler sampler = sampler_;
-      const int width = layer.width, channels = layer.channels, referenceWidth = refW;
+      const int width = layer.width, referenceWidth = refW;
       double* depth = layer.inverseDepth.data();
       float* colour[3] = {layer.colour[0].data(), layer.colour[1].data(), layer.colour[2].data()};
       uint8_t* edgeOut = layer.edge.data();
@@ -467,7 +468,7 @@ void Synthesizer::warpTexture(ViewState& view, const std::vector<const Plane*>& 
       static thread_local SampledRow sampledRows[3];
       for (int y = y0; y < y1; ++y) {
         const uint8_t* edges = view.referenceEdge.data() + size_t(y) * referenceWidth;
-        for (int c = 0; c < channels; ++c) sampledRows[c].build<kTaps>(sampler, *planes[size_t(c)], y, -1, referenceWidth);
+        for (int c = 0; c < kChannels; ++c) sampledRows[c].build<kTaps>(sampler, *planes[size_t(c)], y, -1, referenceWidth);
         for (int x = 0; x < width; ++x) {
           const size_t i = size_t(y) * width + x;
           if (depth[i] < 0) continue;
@@ -476,11 +477,15 @@ void Synthesizer::warpTexture(ViewState& view, const std::vector<const Plane*>& 
             depth[i] = kNoDepth;
             continue;
           }
-          for (int c = 0; c < channels; ++c) colour[c][i] = sampledRows[c].at<kTaps>(u);
+          for (int c = 0; c < kChannels; ++c) colour[c][i] = sampledRows[c].at<kTaps>(u);
           edgeOut[i] = edges[std::clamp(int(std::floor(u + 0.5)), 0, referenceWidth - 1)];
         }
       }
     });
+    };
+    sampler_.withTaps([&](auto taps) {
+      if (layer.channels == 3) warpRows(taps, std::integral_constant<int, 3>());
+      else warpRows(taps, std::integral_constant<int, 1>());
     });
     // Rows below the reference (an output taller than it) look up nothing.
     for (size_t i = size_t(std::min(layer.height, refH)) * layer.width; i < layer.inverseDepth.size(); ++i)
@@ -573,7 +578,8 @@ void Synthesizer::warpChroma(ViewState& view, const Frame& texture) {
       const double offset = 0.5 * (kBlock - 1);
       // 1D: each reference chroma row sampled once at every grid position (SampledRow, as in
       // warpTexture); positions in [-1, chromaW] have integer parts in [-1, chromaW].
-      static thread_local SampledRow sampledU, sampledV;
+      static thread_local SampledRow sampledRowU, sampledRowV;
+      SampledRow &sampledU = sampledRowU, &sampledV = sampledRowV;  // the thread's, looked up once
       for (int j = j0; j < j1; ++j) {
         clearRows(layer, j, j + 1);
         if (rows) {
@@ -583,27 +589,33 @@ void Synthesizer::warpChroma(ViewState& view, const Frame& texture) {
         for (int i = 0; i < chromaW; ++i) {
           // The chroma sample covers a block x block square of luma samples; it takes the depth of
           // the front-most surface there (the mean inverse depth of the block's samples on it).
-          // Luma samples beyond the picture (an odd size) are not part of the block.
+          // Luma samples beyond the picture (an odd size) are not part of the block: they read as
+          // holes here, which neither the maximum nor the sum below takes.
           const int bw = std::min(kBlock, lumaWidth - i * kBlock), bh = std::min(kBlock, lumaHeight - j * kBlock);
-          const double* block = lumaDepth + size_t(j) * kBlock * lumaWidth + size_t(i) * kBlock;
+          const size_t corner = size_t(j) * kBlock * lumaWidth + size_t(i) * kBlock;
+          double depths[kBlock * kBlock];
+          uint8_t edges[kBlock * kBlock];
           double front = kNoDepth;
           for (int dy = 0; dy < kBlock; ++dy)
-            for (int dx = 0; dx < kBlock; ++dx)
-              if (dx < bw && dy < bh) front = std::max(front, block[size_t(dy) * lumaWidth + dx]);
+            for (int dx = 0; dx < kBlock; ++dx) {
+              const bool inside = dx < bw && dy < bh;
+              const size_t k = corner + size_t(dy) * lumaWidth + size_t(dx);
+              depths[dy * kBlock + dx] = inside ? lumaDepth[k] : kNoDepth;
+              edges[dy * kBlock + dx] = inside ? lumaEdge[k] : 0;
+              front = std::max(front, depths[dy * kBlock + dx]);
+            }
           if (front < 0) continue;
+          // Without branches, in the same order: adding +0.0 leaves the sum unchanged (it is never
+          // -0.0, as it starts at +0.0 and only grows by non-negative depths).
           double sum = 0;
           int count = 0;
           uint8_t edge = 0;
-          for (int dy = 0; dy < kBlock; ++dy)
-            for (int dx = 0; dx < kBlock; ++dx) {
-              if (dx >= bw || dy >= bh) continue;
-              const size_t k = size_t(j * kBlock + dy) * lumaWidth + size_t(i * kBlock + dx);
-              if (lumaDepth[k] >= 0 && front - lumaDepth[k] <= surface) {
-                sum += lumaDepth[k];
-                ++count;
-                edge |= lumaEdge[k];
-              }
-            }
+          for (int k = 0; k < kBlock * kBlock; ++k) {
+            const bool onFront = depths[k] >= 0 && front - depths[k] <= surface;
+            sum += onFront ? depths[k] : 0.0;
+            count += int(onFront);
+            edge |= onFront ? edges[k] : uint8_t(0);
+          }
           const double inverseDepth = sum / count;
           double u, v;
           if (!projection.backward(i * kBlock + offset, j * kBlock + offset, inverseDepth, u, v)) continue;
