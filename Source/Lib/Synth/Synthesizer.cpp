@@ -395,12 +395,20 @@ void Synthesizer::warpDepthRows(ViewState& view, const Plane& depth) {
 void Synthesizer::cleanIsolatedSamples(WarpedLayer& layer) {
   // CleanNoiseOption: a sample with holes on both sides along its row is a stray point of a surface
   // seen elsewhere: removed before it picks up colour.
+  // Removing a sample never changes the decision for the next one (it is removed only when the next
+  // is a hole, which is then not removed either), so the decisions are taken on the row as it was: a
+  // branch-free pass that vectorises flags the samples, and only those are then cleared.
   const int w = layer.width;
   parallelRanges(layer.height, [&](int y0, int y1) {
+    static thread_local std::vector<uint8_t> isolatedRow;
+    isolatedRow.assign(size_t(std::max(w, 2)), 0);
+    uint8_t* isolated = isolatedRow.data();
+    const int width = w;  // a local: the byte stores could alias the captured width
     for (int y = y0; y < y1; ++y) {
-      double* row = layer.inverseDepth.data() + size_t(y) * w;
-      for (int x = 1; x + 1 < w; ++x)
-        if (row[x] >= 0 && row[x - 1] < 0 && row[x + 1] < 0) row[x] = kNoDepth;
+      double* row = layer.inverseDepth.data() + size_t(y) * width;
+      for (int x = 1; x + 1 < width; ++x)
+        isolated[x] = uint8_t((row[x] >= 0) & (row[x - 1] < 0) & (row[x + 1] < 0));
+      forEachFlag(isolated, width, [&](int x) { row[x] = kNoDepth; });
     }
   });
 }
