@@ -3,11 +3,119 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <cstdint>
+#include <cstring>
 
 #include "Common/Error.h"
 #include "Synth/Parallel.h"
 
 namespace vs {
+
+namespace {
+
+constexpr uint8_t kNone = 255;  // no candidate: no view, or more than one, covers the sample
+
+// rejectMisplacedSamples' last steps for two views, whose candidates each have one other view: the
+// candidates of view 0 are decided on view 1's surroundings and those of view 1 on view 0's, so both
+// are found in one row pass over the candidates and one pair of column scans that follow both views,
+// and a candidate is dropped where it is decided (the scans read a sample's depth before deciding it,
+// and each thread owns its columns).
+void rejectBetweenTwoViews(WarpedLayer& view0, WarpedLayer& view1, double behind, int firstRow, int lastRow,
+                           OcclusionScratch& scratch) {
+  const int w = view0.width, h = view0.height;
+  double* const depth[2] = {view0.inverseDepth.data(), view1.inverseDepth.data()};
+  // Along rows: each candidate takes the farther of the valid samples that close the other view's run
+  // of holes around it (HUGE_VAL where the run reaches the border). Only candidates are visited; each
+  // view's run is found once and kept while the candidates lie in it.
+  parallelRanges(lastRow - firstRow + 1, [&](int r0, int r1) {
+    const uint8_t* soleView = scratch.soleView.data();
+    const uint8_t* candidateRow = scratch.candidateRows.data();
+    double* rowFarthest = scratch.around.data();
+    const int width = w;
+    for (int y = firstRow + r0; y < firstRow + r1; ++y) {
+      if (!candidateRow[size_t(y)]) continue;
+      const size_t rowStart = size_t(y) * width;
+      const uint8_t* sole = soleView + rowStart;
+      int runEnd[2] = {0, 0};  // view o's hole run holding the last candidate: [.., runEnd[o])
+      double runAround[2] = {HUGE_VAL, HUGE_VAL};
+      for (int x = 0; x < width;) {
+        uint64_t eight;
+        if (x + 8 <= width && (std::memcpy(&eight, sole + x, sizeof eight), eight == ~uint64_t(0))) {
+          x += 8;
+          continue;
+        }
+        const uint8_t k = sole[x];
+        if (k != kNone) {
+          const int o = 1 - k;  // a candidate of view k lies in a hole of view o
+          if (x >= runEnd[o]) {
+            const double* row = depth[o] + rowStart;
+            int a = x, e = x + 1;
+            while (a > 0 && !(row[a - 1] >= 0.0)) --a;
+            while (e < width && !(row[e] >= 0.0)) ++e;
+            runEnd[o] = e;
+            runAround[o] = a > 0 && e < width ? std::min(row[e], row[a - 1]) : HUGE_VAL;
+          }
+          rowFarthest[rowStart + size_t(x)] = runAround[o];
+        }
+        ++x;
+      }
+    }
+  });
+  // Along columns, row by row in memory order (each thread its range of columns), both views at once:
+  // down to keep each column's last valid sample above in each view, then up with the one below, where
+  // the candidates are decided on the other view's.
+  parallelRanges(w, [&](int x0, int x1) {
+    const uint8_t* soleView = scratch.soleView.data();
+    const double* rowFarthest = scratch.around.data();
+    double* up = scratch.above.data();
+    double* last0 = scratch.columnLast.data();
+    double* last1 = last0 + w;
+    double* d0 = depth[0];
+    double* d1 = depth[1];
+    const int width = w, top = firstRow, bottom = lastRow, height = h;
+    const double steps = behind;
+    std::fill(last0 + x0, last0 + x1, kNoDepth);
+    std::fill(last1 + x0, last1 + x1, kNoDepth);
+    for (int y = 0; y <= bottom; ++y) {
+      const size_t rowStart = size_t(y) * width;
+      if (y >= top) {
+        // A candidate of view 1 needs view 0's sample above, one of view 0 view 1's.
+        const uint8_t* sole = soleView + rowStart;
+        double* upRow = up + rowStart;
+        for (int x = x0; x < x1; ++x) upRow[x] = sole[x] == 1 ? last0[x] : last1[x];
+      }
+      const double* row0 = d0 + rowStart;
+      const double* row1 = d1 + rowStart;
+      for (int x = x0; x < x1; ++x) {
+        last0[x] = row0[x] >= 0.0 ? row0[x] : last0[x];
+        last1[x] = row1[x] >= 0.0 ? row1[x] : last1[x];
+      }
+    }
+    std::fill(last0 + x0, last0 + x1, kNoDepth);
+    std::fill(last1 + x0, last1 + x1, kNoDepth);
+    for (int y = height - 1; y >= top; --y) {
+      const size_t rowStart = size_t(y) * width;
+      double* row0 = d0 + rowStart;
+      double* row1 = d1 + rowStart;
+      const uint8_t* sole = soleView + rowStart;
+      for (int x = x0; x < x1; ++x) {
+        const double below0 = last0[x], below1 = last1[x];
+        const double value0 = row0[x], value1 = row1[x];
+        last0[x] = value0 >= 0.0 ? value0 : below0;
+        last1[x] = value1 >= 0.0 ? value1 : below1;
+        const uint8_t k = sole[x];
+        if (k == kNone) continue;
+        const size_t s = rowStart + size_t(x);
+        const double below = k == 1 ? below0 : below1, own = k == 1 ? value1 : value0;
+        double around = rowFarthest[s];
+        if (below >= 0.0 && up[s] >= 0.0) around = std::min(around, std::min(below, up[s]));
+        if (around != HUGE_VAL && own < around - steps) (k == 1 ? row1 : row0)[x] = kNoDepth;
+      }
+    }
+  });
+}
+
+}  // namespace
 
 void rejectMisplacedSamples(const std::vector<WarpedLayer*>& views, const std::vector<double>& weights, double behind,
                             OcclusionScratch& scratch) {
@@ -17,7 +125,6 @@ void rejectMisplacedSamples(const std::vector<WarpedLayer*>& views, const std::v
   if (views.size() < 2) return;
   const int w = views[0]->width, h = views[0]->height;
   const size_t n = size_t(w) * size_t(h);
-  constexpr uint8_t kNone = 255;  // no candidate: no view, or more than one, covers the sample
   VS_CHECK(views.size() < kNone && weights.size() == views.size());
   for (const WarpedLayer* view : views) VS_CHECK(view->width == w && view->height == h);
   std::vector<uint8_t>& sole = scratch.soleView;
@@ -75,6 +182,11 @@ void rejectMisplacedSamples(const std::vector<WarpedLayer*>& views, const std::v
   std::vector<double>& columnLast = scratch.columnLast;
   farthest.resize(n);
   above.resize(n);
+  if (views.size() == 2) {
+    columnLast.resize(2 * size_t(w));
+    rejectBetweenTwoViews(*views[0], *views[1], behind, firstRow, lastRow, scratch);
+    return;
+  }
   columnLast.resize(size_t(w));
   for (size_t o = 0; o < views.size(); ++o) {
     const double* other = depths[o];
