@@ -199,10 +199,16 @@ public:
         const uint16_t* taps = row_ + (ix + offset);
         float* to = out + (ix - first_);
         const long long count = innerLast - ix + 1;
-        for (long long n = 0; n < count; ++n) {
-          float sum = 0.0f;
-          for (int t = 0; t < TAPS; ++t) sum += k[t] * float(taps[n + t]);
-          to[n] = sum;
+        if (phase == 0) {
+          // Every kernel is (0, .., 1, .., 0) at phase 0, and 0 + 0 * a + 1 * b + 0 * c .. is b exactly
+          // (the samples are finite and non-negative): the sample itself.
+          for (long long n = 0; n < count; ++n) to[n] = float(taps[n - offset]);
+        } else {
+          for (long long n = 0; n < count; ++n) {
+            float sum = 0.0f;
+            for (int t = 0; t < TAPS; ++t) sum += k[t] * float(taps[n + t]);
+            to[n] = sum;
+          }
         }
         ix = innerLast + 1;
       }
@@ -212,8 +218,13 @@ public:
 
   template <int TAPS>
   float at(double x) const {
-    // The grid index as SubPixelSampler::gridPosition finds it.
-    const double g = std::floor(x * double(mask_ + 1) + 0.5);
+    return atGrid<TAPS>(x, gridIndex(x));
+  }
+  // The grid index of x as SubPixelSampler::gridPosition finds it (an integer-valued double).
+  double gridIndex(double x) const { return std::floor(x * double(mask_ + 1) + 0.5); }
+  // at(x) given g = gridIndex(x), which a loop over many positions can compute in vector lanes first.
+  template <int TAPS>
+  float atGrid(double x, double g) const {
     if (std::fabs(g) < 4503599627370496.0) {  // 2^52
       const long long index = (long long)g, ix = index >> shift_;
       const int phase = int(index & mask_);

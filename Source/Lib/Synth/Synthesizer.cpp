@@ -474,18 +474,26 @@ void Synthesizer::warpTexture(ViewState& view, const std::vector<const Plane*>& 
       // Each reference row sampled once at every grid position (SampledRow): the look-ups below are
       // loads. Positions in [-0.5, width - 0.5] have integer parts in [-1, width].
       static thread_local SampledRow sampledRows[3];
+      // The row's source positions first, in a pass that vectorises (holes too: not read).
+      static thread_local std::vector<double> sourceRow, gridRow;
+      sourceRow.resize(size_t(width));
+      gridRow.resize(size_t(width));
+      double* sources = sourceRow.data();
+      double* grid = gridRow.data();
       for (int y = y0; y < y1; ++y) {
         const uint8_t* edges = view.referenceEdge.data() + size_t(y) * referenceWidth;
         for (int c = 0; c < kChannels; ++c) sampledRows[c].build<kTaps>(sampler, *planes[size_t(c)], y, -1, referenceWidth);
+        projection.rowSources(depth + size_t(y) * width, width, sources);
+        for (int x = 0; x < width; ++x) grid[x] = sampledRows[0].gridIndex(sources[x]);
         for (int x = 0; x < width; ++x) {
           const size_t i = size_t(y) * width + x;
           if (depth[i] < 0) continue;
-          const double u = projection.rowSource(x, depth[i]);
+          const double u = sources[x];
           if (!std::isfinite(u) || u < -0.5 || u > referenceWidth - 0.5) {
             depth[i] = kNoDepth;
             continue;
           }
-          for (int c = 0; c < kChannels; ++c) colour[c][i] = sampledRows[c].at<kTaps>(u);
+          for (int c = 0; c < kChannels; ++c) colour[c][i] = sampledRows[c].atGrid<kTaps>(u, grid[x]);
           edgeOut[i] = edges[std::clamp(int(std::floor(u + 0.5)), 0, referenceWidth - 1)];
         }
       }

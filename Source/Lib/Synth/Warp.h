@@ -45,6 +45,17 @@ public:
     return snapPosition(rowScaleInverse_ != 0 ? shifted * rowScaleInverse_ : shifted / rowScale_);
   }
 
+  // rowSource(x, wv[x]) for every x in [0, n), in a loop without branches that the compiler
+  // vectorises (the same operations in the same order: the same bits).
+  void rowSources(const double* wv, int n, double* u) const {
+    const double offset = rowOffset_, shift = rowShift_, inverse = rowScaleInverse_, scale = rowScale_;
+    if (inverse != 0) {
+      for (int x = 0; x < n; ++x) u[x] = snapPosition((double(x) - offset - shift * wv[x]) * inverse);
+    } else {
+      for (int x = 0; x < n; ++x) u[x] = snapPosition((double(x) - offset - shift * wv[x]) / scale);
+    }
+  }
+
   // Pixel positions are kept to 2^-30 px (1e-9), far finer than the quarter pel the filters resolve.
   // Rounding off the last bits makes positions that are mathematically equal bit-equal too, so that a
   // change of units or of world origin (which perturbs the last bits) cannot flip a rounding decision
