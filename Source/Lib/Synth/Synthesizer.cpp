@@ -413,13 +413,14 @@ void Synthesizer::cleanIsolatedSamples(WarpedLayer& layer) {
   });
 }
 
-void Synthesizer::flagCrowdedHoles(WarpedLayer& layer) {
+void Synthesizer::flagCrowdedHoles(ViewState& view) {
+  WarpedLayer& layer = view.luma;
   // MergingOption 2's hole counting: a sample with more than HoleCountThreshold holes in its 7x7
   // neighbourhood is unreliable; where another view agrees and is not, that view is used.
   const int w = layer.width, h = layer.height, threshold = scene_.settings.oneD.holeCountThreshold;
   // Separable counts: holes among the 7 samples of each row around x (clipped at the borders), then
   // the sum of those over the 7 rows around y.
-  std::vector<uint8_t>& rowHoles = rowHoleScratch_;
+  std::vector<uint8_t>& rowHoles = view.rowHoleScratch;
   rowHoles.resize(size_t(w) * h);
   parallelRanges(h, [&](int y0, int y1) {
     // The row's hole flags with three clear flags on either side (beyond the border), then seven
@@ -437,7 +438,7 @@ void Synthesizer::flagCrowdedHoles(WarpedLayer& layer) {
                            padded[x + 6]);
     }
   });
-  std::vector<uint8_t>& boxHoles = boxHoleScratch_;  // at most 49
+  std::vector<uint8_t>& boxHoles = view.boxHoleScratch;  // at most 49
   boxHoles.resize(size_t(w) * h);
   parallelRanges(h, [&](int rowBegin, int rowEnd) {
     const int width = w, height = h, most = threshold;  // locals: see markReferenceEdges
@@ -538,11 +539,12 @@ void Synthesizer::warpTexture(ViewState& view, const std::vector<const Plane*>& 
   });
 }
 
-void Synthesizer::removeBoundaryNoise(WarpedLayer& layer) {
+void Synthesizer::removeBoundaryNoise(ViewState& view) {
+  WarpedLayer& layer = view.luma;
   // Samples on a reference depth edge within two samples of this view's own hole carry foreground
   // colour bled onto background: drop them, so the other view or the hole filler supplies them.
   const int w = layer.width, h = layer.height;
-  std::vector<uint8_t>& drop = dropScratch_;
+  std::vector<uint8_t>& drop = view.dropScratch;
   drop.assign(size_t(w) * h, 0);
   parallelRanges(h, [&](int y0, int y1) {
     for (int y = y0; y < y1; ++y)
@@ -726,15 +728,32 @@ void Synthesizer::virtualDepth(const DepthRange& range, Plane& levels) const {
   });
 }
 
+template <class Step>
+void Synthesizer::forEachView(const Step& step) {
+  // With as many views per thread on every thread (two views, two threads: the usual case), each
+  // thread runs whole views: one hand-over per stage instead of one per loop inside it, and no thread
+  // waits at the end of every loop for the other's last rows. The loops inside then run on the
+  // calling thread (OpenCV runs a parallel_for_ inside another one sequentially). Each view's steps
+  // write only that view's state, so the output is the same either way.
+  const size_t count = views_.size();
+  const int threads = cv::getNumThreads();
+  if (count >= 2 && threads >= 2 && count % size_t(threads) == 0) {
+    parallelRanges(int(count), [&](int k0, int k1) {
+      for (int k = k0; k < k1; ++k) step(size_t(k));
+    });
+    return;
+  }
+  for (size_t k = 0; k < count; ++k) step(k);
+}
+
 void Synthesizer::synthesize(const std::vector<ReferenceFrame>& references, Frame& output, StageTimes& times) {
   VS_CHECK(references.size() == views_.size());
   output.reset(outputFormat_);
   auto start = std::chrono::steady_clock::now();
   const SynthesisSettings& s = scene_.settings;
-  stats_.alignedDepthSamples = 0;
   std::vector<const Plane*> lumas;
   for (const ReferenceFrame& reference : references) lumas.push_back(&reference.texture->planes[0]);
-  for (size_t k = 0; k < views_.size(); ++k) {
+  auto depthSteps = [&](size_t k) {
     ViewState& view = views_[k];
     const Plane* depth = references[k].depth;
     const bool filled = s.missingDepthLevel >= 0 && s.missingDepthFill;
@@ -744,19 +763,27 @@ void Synthesizer::synthesize(const std::vector<ReferenceFrame>& references, Fram
       fillMissingDepthRuns(*depth, s.missingDepthLevel, view.levelToInverseDepth, view.filledDepth, view.filledSamples);
       depth = &view.filledDepth;
     }
-    depth = &aligner_.align(k, *depth, lumas, stats_.alignedDepthSamples);
+    view.alignedSamples = 0;
+    depth = &aligner_.align(k, *depth, lumas, view.alignedSamples);
     markReferenceEdges(view, *depth);
     // Estimated depth is unreliable: where another view has a real one on the same surface, it wins
     // (also where alignment then gave a filled sample the near side's level).
     if (filled)
       for (size_t i = 0; i < view.referenceEdge.size(); ++i) view.referenceEdge[i] |= view.filledSamples[i];
     warpDepth(view, *depth);
-  }
+  };
+  // The general depth warp shares its projected samples and z-buffer between the views (one view
+  // after the other); the 1D warp has nothing shared.
+  if (parallel_) forEachView(depthSteps);
+  else
+    for (size_t k = 0; k < views_.size(); ++k) depthSteps(k);
+  stats_.alignedDepthSamples = 0;
+  for (const ViewState& view : views_) stats_.alignedDepthSamples += view.alignedSamples;
   times.depthWarp += secondsSince(start);
 
   start = std::chrono::steady_clock::now();
   if (rgb_) rgbReferences_.resize(views_.size());
-  for (size_t k = 0; k < views_.size(); ++k) {
+  forEachView([&](size_t k) {
     ViewState& view = views_[k];
     const Frame& texture = *references[k].texture;
     if (rgb_) {
@@ -765,13 +792,12 @@ void Synthesizer::synthesize(const std::vector<ReferenceFrame>& references, Fram
     } else {
       warpTexture(view, {&texture.planes[0]});
     }
-    if (scene_.settings.boundaryNoiseRemoval) removeBoundaryNoise(view.luma);
-    if (parallel_ && scene_.settings.oneD.merging == 2) flagCrowdedHoles(view.luma);
-  }
+    if (scene_.settings.boundaryNoiseRemoval) removeBoundaryNoise(view);
+    if (parallel_ && scene_.settings.oneD.merging == 2) flagCrowdedHoles(view);
+  });
   if (views_.size() > 1) rejectOccludedInOtherViews();
   // Chroma follows the luma decisions: it is warped from the final luma depth.
-  if (!rgb_ && hasChroma_)
-    for (size_t k = 0; k < views_.size(); ++k) warpChroma(views_[k], *references[k].texture);
+  if (!rgb_ && hasChroma_) forEachView([&](size_t k) { warpChroma(views_[k], *references[k].texture); });
   times.textureWarp += secondsSince(start);
 
   start = std::chrono::steady_clock::now();

@@ -87,19 +87,27 @@ private:
     std::vector<uint8_t> referenceStepRows;         // scratch of the dilation
     Plane filledDepth;                              // MissingDepthFill: the depth map with runs filled
     std::vector<uint8_t> filledSamples;             // the samples given a level there
+    // Per-frame working buffers of the view's own steps (a view's steps may run beside another's).
+    std::vector<uint8_t> dropScratch;                      // removeBoundaryNoise
+    std::vector<uint8_t> rowHoleScratch, boxHoleScratch;  // flagCrowdedHoles: holes along rows, in 7x7 boxes
+    size_t alignedSamples = 0;                             // this frame's depth edge alignment count
   };
 
   void warpDepth(ViewState& view, const Plane& depth);
   void warpDepthRows(ViewState& view, const Plane& depth);
   void rasteriseTriangles(ViewState& view, int width, int height);
   void cleanIsolatedSamples(WarpedLayer& layer);
-  void flagCrowdedHoles(WarpedLayer& layer);
+  void flagCrowdedHoles(ViewState& view);
   void keepStaticFill(const std::vector<ReferenceFrame>& references, std::vector<uint8_t>& lumaHoles,
                       std::vector<uint8_t>& chromaHoles);
   void markReferenceEdges(ViewState& view, const Plane& depth);
   void warpTexture(ViewState& view, const std::vector<const Plane*>& planes);
   void warpChroma(ViewState& view, const Frame& texture);
-  void removeBoundaryNoise(WarpedLayer& layer);
+  void removeBoundaryNoise(ViewState& view);
+  // Calls step(k) for every view k: the views side by side on the threads where that balances (see
+  // synthesize), else one after the other with each step's loops on the threads.
+  template <class Step>
+  void forEachView(const Step& step);
   void rejectOccludedInOtherViews();
 
   const Scene& scene_;
@@ -121,9 +129,7 @@ private:
   BlendedLayer blendedLuma_, blendedChroma_;
   // Per-frame working buffers, kept so that a sequence allocates nothing once they have grown.
   HoleFillScratch lumaFill_, chromaFill_;
-  std::vector<uint8_t> dropScratch_;
   OcclusionScratch occlusionScratch_;
-  std::vector<uint8_t> rowHoleScratch_, boxHoleScratch_;  // flagCrowdedHoles: holes along rows, in 7x7 boxes
   std::vector<Frame> rgbReferences_;
   Frame rgbOutput_;  // ColorSpace 1: the rounded R, G, B before conversion
   FrameStats stats_;
