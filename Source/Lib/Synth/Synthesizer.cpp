@@ -598,6 +598,16 @@ void Synthesizer::warpChroma(ViewState& view, const Frame& texture) {
       // warpTexture); positions in [-1, chromaW] have integer parts in [-1, chromaW].
       static thread_local SampledRow sampledRowU, sampledRowV;
       SampledRow &sampledU = sampledRowU, &sampledV = sampledRowV;  // the thread's, looked up once
+      // A row's block depths and edges first; on the 1D path then its source positions and grid
+      // indices in passes that vectorise (as in warpTexture), before the look-ups.
+      static thread_local std::vector<double> blockDepthRow, sourceRow, gridRow;
+      static thread_local std::vector<uint8_t> blockEdgeRow;
+      for (auto* buffer : {&blockDepthRow, &sourceRow, &gridRow}) buffer->resize(size_t(chromaW));
+      blockEdgeRow.resize(size_t(chromaW));
+      double* blockDepth = blockDepthRow.data();
+      double* sources = sourceRow.data();
+      double* grid = gridRow.data();
+      uint8_t* blockEdge = blockEdgeRow.data();
       for (int j = j0; j < j1; ++j) {
         clearRows(layer, j, j + 1);
         if (rows) {
@@ -622,9 +632,9 @@ void Synthesizer::warpChroma(ViewState& view, const Frame& texture) {
               edges[dy * kBlock + dx] = inside ? lumaEdge[k] : 0;
               front = std::max(front, depths[dy * kBlock + dx]);
             }
-          if (front < 0) continue;
           // Without branches, in the same order: adding +0.0 leaves the sum unchanged (it is never
-          // -0.0, as it starts at +0.0 and only grows by non-negative depths).
+          // -0.0, as it starts at +0.0 and only grows by non-negative depths). A block without a
+          // sample (front < 0) is a hole.
           double sum = 0;
           int count = 0;
           uint8_t edge = 0;
@@ -634,21 +644,38 @@ void Synthesizer::warpChroma(ViewState& view, const Frame& texture) {
             count += int(onFront);
             edge |= onFront ? edges[k] : uint8_t(0);
           }
-          const double inverseDepth = sum / count;
+          blockDepth[i] = front < 0 ? kNoDepth : sum / std::max(count, 1);
+          blockEdge[i] = edge;
+        }
+        if (rows) {
+          // backward() on a rectified pair: u = rowSource(x, wv), v = y; then cv is the integer j.
+          projection.rowSources(blockDepth, chromaW, sources, kBlock, offset);
+          for (int i = 0; i < chromaW; ++i) {
+            sources[i] = (sources[i] - offset) / kBlock;
+            grid[i] = sampledU.gridIndex(sources[i]);
+          }
+        }
+        for (int i = 0; i < chromaW; ++i) {
+          const double inverseDepth = blockDepth[i];
+          if (inverseDepth < 0) continue;
+          const size_t c = size_t(j) * chromaW + i;
+          if (rows) {
+            const double cu = sources[i];
+            if (!std::isfinite(cu) || cu < -1.0 || cu > chromaW) continue;
+            depthOut[c] = inverseDepth;
+            edgeOut[c] = blockEdge[i];
+            uOut[c] = sampledU.atGrid<kTaps>(cu, grid[i]);
+            vOut[c] = sampledV.atGrid<kTaps>(cu, grid[i]);
+            continue;
+          }
           double u, v;
           if (!projection.backward(i * kBlock + offset, j * kBlock + offset, inverseDepth, u, v)) continue;
           const double cu = (u - offset) / kBlock, cv = (v - offset) / kBlock;
           if (cu < -1.0 || cv < -1.0 || cu > chromaW || cv > chromaH) continue;
-          const size_t c = size_t(j) * chromaW + i;
           depthOut[c] = inverseDepth;
-          edgeOut[c] = edge;
-          if (rows) {  // cv is the integer j: rows map to rows
-            uOut[c] = sampledU.at<kTaps>(cu);
-            vOut[c] = sampledV.at<kTaps>(cu);
-          } else {
-            uOut[c] = sampler.sampleTaps<kTaps>(texture.planes[1], cu, cv);
-            vOut[c] = sampler.sampleTaps<kTaps>(texture.planes[2], cu, cv);
-          }
+          edgeOut[c] = blockEdge[i];
+          uOut[c] = sampler.sampleTaps<kTaps>(texture.planes[1], cu, cv);
+          vOut[c] = sampler.sampleTaps<kTaps>(texture.planes[2], cu, cv);
         }
       }
     });

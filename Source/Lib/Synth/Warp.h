@@ -45,14 +45,14 @@ public:
     return snapPosition(rowScaleInverse_ != 0 ? shifted * rowScaleInverse_ : shifted / rowScale_);
   }
 
-  // rowSource(x, wv[x]) for every x in [0, n), in a loop without branches that the compiler
-  // vectorises (the same operations in the same order: the same bits).
-  void rowSources(const double* wv, int n, double* u) const {
+  // u[i] = rowSource(i * step + start, wv[i]) for every i in [0, n), in a loop without branches that
+  // the compiler vectorises (the same operations in the same order: the same bits).
+  void rowSources(const double* wv, int n, double* u, int step = 1, double start = 0.0) const {
     const double offset = rowOffset_, shift = rowShift_, inverse = rowScaleInverse_, scale = rowScale_;
     if (inverse != 0) {
-      for (int x = 0; x < n; ++x) u[x] = snapPosition((double(x) - offset - shift * wv[x]) * inverse);
+      for (int i = 0; i < n; ++i) u[i] = snapPosition((double(i * step) + start - offset - shift * wv[i]) * inverse);
     } else {
-      for (int x = 0; x < n; ++x) u[x] = snapPosition((double(x) - offset - shift * wv[x]) / scale);
+      for (int i = 0; i < n; ++i) u[i] = snapPosition((double(i * step) + start - offset - shift * wv[i]) / scale);
     }
   }
 
