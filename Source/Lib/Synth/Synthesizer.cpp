@@ -14,6 +14,7 @@
 #include "Synth/Flags.h"
 #include "Synth/Occlusion.h"
 #include "Synth/Plan.h"
+#include "Synth/RowWarp.h"
 
 namespace vs {
 
@@ -310,82 +311,29 @@ void Synthesizer::rasteriseTriangles(ViewState& view, int w, int h) {
 }
 
 void Synthesizer::warpDepthRows(ViewState& view, const Plane& depth) {
-  // 1D: rows map to rows, so each thread warps whole rows straight into the layer: samples move along
-  // the row by the disparity of their level, the depth grid is rasterised as segments between
-  // horizontal neighbours on one surface, and every sample also lands as a point. SplattingOption 0
-  // draws no segments (points only), 1 all, 2 only within BoundaryGrowth samples of a reference depth
-  // edge. The z-buffer keeps the larger inverse depth, compared as AtomicMaxBuffer compares (the bit
-  // patterns as signed integers), so this gives exactly what the general path's buffer would.
+  // 1D: rows map to rows, so each thread warps whole rows straight into the layer (RowDepthWarp):
+  // samples move along the row by the disparity of their level, the depth grid is rasterised as
+  // segments between horizontal neighbours on one surface, and every sample also lands as a point.
+  // SplattingOption 2 draws segments only within BoundaryGrowth samples of a reference depth edge.
   const int w = depth.width, h = depth.height;
   const int outW = outputFormat_.width, outH = outputFormat_.height;
   const OneDOptions& oneD = scene_.settings.oneD;
   view.luma.resize(outW, outH, rgb_ ? 3 : 1);  // cleared row by row below (clearRows)
   // Rows below the reference (an output taller than it) receive nothing.
   if (outH > h) clearRows(view.luma, h, outH);
-  auto raise = [](double& cell, double value) {
-    int64_t a, b;
-    std::memcpy(&a, &value, sizeof a);
-    std::memcpy(&b, &cell, sizeof b);
-    const int64_t larger = a > b ? a : b;  // a select and a store: no branch to mispredict
-    std::memcpy(&cell, &larger, sizeof larger);
-  };
+  const RowDepthWarp rowWarp(view.projection, view.levelToRowDepth, discontinuity_, oneD.splatting);
   parallelRanges(std::min(h, outH), [&](int y0, int y1) {
-    // Locals for everything the loops read: their stores (doubles, bytes) could alias members and
-    // captures, which the compiler would then reload for every sample.
-    const ViewProjection projection = view.projection;
-    const double* rowDepth = view.levelToRowDepth.data();
-    const size_t levelCount = view.levelToRowDepth.size();
-    const double discontinuity = discontinuity_;
-    const int width = w, outWidth = outW, splatting = oneD.splatting, growth = oneD.boundaryGrowth;
-    // One row's positions, depths and boundary flags, kept per thread between frames.
-    static thread_local std::vector<double> xsRow, wsRow;
+    const int width = w, outWidth = outW, growth = oneD.boundaryGrowth;
+    const bool nearEdges = oneD.splatting == 2;
+    // The row's boundary flags, kept per thread between frames.
     static thread_local std::vector<uint8_t> nearRow;
-    xsRow.resize(size_t(width));
-    wsRow.resize(size_t(width));
-    nearRow.assign(size_t(width), 1);
-    double* xs = xsRow.data();
-    double* ws = wsRow.data();
-    uint8_t* nearBoundary = nearRow.data();
+    nearRow.resize(size_t(width));
     for (int y = y0; y < y1; ++y) {
       clearRows(view.luma, y, y + 1);
-      const uint16_t* levels = depth.row(y);
-      for (int x = 0; x < width; ++x) {
-        const double wv = levels[x] < levelCount ? rowDepth[levels[x]] : std::nan("");
-        const double target = std::isnan(wv) ? wv : projection.rowTarget(x, wv);
-        ws[x] = std::isfinite(target) ? wv : kNoDepth;
-        xs[x] = target;
-      }
-      double* z = view.luma.inverseDepth.data() + size_t(y) * outWidth;
-      if (splatting != 0) {
-        if (splatting == 2) {
-          // Within BoundaryGrowth samples of a reference depth edge.
-          markWithinReach(view.referenceStep.data() + size_t(y) * width, width, growth, nearBoundary);
-        }
-        for (int x = 0; x + 1 < width; ++x) {
-          const double w0 = ws[x], w1 = ws[x + 1];
-          if (w0 < 0 || w1 < 0 || std::fabs(w0 - w1) > discontinuity || !(nearBoundary[x] || nearBoundary[x + 1]))
-            continue;
-          double x0 = xs[x], x1 = xs[x + 1], a = w0, b = w1;
-          if (x1 < x0) {
-            std::swap(x0, x1);
-            std::swap(a, b);
-          }
-          int first, last;
-          if (!coveredRange(x0, x1, outWidth, first, last)) continue;
-          const double span = x1 - x0;
-          for (int px = first; px <= last; ++px) {
-            const double t = span > 0 ? (px - x0) / span : 0.0;
-            raise(z[px], a + t * (b - a));
-          }
-        }
-      }
-      // Every sample also lands as a point, so thin foreground keeps its width.
-      for (int x = 0; x < width; ++x) {
-        if (ws[x] < 0) continue;
-        const double px = std::floor(xs[x] + 0.5);
-        if (px < 0 || px >= outWidth) continue;
-        raise(z[size_t(px)], ws[x]);
-      }
+      // Within BoundaryGrowth samples of a reference depth edge.
+      if (nearEdges) markWithinReach(view.referenceStep.data() + size_t(y) * width, width, growth, nearRow.data());
+      rowWarp.warp(depth.row(y), width, nearRow.data(), view.luma.inverseDepth.data() + size_t(y) * outWidth,
+                   outWidth);
     }
   });
   if (oneD.cleanNoise) cleanIsolatedSamples(view.luma);

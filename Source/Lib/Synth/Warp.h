@@ -36,8 +36,12 @@ public:
   // The parallel forms, inline for the 1D path's row loops: the same values forward() and backward()
   // give when parallel(). rowTarget's inverseDepth is the inverse camera depth (DepthType 0).
   double rowTarget(double u, double inverseDepth) const {
-    return snapPosition(rowScale_ * u + rowOffset_ + rowShift_ * inverseDepth);
+    return snapPosition(rowBase(u) + rowDisplacement(inverseDepth));
   }
+  // rowTarget's two terms, for a warp that computes the second once per depth level (Synth/RowWarp.h):
+  // snapPosition(rowBase(u) + rowDisplacement(w)) is rowTarget(u, w), bit for bit.
+  double rowBase(double u) const { return rowScale_ * u + rowOffset_; }
+  double rowDisplacement(double inverseDepth) const { return rowShift_ * inverseDepth; }
   double rowSource(double x, double wv) const {
     // Dividing by a power of two (rowScale 1 when the focal lengths are equal) is multiplying by its
     // reciprocal, which is exact: the same bits without a division per sample.

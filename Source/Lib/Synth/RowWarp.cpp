@@ -1,0 +1,100 @@
+#include "Synth/RowWarp.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+#include "Synth/Layer.h"
+
+namespace vs {
+
+namespace {
+
+// Keeps the larger of the cell and the value, compared as AtomicMaxBuffer compares (the bit patterns
+// as signed integers), so this path gives what the general path's buffer would.
+inline void raise(double& cell, double value) {
+  int64_t a, b;
+  std::memcpy(&a, &value, sizeof a);
+  std::memcpy(&b, &cell, sizeof b);
+  const int64_t larger = a > b ? a : b;  // a select and a store: no branch to mispredict
+  std::memcpy(&cell, &larger, sizeof larger);
+}
+
+// Pixel-centre range [first, last] covered by [lo, hi] within [0, size - 1]; false when empty.
+inline bool coveredRange(double lo, double hi, int size, int& first, int& last) {
+  if (hi < -1e-9 || lo > size - 1 + 1e-9) return false;
+  lo = std::max(lo - 1e-9, 0.0);
+  hi = std::min(hi + 1e-9, double(size - 1));
+  first = int(lo);
+  if (double(first) < lo) ++first;  // ceil of a non-negative value
+  last = int(hi);                    // floor of a non-negative value
+  return first <= last;
+}
+
+}  // namespace
+
+RowDepthWarp::RowDepthWarp(const ViewProjection& projection, const std::vector<double>& levelToRowDepth,
+                           double discontinuity, int splatting)
+    : projection_(projection), discontinuity_(discontinuity), splatting_(splatting) {
+  levels_.reserve(levelToRowDepth.size() + 1);
+  for (double depth : levelToRowDepth) {
+    if (std::isnan(depth))
+      levels_.push_back({depth, kNoDepth});
+    else
+      levels_.push_back({projection.rowDisplacement(depth), depth});
+  }
+  levels_.push_back({std::nan(""), kNoDepth});
+}
+
+void RowDepthWarp::warp(const uint16_t* levels, int width, const uint8_t* nearBoundary, double* z,
+                        int outWidth) const {
+  // Locals for everything the loops read: their stores (doubles) could alias members.
+  const ViewProjection projection = projection_;
+  const Level* table = levels_.data();
+  const size_t beyond = levels_.size() - 1;
+  const double discontinuity = discontinuity_;
+  const int splatting = splatting_;
+  // One row's positions and depths, kept per thread between rows.
+  static thread_local std::vector<double> xsRow, wsRow;
+  xsRow.resize(size_t(width));
+  wsRow.resize(size_t(width));
+  double* xs = xsRow.data();
+  double* ws = wsRow.data();
+  // The level's displacement is rowTarget's second term: this is rowTarget(x, depth), bit for bit; a
+  // level that is not warped has a NaN displacement, so its position is not finite either.
+  for (int x = 0; x < width; ++x) {
+    const Level level = table[std::min(size_t(levels[x]), beyond)];
+    const double target = ViewProjection::snapPosition(projection.rowBase(x) + level.displacement);
+    ws[x] = std::isfinite(target) ? level.depth : kNoDepth;
+    xs[x] = target;
+  }
+  // Every sample lands as a point, so thin foreground keeps its width.
+  for (int x = 0; x < width; ++x) {
+    if (ws[x] < 0) continue;
+    const double px = std::floor(xs[x] + 0.5);
+    if (px < 0 || px >= outWidth) continue;
+    raise(z[size_t(px)], ws[x]);
+  }
+  if (splatting == 0) return;
+  // The segments between horizontal neighbours on one surface (within BoundaryGrowth samples of a
+  // reference depth edge with SplattingOption 2), rasterised at the pixel centres they cover.
+  for (int x = 0; x + 1 < width; ++x) {
+    const double w0 = ws[x], w1 = ws[x + 1];
+    const bool near = splatting == 1 || nearBoundary[x] || nearBoundary[x + 1];
+    if (w0 < 0 || w1 < 0 || std::fabs(w0 - w1) > discontinuity || !near) continue;
+    double x0 = xs[x], x1 = xs[x + 1], a = w0, b = w1;
+    if (x1 < x0) {
+      std::swap(x0, x1);
+      std::swap(a, b);
+    }
+    int first, last;
+    if (!coveredRange(x0, x1, outWidth, first, last)) continue;
+    const double span = x1 - x0;
+    for (int px = first; px <= last; ++px) {
+      const double t = span > 0 ? (px - x0) / span : 0.0;
+      raise(z[px], a + t * (b - a));
+    }
+  }
+}
+
+}  // namespace vs
