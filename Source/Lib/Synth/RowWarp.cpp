@@ -5,6 +5,7 @@
 #include <cstring>
 
 #include "Synth/Layer.h"
+#include "Synth/Raster.h"
 
 namespace vs {
 
@@ -18,17 +19,6 @@ inline void raise(double& cell, double value) {
   std::memcpy(&b, &cell, sizeof b);
   const int64_t larger = a > b ? a : b;  // a select and a store: no branch to mispredict
   std::memcpy(&cell, &larger, sizeof larger);
-}
-
-// Pixel-centre range [first, last] covered by [lo, hi] within [0, size - 1]; false when empty.
-inline bool coveredRange(double lo, double hi, int size, int& first, int& last) {
-  if (hi < -1e-9 || lo > size - 1 + 1e-9) return false;
-  lo = std::max(lo - 1e-9, 0.0);
-  hi = std::min(hi + 1e-9, double(size - 1));
-  first = int(lo);
-  if (double(first) < lo) ++first;  // ceil of a non-negative value
-  last = int(hi);                    // floor of a non-negative value
-  return first <= last;
 }
 
 // Whether the segment between neighbours (x0, a) and (x1, b) adds nothing to their two points: true
