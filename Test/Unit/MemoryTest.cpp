@@ -5,9 +5,11 @@
 
 #include <cstdint>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <thread>
 
 #include "Common/Memory.h"
 
@@ -75,6 +77,49 @@ TEST(Memory, BlocksAfterTheReservationMayUseHugePages) {
   // "always" makes every mapping eligible; "madvise" only those advised, which is what is tested.
   EXPECT_EQ(hugePageEligible(block + (size_t(16) << 20)), 1) << "transparent huge pages: " << modes;
   std::free(block);
+#endif
+}
+
+// Whether `address` lies in the mapping /proc/self/smaps names [heap] (the main arena's).
+bool inMainHeap(const void* address) {
+  std::ifstream maps("/proc/self/maps");
+  std::string line;
+  const uintptr_t at = reinterpret_cast<uintptr_t>(address);
+  while (std::getline(maps, line)) {
+    unsigned long long begin = 0, end = 0;
+    char dash = 0;
+    std::istringstream header(line);
+    if (header >> std::hex >> begin >> dash >> end && dash == '-' && at >= begin && at < end)
+      return line.find("[heap]") != std::string::npos;
+  }
+  return false;
+}
+
+// A worker thread's blocks come from the main heap (where reserveHugePageHeap's advice and the kept
+// free memory are), not from an arena of its own. glibc fixes the arena limit when a second thread
+// first allocates, which other tests of this process have long done: the check runs in a new process
+// of this test program that runs only this test.
+TEST(Memory, WorkerThreadsAllocateFromTheMainHeap) {
+#if defined(__SANITIZE_ADDRESS__)
+  GTEST_SKIP() << "the sanitizer's allocator does not take glibc's settings";
+#elif !defined(__GLIBC__) || !defined(__linux__)
+  GTEST_SKIP() << "not glibc on Linux: the setting does not apply";
+#else
+  if (std::getenv("VS_MEMORY_TEST_CHILD")) {
+    keepFreedMemoryForReuse();
+    void* fromMain = std::malloc(size_t(1) << 20);
+    void* fromWorker = nullptr;
+    std::thread worker([&] { fromWorker = std::malloc(size_t(1) << 20); });
+    worker.join();
+    ASSERT_TRUE(inMainHeap(fromMain)) << "the main thread's block is not in [heap]";
+    EXPECT_TRUE(inMainHeap(fromWorker)) << "the worker's block is not in the main heap";
+    std::free(fromWorker);
+    std::free(fromMain);
+    return;
+  }
+  const std::string command = "VS_MEMORY_TEST_CHILD=1 '" + std::filesystem::read_symlink("/proc/self/exe").string() +
+                              "' --gtest_filter=Memory.WorkerThreadsAllocateFromTheMainHeap > /dev/null 2>&1";
+  EXPECT_EQ(std::system(command.c_str()), 0) << "the check in a new process failed (run: " << command << ")";
 #endif
 }
 

@@ -22,6 +22,11 @@ void keepFreedMemoryForReuse() {
 #if defined(__GLIBC__)
   const bool mapped = mallopt(M_MMAP_THRESHOLD, 256 << 20) == 1;  // blocks up to 256 MiB come from the heap
   const bool trimmed = mallopt(M_TRIM_THRESHOLD, 1 << 30) == 1;   // free heap is kept up to 1 GiB
+  // One arena: the worker threads' blocks come from the same heap (kept, and advised for huge pages
+  // by reserveHugePageHeap) instead of arenas of their own, each mapped, faulted 4 KiB at a time and
+  // trimmed apart. Allocation is rare once a run's buffers have grown, so their lock costs nothing.
+  // glibc fixes the arena limit when a second thread first allocates: this must come before.
+  mallopt(M_ARENA_MAX, 1);
   heapKept = mapped && trimmed;
 #endif
 }

@@ -9,7 +9,8 @@ namespace vs {
 // freed, and trims the heap above 128 KiB of free space: every frame's temporary planes were mapped,
 // zeroed page by page and unmapped again (about a quarter of a Middlebury frame's time in page
 // faults). Raising both thresholds makes those blocks come from the heap and stay there; the
-// process's peak memory is unchanged, it is only not returned before exit. No effect outside glibc
+// process's peak memory is unchanged, it is only not returned before exit. Threads allocate from that
+// one heap too (one arena), so call this before a second thread allocates. No effect outside glibc
 // (or under a sanitizer's allocator).
 void keepFreedMemoryForReuse();
 
