@@ -58,6 +58,12 @@ public:
     while (bits > current && !cells_[i].compare_exchange_weak(current, bits, std::memory_order_relaxed)) {
     }
   }
+  // raise() where no other thread writes the buffer meanwhile: a plain compare and store (the same
+  // result, without the atomic read-modify-write).
+  void raiseAlone(size_t i, double value) {
+    const int64_t bits = toBits(value);
+    if (bits > cells_[i].load(std::memory_order_relaxed)) cells_[i].store(bits, std::memory_order_relaxed);
+  }
   // Cells [begin, end) as doubles into out[0 .. end - begin).
   void copyTo(size_t begin, size_t end, double* out) const {
     for (size_t i = begin; i < end; ++i) out[i - begin] = fromBits(cells_[i].load(std::memory_order_relaxed));

@@ -5,8 +5,6 @@
 #include <algorithm>
 #include <cmath>
 
-#include "Synth/Parallel.h"
-
 namespace vs {
 
 // Pixel-centre range [first, last] covered by [lo, hi] within [0, size - 1]; false when empty.
@@ -23,7 +21,10 @@ inline bool coveredRange(double lo, double hi, int size, int& first, int& last) 
 // Raises the z-buffer (width x height) at the pixel centres inside the triangle with corners (x[i],
 // y[i]) and inverse depths w[i] >= 0, with the barycentric interpolation of w; a degenerate triangle
 // (area below 1e-12) raises nothing.
-inline void rasteriseTriangle(AtomicMaxBuffer& zbuffer, int width, int height, const double* x, const double* y,
+// raise(i, value) keeps the larger of cell i and value (AtomicMaxBuffer::raise, or raiseAlone where one
+// thread writes the buffer).
+template <class Raise>
+inline void rasteriseTriangle(const Raise& raise, int width, int height, const double* x, const double* y,
                               const double* w) {
   const double minX = std::min(x[0], std::min(x[1], x[2])), maxX = std::max(x[0], std::max(x[1], x[2]));
   const double minY = std::min(y[0], std::min(y[1], y[2])), maxY = std::max(y[0], std::max(y[1], y[2]));
@@ -42,7 +43,7 @@ inline void rasteriseTriangle(AtomicMaxBuffer& zbuffer, int width, int height, c
     for (int px = x0; px <= x1; ++px) {
       const double b1 = a1 * px + r1, b2 = a2 * px + r2, b0 = 1.0 - b1 - b2;
       if (b0 < -1e-9 || b1 < -1e-9 || b2 < -1e-9) continue;
-      zbuffer.raise(size_t(py) * width + px, w[0] + b1 * dw1 + b2 * dw2);
+      raise(size_t(py) * width + px, w[0] + b1 * dw1 + b2 * dw2);
     }
   }
 }

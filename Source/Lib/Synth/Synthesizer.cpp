@@ -192,16 +192,16 @@ void Synthesizer::warpDepth(ViewState& view, const Plane& depth) {
   }
   const int w = depth.width, h = depth.height;
   const size_t n = size_t(w) * size_t(h);
-  warpedX_.resize(n);
-  warpedY_.resize(n);
-  warpedW_.resize(n);
+  view.warpedX.resize(n);
+  view.warpedY.resize(n);
+  view.warpedW.resize(n);
   parallelRanges(h, [&](int y0, int y1) {
     // Locals: the stores below are doubles, which may alias the projection's and the table's.
     const ViewProjection projection = view.projection;
     const double* levelToInverseDepth = view.levelToInverseDepth.data();
-    double* warpedX = warpedX_.data();
-    double* warpedY = warpedY_.data();
-    double* warpedW = warpedW_.data();
+    double* warpedX = view.warpedX.data();
+    double* warpedY = view.warpedY.data();
+    double* warpedW = view.warpedW.data();
     const int width = w;
     for (int y = y0; y < y1; ++y) {
       const uint16_t* levels = depth.row(y);
@@ -221,26 +221,33 @@ void Synthesizer::warpDepth(ViewState& view, const Plane& depth) {
   });
   const int outW = outputFormat_.width, outH = outputFormat_.height;
   view.luma.resize(outW, outH, rgb_ ? 3 : 1);  // cleared row by row below (clearRows)
-  zbuffer_.reset(size_t(outW) * outH, kNoDepth);
-  rasteriseTriangles(view, w, h);
-  // Every sample also lands as a point, so thin foreground keeps its width.
-  parallelRanges(h, [&](int y0, int y1) {
-    for (size_t i = size_t(y0) * w; i < size_t(y1) * w; ++i) {
-      if (warpedW_[i] < 0) continue;
-      const double px = std::floor(warpedX_[i] + 0.5), py = std::floor(warpedY_[i] + 0.5);
-      if (px < 0 || py < 0 || px >= outW || py >= outH) continue;
-      zbuffer_.raise(size_t(py) * outW + size_t(px), warpedW_[i]);
-    }
-  });
+  view.zbuffer.reset(size_t(outW) * outH, kNoDepth);
+  // Where the views run side by side, this view's thread is the buffer's only writer.
+  auto drawInto = [&](const auto& raise) {
+    rasteriseTriangles(view, w, h, raise);
+    // Every sample also lands as a point, so thin foreground keeps its width.
+    parallelRanges(h, [&](int y0, int y1) {
+      for (size_t i = size_t(y0) * w; i < size_t(y1) * w; ++i) {
+        if (view.warpedW[i] < 0) continue;
+        const double px = std::floor(view.warpedX[i] + 0.5), py = std::floor(view.warpedY[i] + 0.5);
+        if (px < 0 || py < 0 || px >= outW || py >= outH) continue;
+        raise(size_t(py) * outW + size_t(px), view.warpedW[i]);
+      }
+    });
+  };
+  AtomicMaxBuffer& zbuffer = view.zbuffer;
+  if (viewsSideBySide()) drawInto([&zbuffer](size_t i, double value) { zbuffer.raiseAlone(i, value); });
+  else drawInto([&zbuffer](size_t i, double value) { zbuffer.raise(i, value); });
   // The z-buffer becomes the layer's depth, and the rest of the layer is cleared, row by row.
   parallelRanges(outH, [&](int y0, int y1) {
     clearRows(view.luma, y0, y1);
-    zbuffer_.copyTo(size_t(y0) * outW, size_t(y1) * outW, view.luma.inverseDepth.data() + size_t(y0) * outW);
+    view.zbuffer.copyTo(size_t(y0) * outW, size_t(y1) * outW, view.luma.inverseDepth.data() + size_t(y0) * outW);
   });
   closeCracks(view.luma.inverseDepth, outW, outH, discontinuity_);
 }
 
-void Synthesizer::rasteriseTriangles(ViewState& view, int w, int h) {
+template <class Raise>
+void Synthesizer::rasteriseTriangles(ViewState& view, int w, int h, const Raise& raise) {
   // Triangles of each quad of neighbouring samples, when all three lie on one surface: corners
   // (0, 1, 3) and (0, 3, 2) of the quad (x, y), (x + 1, y), (x, y + 1), (x + 1, y + 1), in that order.
   const int outW = view.luma.width, outH = view.luma.height;
@@ -250,9 +257,9 @@ void Synthesizer::rasteriseTriangles(ViewState& view, int w, int h) {
     const int width = w;
     for (int y = y0; y < y1; ++y) {
       // The quad's two rows, read once for both triangles.
-      const double* xTop = warpedX_.data() + size_t(y) * width;
-      const double* yTop = warpedY_.data() + size_t(y) * width;
-      const double* wTop = warpedW_.data() + size_t(y) * width;
+      const double* xTop = view.warpedX.data() + size_t(y) * width;
+      const double* yTop = view.warpedY.data() + size_t(y) * width;
+      const double* wTop = view.warpedW.data() + size_t(y) * width;
       const double *xBottom = xTop + width, *yBottom = yTop + width, *wBottom = wTop + width;
       for (int x = 0; x + 1 < width; ++x) {
         const double d0 = wTop[x], d1 = wTop[x + 1], d2 = wBottom[x], d3 = wBottom[x + 1];
@@ -264,12 +271,12 @@ void Synthesizer::rasteriseTriangles(ViewState& view, int w, int h) {
         if (d1 >= 0 && std::max(hi03, d1) - std::min(lo03, d1) <= discontinuity) {
           const double tx[3] = {xTop[x], xTop[x + 1], xBottom[x + 1]}, ty[3] = {yTop[x], yTop[x + 1], yBottom[x + 1]};
           const double tw[3] = {d0, d1, d3};
-          rasteriseTriangle(zbuffer_, outW, outH, tx, ty, tw);
+          rasteriseTriangle(raise, outW, outH, tx, ty, tw);
         }
         if (d2 >= 0 && std::max(hi03, d2) - std::min(lo03, d2) <= discontinuity) {
           const double tx[3] = {xTop[x], xBottom[x + 1], xBottom[x]}, ty[3] = {yTop[x], yBottom[x + 1], yBottom[x]};
           const double tw[3] = {d0, d3, d2};
-          rasteriseTriangle(zbuffer_, outW, outH, tx, ty, tw);
+          rasteriseTriangle(raise, outW, outH, tx, ty, tw);
         }
       }
     }
@@ -669,6 +676,12 @@ void Synthesizer::virtualDepth(const DepthRange& range, Plane& levels) const {
   });
 }
 
+bool Synthesizer::viewsSideBySide() const {
+  const size_t count = views_.size();
+  const int threads = cv::getNumThreads();
+  return count >= 2 && threads >= 2 && count % size_t(threads) == 0;
+}
+
 template <class Step>
 void Synthesizer::forEachView(const Step& step) {
   // With as many views per thread on every thread (two views, two threads: the usual case), each
@@ -677,8 +690,7 @@ void Synthesizer::forEachView(const Step& step) {
   // calling thread (OpenCV runs a parallel_for_ inside another one sequentially). Each view's steps
   // write only that view's state, so the output is the same either way.
   const size_t count = views_.size();
-  const int threads = cv::getNumThreads();
-  if (count >= 2 && threads >= 2 && count % size_t(threads) == 0) {
+  if (viewsSideBySide()) {
     parallelRanges(int(count), [&](int k0, int k1) {
       for (int k = k0; k < k1; ++k) step(size_t(k));
     });
@@ -713,11 +725,7 @@ void Synthesizer::synthesize(const std::vector<ReferenceFrame>& references, Fram
       for (size_t i = 0; i < view.referenceEdge.size(); ++i) view.referenceEdge[i] |= view.filledSamples[i];
     warpDepth(view, *depth);
   };
-  // The general depth warp shares its projected samples and z-buffer between the views (one view
-  // after the other); the 1D warp has nothing shared.
-  if (parallel_) forEachView(depthSteps);
-  else
-    for (size_t k = 0; k < views_.size(); ++k) depthSteps(k);
+  forEachView(depthSteps);
   stats_.alignedDepthSamples = 0;
   for (const ViewState& view : views_) stats_.alignedDepthSamples += view.alignedSamples;
   times.depthWarp += secondsSince(start);

@@ -91,11 +91,16 @@ private:
     std::vector<uint8_t> dropScratch;                      // removeBoundaryNoise
     std::vector<uint8_t> rowHoleScratch, boxHoleScratch;  // flagCrowdedHoles: holes along rows, in 7x7 boxes
     size_t alignedSamples = 0;                             // this frame's depth edge alignment count
+    // The general depth warp's forward-projected reference samples and its z-buffer (shared by the
+    // threads of the view's warp when the views do not run side by side).
+    std::vector<double> warpedX, warpedY, warpedW;
+    AtomicMaxBuffer zbuffer;
   };
 
   void warpDepth(ViewState& view, const Plane& depth);
   void warpDepthRows(ViewState& view, const Plane& depth);
-  void rasteriseTriangles(ViewState& view, int width, int height);
+  template <class Raise>
+  void rasteriseTriangles(ViewState& view, int width, int height, const Raise& raise);
   void cleanIsolatedSamples(WarpedLayer& layer);
   void flagCrowdedHoles(ViewState& view);
   void keepStaticFill(const std::vector<ReferenceFrame>& references, std::vector<uint8_t>& lumaHoles,
@@ -108,6 +113,7 @@ private:
   // synthesize), else one after the other with each step's loops on the threads.
   template <class Step>
   void forEachView(const Step& step);
+  bool viewsSideBySide() const;  // forEachView runs the views side by side on the threads
   void rejectOccludedInOtherViews();
 
   const Scene& scene_;
@@ -122,10 +128,6 @@ private:
   HoleFillOptions fillOptions_;
   DepthEdgeAligner aligner_;
   std::vector<ViewState> views_;
-  AtomicMaxBuffer zbuffer_;  // depth warp target, shared by the threads of one view's warp
-  // The general depth warp's forward-projected reference samples, of the view being warped (one set
-  // for all views: the views are warped one after the other).
-  std::vector<double> warpedX_, warpedY_, warpedW_;
   BlendedLayer blendedLuma_, blendedChroma_;
   // Per-frame working buffers, kept so that a sequence allocates nothing once they have grown.
   HoleFillScratch lumaFill_, chromaFill_;
