@@ -508,6 +508,38 @@ TEST(SubPixelSampler, RowSamplingEqualsTwoDimensionalSamplingOnWholeRows) {
     }
 }
 
+// The 1D warps compute a row's source positions in one vectorised pass (ViewProjection::rowSources):
+// bit for bit rowSource at each position, for focal-length ratios that are powers of two (the
+// multiplication by the reciprocal) and not (the division), luma steps and chroma block centres,
+// and depths that are holes (-1), zero, signed zero, huge or NaN.
+TEST(ViewProjection, RowSourcesEqualRowSourceAtEachPosition) {
+  std::mt19937 random(17);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  const double ratios[] = {1.0, 2.0, 0.5, 1.37, 0.8};
+  for (int trial = 0; trial < 200; ++trial) {
+    Camera reference, target;
+    reference.K[0][0] = reference.K[1][1] = std::round(500 + 1500 * unit(random));
+    target.K[0][0] = target.K[1][1] = reference.K[0][0] * ratios[trial % 5];
+    reference.K[0][2] = 300 * unit(random);
+    target.K[0][2] = trial % 3 == 0 ? reference.K[0][2] : 300 * unit(random);
+    target.t.x = (trial % 2 ? -1 : 1) * (1 + 100 * unit(random));
+    const ViewProjection projection(reference, target, 0, true);
+    const int n = 1 + int(200 * unit(random)), step = 1 + trial % 2;
+    const double start = step == 2 ? 0.5 : 0.0;
+    std::vector<double> depth(static_cast<size_t>(n)), sources(static_cast<size_t>(n));
+    for (double& wv : depth) {
+      const double u = unit(random);
+      wv = u < 0.1 ? -1.0 : u < 0.15 ? 0.0 : u < 0.2 ? -0.0 : u < 0.22 ? 1e300 : u < 0.25 ? std::nan("") : unit(random) / 1000;
+    }
+    projection.rowSources(depth.data(), n, sources.data(), step, start);
+    for (int i = 0; i < n; ++i) {
+      const double expected = projection.rowSource(i * step + start, depth[size_t(i)]);
+      ASSERT_EQ(std::memcmp(&expected, &sources[size_t(i)], sizeof expected), 0)
+          << "trial " << trial << " i " << i << ": " << expected << " vs " << sources[size_t(i)];
+    }
+  }
+}
+
 // A row sampled once at every grid position (SampledRow, the 1D warps' look-up table) gives
 // sampleRowTaps bit for bit: every Precision and Filter, rows narrower than the kernel, tables that
 // cover the row, part of it or more than it, positions inside, on and beyond the borders and far
