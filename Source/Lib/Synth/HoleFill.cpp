@@ -340,32 +340,50 @@ void inpaintGroup(const BlendedLayer& layer, const std::vector<uint8_t>& mask, i
   groupMask.resize(area);
   samples.resize(area * 4);
   const int group = task.group;
+  // The crop's blocks: whole ones inside, parts of the first and last (the crop's edges need not
+  // fall on a block's).
+  const int firstBlock = c.x / kBlock, lastBlock = (c.x + c.width - 1) / kBlock;
   for (int y = 0; y < c.height; ++y) {
     const int* label = groups.label.data() + size_t((c.y + y) / kBlock) * groups.columns;
     const size_t row = size_t(c.y + y) * w + c.x;
     const uint8_t* m = mask.data() + row;
     uint8_t* g = groupMask.data() + size_t(y) * cw;
-    for (int x = 0; x < c.width; ++x) g[x] = uint8_t((m[x] != 0) & (label[(c.x + x) / kBlock] == group));
-    // The planes the layer lacks hold zeros.
-    float* to = samples.data() + size_t(y) * cw * 4;
-    for (int k = 0; k < 4; ++k) {
-      float* lane = to + k;
-      if (k < channels) {
-        const float* from = layer.colour[k].data() + row;
-        for (int x = 0; x < c.width; ++x) lane[size_t(x) * 4] = from[x];
+    for (int b = firstBlock; b <= lastBlock; ++b) {
+      const int x0 = std::max(b * kBlock, c.x) - c.x, x1 = std::min((b + 1) * kBlock, c.x + c.width) - c.x;
+      if (label[b] == group) {
+        for (int x = x0; x < x1; ++x) g[x] = m[x] != 0;
       } else {
-        for (int x = 0; x < c.width; ++x) lane[size_t(x) * 4] = 0.0f;
+        for (int x = x0; x < x1; ++x) g[x] = 0;
+      }
+    }
+    // The planes the layer lacks hold zeros. A sample's four lanes are written at once, by channel
+    // count, so that the loops vectorise.
+    float* to = samples.data() + size_t(y) * cw * 4;
+    const float* from0 = layer.colour[0].data() + row;
+    if (channels == 1) {
+      for (int x = 0; x < c.width; ++x) {
+        const float lanes[4] = {from0[x], 0.0f, 0.0f, 0.0f};
+        std::memcpy(to + size_t(x) * 4, lanes, sizeof lanes);
+      }
+    } else {
+      const float* from1 = layer.colour[1].data() + row;
+      const float* from2 = channels > 2 ? layer.colour[2].data() + row : nullptr;
+      for (int x = 0; x < c.width; ++x) {
+        const float lanes[4] = {from0[x], from1[x], from2 ? from2[x] : 0.0f, 0.0f};
+        std::memcpy(to + size_t(x) * 4, lanes, sizeof lanes);
       }
     }
   }
   teleaInpaint(groupMask.data(), cw, c.width, c.height, samples.data(), cw, radius, telea);
-  for (int y = 0; y < c.height; ++y)
-    for (int x = 0; x < c.width; ++x) {
-      const size_t local = size_t(y) * cw + x;
-      if (!groupMask[local]) continue;  // every mask sample is in one group: one writer
-      const size_t i = size_t(c.y + y) * w + c.x + x;
-      for (int k = 0; k < channels; ++k) result[k][i] = samples[local * 4 + k];
-    }
+  // Every mask sample is in one group: one writer.
+  float* out[3] = {result[0].data(), result[1].data(), result[2].data()};
+  for (int y = 0; y < c.height; ++y) {
+    const size_t local = size_t(y) * cw, i = size_t(c.y + y) * w + c.x;
+    const float* from = samples.data() + local * 4;
+    forEachFlag(groupMask.data() + local, c.width, [&](int x) {
+      for (int k = 0; k < channels; ++k) out[k][i + size_t(x)] = from[size_t(x) * 4 + k];
+    });
+  }
 }
 
 // One layer's share of a fill.
