@@ -213,6 +213,25 @@ struct GradientRules {
 };
 const GradientRules kGradientRules;
 
+// The same bits read for a filled sample's time gradient: lanes 0 (x) and 1 (y) take the right
+// and lower neighbours' times (`after`), the left and upper ones' (`before`), halved where both
+// sides are known.
+struct TimeGradientRule {
+  LaneMask after, before;
+  Lanes scale;
+};
+struct TimeGradientRules {
+  TimeGradientRule rule[16];
+  TimeGradientRules() {
+    for (int bits = 0; bits < 16; ++bits) {
+      const bool r = bits & 1, l = bits & 2, b = bits & 4, a = bits & 8;
+      rule[bits] = {LaneMask{-int32_t(r), -int32_t(b), 0, 0}, LaneMask{-int32_t(l), -int32_t(a), 0, 0},
+                    Lanes{r && l ? 0.5f : 1.0f, b && a ? 0.5f : 1.0f, 1.0f, 1.0f}};
+    }
+  }
+};
+const TimeGradientRules kTimeGradientRules;
+
 // The sums of one sample's neighbours, four planes at once, when the whole neighbourhood, and a
 // sample around each neighbour, lies inside the picture (none of OpenCV's edge rules applies).
 // `centre` points at the sample's first plane; `known` lists the neighbours that are not still to be
@@ -438,15 +457,14 @@ void teleaInpaint(const uint8_t* mask, size_t maskStride, int width, int height,
     const int i = int(uint32_t(s) / uint32_t(cols)), j = int(uint32_t(s) % uint32_t(cols));
     const float t = arrival(f, tm, s, size_t(cols));
     time[s] = t;
-    float gradTx, gradTy;
-    if (f[s + 1] != kInside)
-      gradTx = f[s - 1] != kInside ? float(tm[s + 1] - tm[s - 1]) * 0.5f : float(tm[s + 1] - tm[s]);
-    else
-      gradTx = f[s - 1] != kInside ? float(tm[s] - tm[s - 1]) : 0.0f;
-    if (f[s + cols] != kInside)
-      gradTy = f[s - cols] != kInside ? float(tm[s + cols] - tm[s - cols]) * 0.5f : float(tm[s + cols] - tm[s]);
-    else
-      gradTy = f[s - cols] != kInside ? float(tm[s] - tm[s - cols]) : 0.0f;
+    // OpenCV's time gradient: a central difference halved where both sides are known, a one-sided
+    // one where one is, 0 where neither is. Without a branch: each side reads the sample's own time
+    // where it is not known (t - t is 0; a one-sided difference times 1 is itself).
+    const TimeGradientRule& own = kTimeGradientRules.rule[sides[s]];
+    const Lanes here = {t, t, 0.0f, 0.0f};
+    const Lanes after = {tm[s + 1], tm[s + cols], 0.0f, 0.0f}, before = {tm[s - 1], tm[s - cols], 0.0f, 0.0f};
+    const Lanes gradT = (pick(own.after, after, here) - pick(own.before, before, here)) * own.scale;
+    const float gradTx = gradT[0], gradTy = gradT[1];
     float* centre = samples + (size_t(i - 1) * rowStride + (j - 1)) * 4;
     float ia[4], jx[4], jy[4], sum = 1.0e-20f;
     if (i - range >= 2 && i + range <= rows - 3 && j - range >= 2 && j + range <= cols - 3) {
