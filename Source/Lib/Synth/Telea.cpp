@@ -338,16 +338,26 @@ void teleaInpaint(const uint8_t* mask, size_t maskStride, int width, int height,
     std::vector<int>& rowCount = scratch.rowCount;  // rows 0..rows-1: whether the row's window holds
     rowCount.resize(n + cols);                      // mask samples; then the column counts
     int* near = rowCount.data();
+    // A row's window of `span` samples is the union of two of `covered` samples, the largest power of
+    // two not above it, and those come from doubling: log(span) passes of byte ORs that vectorise,
+    // where a running count along the row waits on itself sample by sample. spanBytes[range + c] is
+    // column c's flag, zero around the row.
+    const int span = 2 * range + 1;
+    std::vector<uint8_t>& spanBytes = scratch.rowSpan;
+    const size_t length = size_t(cols) + 2 * size_t(span);
+    spanBytes.assign(length, 0);
+    uint8_t* e = spanBytes.data();
     for (int r = 0; r < rows; ++r) {
-      int count = 0;
       const uint8_t* f = fl + at(r, 0);
       int* to = near + at(r, 0);
-      for (int c = 0; c < std::min(range, cols); ++c) count += f[c] == kInside;
-      for (int c = 0; c < cols; ++c) {
-        if (c + range < cols) count += f[c + range] == kInside;
-        to[c] = count > 0;
-        if (c - range >= 0) count -= f[c - range] == kInside;
-      }
+      for (int c = 0; c < cols; ++c) e[range + c] = f[c] == kInside;
+      std::fill(e + range + cols, e + length, uint8_t(0));  // the doubling's last row left its ORs
+      int covered = 1;  // e[k]: some flag in k..k+covered-1
+      for (; 2 * covered <= span; covered *= 2)
+        for (size_t k = 0; k + covered < length; ++k) e[k] |= e[k + covered];
+      // Window of column c: e's flags c..c+span-1.
+      for (int c = 0; c < cols; ++c) to[c] = e[c] | e[c + span - covered];
+      std::fill(e, e + range, uint8_t(0));
     }
     int* columnCount = near + n;
     std::fill(columnCount, columnCount + cols, 0);
