@@ -566,6 +566,19 @@ TEST(SubPixelSampler, SampledRowEqualsRowSamplingAtEveryPosition) {
                 ASSERT_EQ(std::memcmp(&a, &b, sizeof a), 0)
                     << "width " << width << " Precision " << precision << " Filter " << filter << " range ["
                     << range[0] << ", " << range[1] << "] y " << y << " x " << x << ": " << a << " vs " << b;
+                // The general warps read the table for any v that rounds to row y (wholeRow): the 2D
+                // sampler's value there.
+                const double v = double(y) + (k % 5 - 2) * 0.2 / precision;
+                long long whole;
+                ASSERT_TRUE(sampler.wholeRow(v, whole) && whole == y) << "v " << v;
+                const float c = sampler.sampleTaps<kTaps>(plane, x, v);
+                ASSERT_EQ(std::memcmp(&c, &b, sizeof c), 0)
+                    << "2D, width " << width << " Precision " << precision << " Filter " << filter << " y " << y
+                    << " v " << v << " x " << x << ": " << c << " vs " << b;
+                if (precision > 1) {
+                  const double between = double(y) + 0.5;  // half a row: phase precision / 2
+                  ASSERT_FALSE(sampler.wholeRow(between, whole)) << "v " << between;
+                }
               }
             }
         });

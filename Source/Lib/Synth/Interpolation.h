@@ -35,6 +35,15 @@ public:
   }
 
   int precision() const { return precision_; }
+  // Whether y rounds to a whole row of the grid (phase 0), and which: sample(plane, x, y) is then
+  // sampleRow(plane, x, row), bit for bit (the row of weight 1 alone contributes).
+  bool wholeRow(double y, long long& row) const {
+    long long whole;
+    int phase;
+    gridPosition(y, whole, phase);
+    row = whole;
+    return phase == 0;
+  }
   int taps() const { return taps_; }
   // Kernel weights of one phase (0 .. precision-1): taps() values for offsets first()..first()+taps-1.
   const float* kernel(int phase) const { return &kernels_[size_t(phase) * size_t(taps_)]; }

@@ -441,6 +441,11 @@ void Synthesizer::warpTexture(ViewState& view, const std::vector<const Plane*>& 
     float* colour[3] = {layer.colour[0].data(), layer.colour[1].data(), layer.colour[2].data()};
     uint8_t* edgeOut = layer.edge.data();
     const uint8_t* edges = view.referenceEdge.data();
+    // A look-up that lands on this row's own reference row (a whole row of the grid: every one on a
+    // rectified rig) is the row sampler's value, read from the row's table (SampledRow, as on the 1D
+    // path), built the first time one does; any other goes through the 2D kernel.
+    static thread_local SampledRow sampledRows[3];
+    int tableRow = -1;
     for (int y = y0; y < y1; ++y)
       for (int x = 0; x < width; ++x) {
         const size_t i = size_t(y) * width + x;
@@ -451,7 +456,16 @@ void Synthesizer::warpTexture(ViewState& view, const std::vector<const Plane*>& 
           depth[i] = kNoDepth;
           continue;
         }
-        for (int c = 0; c < channels; ++c) colour[c][i] = sampler.sampleTaps<kTaps>(*planes[size_t(c)], u, v);
+        long long row;
+        if (sampler.wholeRow(v, row) && row == y) {
+          if (tableRow != y) {
+            for (int c = 0; c < channels; ++c) sampledRows[c].build<kTaps>(sampler, *planes[size_t(c)], y, -1, referenceWidth);
+            tableRow = y;
+          }
+          for (int c = 0; c < channels; ++c) colour[c][i] = sampledRows[c].at<kTaps>(u);
+        } else {
+          for (int c = 0; c < channels; ++c) colour[c][i] = sampler.sampleTaps<kTaps>(*planes[size_t(c)], u, v);
+        }
         const int eu = std::clamp(int(std::floor(u + 0.5)), 0, referenceWidth - 1);
         const int ev = std::clamp(int(std::floor(v + 0.5)), 0, referenceHeight - 1);
         edgeOut[i] = edges[size_t(ev) * referenceWidth + eu];
@@ -529,11 +543,13 @@ void Synthesizer::warpChroma(ViewState& view, const Frame& texture) {
       double* sources = sourceRow.data();
       double* grid = gridRow.data();
       uint8_t* blockEdge = blockEdgeRow.data();
+      int tableRow = -1;  // the row sampledU and sampledV hold (the general path builds them when needed)
       for (int j = j0; j < j1; ++j) {
         clearRows(layer, j, j + 1);
         if (rows) {
           sampledU.build<kTaps>(sampler, texture.planes[1], j, -1, chromaW);
           sampledV.build<kTaps>(sampler, texture.planes[2], j, -1, chromaW);
+          tableRow = j;
         }
         for (int i = 0; i < chromaW; ++i) {
           // The chroma sample covers a block x block square of luma samples; it takes the depth of
@@ -595,6 +611,18 @@ void Synthesizer::warpChroma(ViewState& view, const Frame& texture) {
           if (cu < -1.0 || cv < -1.0 || cu > chromaW || cv > chromaH) continue;
           depthOut[c] = inverseDepth;
           edgeOut[c] = blockEdge[i];
+          // As in warpTexture: a look-up on this row's own reference row reads the row's table.
+          long long row;
+          if (sampler.wholeRow(cv, row) && row == j) {
+            if (tableRow != j) {
+              sampledU.build<kTaps>(sampler, texture.planes[1], j, -1, chromaW);
+              sampledV.build<kTaps>(sampler, texture.planes[2], j, -1, chromaW);
+              tableRow = j;
+            }
+            uOut[c] = sampledU.at<kTaps>(cu);
+            vOut[c] = sampledV.at<kTaps>(cu);
+            continue;
+          }
           uOut[c] = sampler.sampleTaps<kTaps>(texture.planes[1], cu, cv);
           vOut[c] = sampler.sampleTaps<kTaps>(texture.planes[2], cu, cv);
         }
