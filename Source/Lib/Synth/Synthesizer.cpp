@@ -222,7 +222,8 @@ void Synthesizer::warpDepth(ViewState& view, const Plane& depth) {
   const int outW = outputFormat_.width, outH = outputFormat_.height;
   view.luma.resize(outW, outH, rgb_ ? 3 : 1);  // cleared row by row below (clearRows)
   view.zbuffer.reset(size_t(outW) * outH, kNoDepth);
-  // Where the views run side by side, this view's thread is the buffer's only writer.
+  // Where the views run side by side, or there is one thread (OpenCV then runs every loop on the
+  // calling thread), this view's thread is the buffer's only writer.
   auto drawInto = [&](const auto& raise) {
     rasteriseTriangles(view, w, h, raise);
     // Every sample also lands as a point, so thin foreground keeps its width.
@@ -236,7 +237,7 @@ void Synthesizer::warpDepth(ViewState& view, const Plane& depth) {
     });
   };
   AtomicMaxBuffer& zbuffer = view.zbuffer;
-  if (viewsSideBySide()) drawInto([&zbuffer](size_t i, double value) { zbuffer.raiseAlone(i, value); });
+  if (viewsSideBySide() || cv::getNumThreads() <= 1) drawInto([&zbuffer](size_t i, double value) { zbuffer.raiseAlone(i, value); });
   else drawInto([&zbuffer](size_t i, double value) { zbuffer.raise(i, value); });
   // The z-buffer becomes the layer's depth, and the rest of the layer is cleared, row by row.
   parallelRanges(outH, [&](int y0, int y1) {
