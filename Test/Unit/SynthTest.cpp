@@ -508,6 +508,53 @@ TEST(SubPixelSampler, RowSamplingEqualsTwoDimensionalSamplingOnWholeRows) {
     }
 }
 
+// The general depth warp projects a row in one vectorised pass (ViewProjection::forwardRow): where
+// forward() succeeds, its results bit for bit; elsewhere -1. Rotated and rectified rigs, DepthType 0
+// and 1 (which take forward() sample by sample), points behind either camera, on the camera plane
+// and far off the picture, NaN, negative, signed-zero and huge inverse depths.
+TEST(ViewProjection, ForwardRowEqualsForwardAtEachSample) {
+  std::mt19937 random(23);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  for (int trial = 0; trial < 300; ++trial) {
+    Camera reference, target;
+    reference.K[0][0] = reference.K[1][1] = 500 + 1500 * unit(random);
+    target.K[0][0] = target.K[1][1] = 500 + 1500 * unit(random);
+    reference.K[0][2] = target.K[0][2] = 320 * unit(random);
+    reference.K[1][2] = target.K[1][2] = 240 * unit(random);
+    const bool rectified = trial % 4 == 0;
+    if (!rectified) {
+      const double a = (unit(random) - 0.5) * (trial % 7 == 1 ? 6.0 : 0.6), c = std::cos(a), sn = std::sin(a);
+      target.R = Mat3{{{c, 0, sn}, {0, 1, 0}, {-sn, 0, c}}};  // a turn about y, up to 3 rad
+    }
+    target.t = Vec3((unit(random) - 0.5) * 200, rectified ? 0.0 : (unit(random) - 0.5) * 50,
+                    rectified ? 0.0 : (unit(random) - 0.5) * 300);
+    const int depthType = rectified ? 0 : trial % 3 == 2 ? 1 : 0;
+    const ViewProjection projection(reference, target, depthType, rectified && trial % 8 == 0);
+    const int n = 1 + int(300 * unit(random));
+    const double v = trial % 5 == 0 ? 1e7 * (unit(random) - 0.5) : std::floor(480 * unit(random));
+    std::vector<double> inverse(static_cast<size_t>(n)), xs(static_cast<size_t>(n)), ys(static_cast<size_t>(n)),
+        ws(static_cast<size_t>(n));
+    for (double& w : inverse) {
+      const double u = unit(random);
+      w = u < 0.05 ? std::nan("") : u < 0.1 ? -unit(random) / 100 : u < 0.13 ? 0.0 : u < 0.16 ? -0.0
+          : u < 0.18 ? 1e300 : unit(random) / 50;
+    }
+    projection.forwardRow(inverse.data(), n, v, xs.data(), ys.data(), ws.data());
+    for (int u = 0; u < n; ++u) {
+      const size_t k = size_t(u);
+      double x = 0, y = 0, w = 0;
+      const bool ok = !std::isnan(inverse[k]) && projection.forward(u, v, inverse[k], x, y, w);
+      if (!ok) {
+        ASSERT_EQ(ws[k], -1.0) << "trial " << trial << " u " << u << ": forward() refuses this sample";
+        continue;
+      }
+      ASSERT_EQ(std::memcmp(&x, &xs[k], sizeof x), 0) << "trial " << trial << " u " << u << " x";
+      ASSERT_EQ(std::memcmp(&y, &ys[k], sizeof y), 0) << "trial " << trial << " u " << u << " y";
+      ASSERT_EQ(std::memcmp(&w, &ws[k], sizeof w), 0) << "trial " << trial << " u " << u << " w";
+    }
+  }
+}
+
 // The 1D warps compute a row's source positions in one vectorised pass (ViewProjection::rowSources):
 // bit for bit rowSource at each position, for focal-length ratios that are powers of two (the
 // multiplication by the reciprocal) and not (the division), luma steps and chroma block centres,

@@ -203,20 +203,16 @@ void Synthesizer::warpDepth(ViewState& view, const Plane& depth) {
     double* warpedY = view.warpedY.data();
     double* warpedW = view.warpedW.data();
     const int width = w;
+    // A row's inverse depths first (a look-up per sample), then its projection in a loop that
+    // vectorises (forwardRow). A level declared missing has a NaN inverse depth: not warped.
+    static thread_local std::vector<double> inverseRow;
+    inverseRow.resize(size_t(width));
+    double* inverse = inverseRow.data();
     for (int y = y0; y < y1; ++y) {
       const uint16_t* levels = depth.row(y);
-      for (int x = 0; x < width; ++x) {
-        const size_t i = size_t(y) * width + x;
-        warpedW[i] = kNoDepth;
-        const double inverseDepth = levelToInverseDepth[levels[x]];
-        if (std::isnan(inverseDepth)) continue;  // declared missing: not warped
-        double vx, vy, vw;
-        if (projection.forward(x, y, inverseDepth, vx, vy, vw)) {
-          warpedX[i] = vx;
-          warpedY[i] = vy;
-          warpedW[i] = vw;
-        }
-      }
+      for (int x = 0; x < width; ++x) inverse[x] = levelToInverseDepth[levels[x]];
+      const size_t row = size_t(y) * width;
+      projection.forwardRow(inverse, width, y, warpedX + row, warpedY + row, warpedW + row);
     }
   });
   const int outW = outputFormat_.width, outH = outputFormat_.height;

@@ -11,6 +11,7 @@
 // Depth is carried as the inverse virtual-camera depth wv = 1 / z_virtual: larger is nearer, 0 is
 // infinitely far, and it interpolates linearly across a planar triangle in screen space.
 #include <cmath>
+#include <limits>
 
 #include "Common/Camera.h"
 #include "Common/Geometry.h"
@@ -48,6 +49,13 @@ public:
     const double shifted = x - rowOffset_ - rowShift_ * wv;
     return snapPosition(rowScaleInverse_ != 0 ? shifted * rowScaleInverse_ : shifted / rowScale_);
   }
+
+  // forward(x, v, inverseDepth[x], ...) for the reference pixels (x, v), x in [0, n): where it
+  // succeeds x[x], y[x], wv[x] get its results, elsewhere wv[x] = -1 (x[x] and y[x] are then
+  // undefined). A NaN inverse depth fails. For the general projection with DepthType 0 the loop has no
+  // branch and vectorises (the same operations in the same order as forward(): the same bits);
+  // otherwise it calls forward() sample by sample.
+  void forwardRow(const double* inverseDepth, int n, double v, double* x, double* y, double* wv) const;
 
   // u[i] = rowSource(i * step + start, wv[i]) for every i in [0, n), in a loop without branches that
   // the compiler vectorises (the same operations in the same order: the same bits).
@@ -119,6 +127,40 @@ inline bool ViewProjection::forward(double u, double v, double inverseDepth, dou
   y = snapPosition(py / pz);
   wv = w / pz;
   return std::isfinite(x) && std::isfinite(y) && std::isfinite(wv);
+}
+
+inline void ViewProjection::forwardRow(const double* inverseDepth, int n, double v, double* xs, double* ys,
+                                       double* ws) const {
+  if (parallel_ || depthType_ != 0) {
+    for (int u = 0; u < n; ++u) {
+      double x, y, w;
+      const bool ok = !std::isnan(inverseDepth[u]) && forward(u, v, inverseDepth[u], x, y, w);
+      xs[u] = ok ? x : 0.0;
+      ys[u] = ok ? y : 0.0;
+      ws[u] = ok ? w : -1.0;
+    }
+    return;
+  }
+  // forward() with a = 1 (DepthType 0): a negative or NaN inverse depth fails (a NaN one is refused
+  // before forward() is called), 1 * t is t, and the tests are taken on every lane.
+  const Mat3& m = forwardMatrix_;
+  const double m00 = m[0][0], m01 = m[0][1], m02 = m[0][2], m10 = m[1][0], m11 = m[1][1], m12 = m[1][2];
+  const double m20 = m[2][0], m21 = m[2][1], m22 = m[2][2];
+  const double ox = forwardOffset_.x, oy = forwardOffset_.y, oz = forwardOffset_.z, most = kMaxPixelRadius;
+  for (int u = 0; u < n; ++u) {
+    const double w = inverseDepth[u], fu = u;
+    const double px = (m00 * fu + m01 * v + m02) + ox * w;
+    const double py = (m10 * fu + m11 * v + m12) + oy * w;
+    const double pz = (m20 * fu + m21 * v + m22) + oz * w;
+    const double x = snapPosition(px / pz), y = snapPosition(py / pz), wv = w / pz;
+    const bool ok = (w >= 0.0) & (pz > 0.0) & (std::fabs(px) <= most * pz) & (std::fabs(py) <= most * pz) &
+                    (std::fabs(x) <= std::numeric_limits<double>::max()) &
+                    (std::fabs(y) <= std::numeric_limits<double>::max()) &
+                    (std::fabs(wv) <= std::numeric_limits<double>::max());
+    xs[u] = x;
+    ys[u] = y;
+    ws[u] = ok ? wv : -1.0;
+  }
 }
 
 inline bool ViewProjection::backward(double x, double y, double wv, double& u, double& v) const {
