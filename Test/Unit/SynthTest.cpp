@@ -555,6 +555,50 @@ TEST(ViewProjection, ForwardRowEqualsForwardAtEachSample) {
   }
 }
 
+// The general texture and chroma warps project a row back in one vectorised pass
+// (ViewProjection::backwardRow): ok where backward() succeeds, and then its results bit for bit, at
+// luma positions and at chroma block centres. Rotated and rectified rigs, the rectified form (which
+// calls backward()), points behind the reference camera, far rows, and holes, zero, huge and NaN
+// inverse depths.
+TEST(ViewProjection, BackwardRowEqualsBackwardAtEachSample) {
+  std::mt19937 random(29);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  for (int trial = 0; trial < 300; ++trial) {
+    Camera reference, target;
+    reference.K[0][0] = reference.K[1][1] = 500 + 1500 * unit(random);
+    target.K[0][0] = target.K[1][1] = 500 + 1500 * unit(random);
+    reference.K[0][2] = target.K[0][2] = 320 * unit(random);
+    reference.K[1][2] = target.K[1][2] = 240 * unit(random);
+    const bool rectified = trial % 4 == 0;
+    if (!rectified) {
+      const double a = (unit(random) - 0.5) * (trial % 7 == 1 ? 6.0 : 0.6), c = std::cos(a), sn = std::sin(a);
+      target.R = Mat3{{{c, 0, sn}, {0, 1, 0}, {-sn, 0, c}}};
+    }
+    target.t = Vec3((unit(random) - 0.5) * 200, rectified ? 0.0 : (unit(random) - 0.5) * 50,
+                    rectified ? 0.0 : (unit(random) - 0.5) * 300);
+    const ViewProjection projection(reference, target, 0, rectified && trial % 8 == 0);
+    const int n = 1 + int(300 * unit(random)), step = 1 + trial % 2;
+    const double start = step == 2 ? 0.5 : 0.0;
+    const double y = trial % 5 == 0 ? 1e7 * (unit(random) - 0.5) : std::floor(480 * unit(random)) + start;
+    std::vector<double> wv(static_cast<size_t>(n)), us(static_cast<size_t>(n)), vs(static_cast<size_t>(n));
+    std::vector<uint8_t> ok(static_cast<size_t>(n));
+    for (double& w : wv) {
+      const double u = unit(random);
+      w = u < 0.05 ? std::nan("") : u < 0.1 ? -1.0 : u < 0.13 ? 0.0 : u < 0.16 ? 1e300 : unit(random) / 50;
+    }
+    projection.backwardRow(wv.data(), n, y, us.data(), vs.data(), ok.data(), step, start);
+    for (int i = 0; i < n; ++i) {
+      const size_t k = size_t(i);
+      double u = 0, v = 0;
+      const bool expected = projection.backward(i * step + start, y, wv[k], u, v);
+      ASSERT_EQ(bool(ok[k]), expected) << "trial " << trial << " i " << i;
+      if (!expected) continue;
+      ASSERT_EQ(std::memcmp(&u, &us[k], sizeof u), 0) << "trial " << trial << " i " << i << " u";
+      ASSERT_EQ(std::memcmp(&v, &vs[k], sizeof v), 0) << "trial " << trial << " i " << i << " v";
+    }
+  }
+}
+
 // The 1D warps compute a row's source positions in one vectorised pass (ViewProjection::rowSources):
 // bit for bit rowSource at each position, for focal-length ratios that are powers of two (the
 // multiplication by the reciprocal) and not (the division), luma steps and chroma block centres,

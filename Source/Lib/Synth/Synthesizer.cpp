@@ -443,13 +443,19 @@ void Synthesizer::warpTexture(ViewState& view, const std::vector<const Plane*>& 
     // path), built the first time one does; any other goes through the 2D kernel.
     static thread_local SampledRow sampledRows[3];
     int tableRow = -1;
-    for (int y = y0; y < y1; ++y)
+    // The row's backward projections first, in a loop that vectorises (holes too: not read).
+    static thread_local std::vector<double> sourceU, sourceV;
+    static thread_local std::vector<uint8_t> sourceOk;
+    sourceU.resize(size_t(width));
+    sourceV.resize(size_t(width));
+    sourceOk.resize(size_t(width));
+    for (int y = y0; y < y1; ++y) {
+      projection.backwardRow(depth + size_t(y) * width, width, y, sourceU.data(), sourceV.data(), sourceOk.data());
       for (int x = 0; x < width; ++x) {
         const size_t i = size_t(y) * width + x;
         if (depth[i] < 0) continue;
-        double u, v;
-        if (!projection.backward(x, y, depth[i], u, v) || u < -0.5 || v < -0.5 || u > referenceWidth - 0.5 ||
-            v > referenceHeight - 0.5) {
+        const double u = sourceU[size_t(x)], v = sourceV[size_t(x)];
+        if (!sourceOk[size_t(x)] || u < -0.5 || v < -0.5 || u > referenceWidth - 0.5 || v > referenceHeight - 0.5) {
           depth[i] = kNoDepth;
           continue;
         }
@@ -467,6 +473,7 @@ void Synthesizer::warpTexture(ViewState& view, const std::vector<const Plane*>& 
         const int ev = std::clamp(int(std::floor(v + 0.5)), 0, referenceHeight - 1);
         edgeOut[i] = edges[size_t(ev) * referenceWidth + eu];
       }
+    }
   });
   });
 }
@@ -530,10 +537,14 @@ void Synthesizer::warpChroma(ViewState& view, const Frame& texture) {
       // warpTexture); positions in [-1, chromaW] have integer parts in [-1, chromaW].
       static thread_local SampledRow sampledRowU, sampledRowV;
       SampledRow &sampledU = sampledRowU, &sampledV = sampledRowV;  // the thread's, looked up once
-      // A row's block depths and edges first; on the 1D path then its source positions and grid
-      // indices in passes that vectorise (as in warpTexture), before the look-ups.
-      static thread_local std::vector<double> blockDepthRow, sourceRow, gridRow;
-      static thread_local std::vector<uint8_t> blockEdgeRow;
+      // A row's block depths and edges first; then its source positions (and on the 1D path its grid
+      // indices) in passes that vectorise (as in warpTexture), before the look-ups.
+      static thread_local std::vector<double> blockDepthRow, sourceRow, sourceVRow, gridRow;
+      static thread_local std::vector<uint8_t> blockEdgeRow, sourceOkRow;
+      sourceVRow.resize(size_t(chromaW));
+      sourceOkRow.resize(size_t(chromaW));
+      double* sourcesV = sourceVRow.data();
+      uint8_t* sourceOk = sourceOkRow.data();
       for (auto* buffer : {&blockDepthRow, &sourceRow, &gridRow}) buffer->resize(size_t(chromaW));
       blockEdgeRow.resize(size_t(chromaW));
       double* blockDepth = blockDepthRow.data();
@@ -588,6 +599,9 @@ void Synthesizer::warpChroma(ViewState& view, const Frame& texture) {
             sources[i] = (sources[i] - offset) / kBlock;
             grid[i] = sampledU.gridIndex(sources[i]);
           }
+        } else {
+          projection.backwardRow(blockDepth, chromaW, double(j * kBlock) + offset, sources, sourcesV, sourceOk, kBlock,
+                                 offset);
         }
         for (int i = 0; i < chromaW; ++i) {
           const double inverseDepth = blockDepth[i];
@@ -602,8 +616,8 @@ void Synthesizer::warpChroma(ViewState& view, const Frame& texture) {
             vOut[c] = sampledV.atGrid<kTaps>(cu, grid[i]);
             continue;
           }
-          double u, v;
-          if (!projection.backward(i * kBlock + offset, j * kBlock + offset, inverseDepth, u, v)) continue;
+          if (!sourceOk[i]) continue;  // backward() refuses it
+          const double u = sources[i], v = sourcesV[i];
           const double cu = (u - offset) / kBlock, cv = (v - offset) / kBlock;
           if (cu < -1.0 || cv < -1.0 || cu > chromaW || cv > chromaH) continue;
           depthOut[c] = inverseDepth;

@@ -11,6 +11,7 @@
 // Depth is carried as the inverse virtual-camera depth wv = 1 / z_virtual: larger is nearer, 0 is
 // infinitely far, and it interpolates linearly across a planar triangle in screen space.
 #include <cmath>
+#include <cstdint>
 #include <limits>
 
 #include "Common/Camera.h"
@@ -56,6 +57,12 @@ public:
   // branch and vectorises (the same operations in the same order as forward(): the same bits);
   // otherwise it calls forward() sample by sample.
   void forwardRow(const double* inverseDepth, int n, double v, double* x, double* y, double* wv) const;
+
+  // backward(i * step + start, y, wv[i], u[i], v[i]) for i in [0, n), ok[i] = whether it succeeds (u[i]
+  // and v[i] undefined where not). For the general projection the loop has no branch and vectorises
+  // (the same operations in the same order: the same bits); the rectified form calls backward().
+  void backwardRow(const double* wv, int n, double y, double* u, double* v, uint8_t* ok, int step = 1,
+                   double start = 0.0) const;
 
   // u[i] = rowSource(i * step + start, wv[i]) for every i in [0, n), in a loop without branches that
   // the compiler vectorises (the same operations in the same order: the same bits).
@@ -160,6 +167,30 @@ inline void ViewProjection::forwardRow(const double* inverseDepth, int n, double
     xs[u] = x;
     ys[u] = y;
     ws[u] = ok ? wv : -1.0;
+  }
+}
+
+inline void ViewProjection::backwardRow(const double* wv, int n, double y, double* us, double* vs, uint8_t* ok,
+                                        int step, double start) const {
+  if (parallel_) {
+    for (int i = 0; i < n; ++i) ok[i] = uint8_t(backward(double(i * step) + start, y, wv[i], us[i], vs[i]));
+    return;
+  }
+  const Mat3& m = backwardMatrix_;
+  const double m00 = m[0][0], m01 = m[0][1], m02 = m[0][2], m10 = m[1][0], m11 = m[1][1], m12 = m[1][2];
+  const double m20 = m[2][0], m21 = m[2][1], m22 = m[2][2];
+  const double ox = backwardOffset_.x, oy = backwardOffset_.y, oz = backwardOffset_.z, most = kMaxPixelRadius;
+  for (int i = 0; i < n; ++i) {
+    const double x = double(i * step) + start, w = wv[i];
+    const double qx = m00 * x + m01 * y + m02 + ox * w;
+    const double qy = m10 * x + m11 * y + m12 + oy * w;
+    const double qz = m20 * x + m21 * y + m22 + oz * w;
+    const double u = snapPosition(qx / qz), v = snapPosition(qy / qz);
+    us[i] = u;
+    vs[i] = v;
+    ok[i] = uint8_t((qz > 0.0) & (std::fabs(qx) <= most * qz) & (std::fabs(qy) <= most * qz) &
+                    (std::fabs(u) <= std::numeric_limits<double>::max()) &
+                    (std::fabs(v) <= std::numeric_limits<double>::max()));
   }
 }
 
