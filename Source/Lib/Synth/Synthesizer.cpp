@@ -195,43 +195,43 @@ void Synthesizer::warpDepth(ViewState& view, const Plane& depth) {
   view.warpedX.resize(n);
   view.warpedY.resize(n);
   view.warpedW.resize(n);
-  parallelRanges(h, [&](int y0, int y1) {
-    // Locals: the stores below are doubles, which may alias the projection's and the table's.
-    const ViewProjection projection = view.projection;
-    const double* levelToInverseDepth = view.levelToInverseDepth.data();
-    double* warpedX = view.warpedX.data();
-    double* warpedY = view.warpedY.data();
-    double* warpedW = view.warpedW.data();
-    const int width = w;
-    // A row's inverse depths first (a look-up per sample), then its projection in a loop that
-    // vectorises (forwardRow). A level declared missing has a NaN inverse depth: not warped.
-    static thread_local std::vector<double> inverseRow;
-    inverseRow.resize(size_t(width));
-    double* inverse = inverseRow.data();
-    for (int y = y0; y < y1; ++y) {
-      const uint16_t* levels = depth.row(y);
-      for (int x = 0; x < width; ++x) inverse[x] = levelToInverseDepth[levels[x]];
-      const size_t row = size_t(y) * width;
-      projection.forwardRow(inverse, width, y, warpedX + row, warpedY + row, warpedW + row);
-    }
-  });
   const int outW = outputFormat_.width, outH = outputFormat_.height;
   view.luma.resize(outW, outH, rgb_ ? 3 : 1);  // cleared row by row below (clearRows)
   view.zbuffer.reset(size_t(outW) * outH, kNoDepth);
-  // Where the views run side by side, or there is one thread (OpenCV then runs every loop on the
-  // calling thread), this view's thread is the buffer's only writer.
   auto drawInto = [&](const auto& raise) {
-    rasteriseTriangles(view, w, h, raise);
-    // Every sample also lands as a point, so thin foreground keeps its width.
     parallelRanges(h, [&](int y0, int y1) {
-      for (size_t i = size_t(y0) * w; i < size_t(y1) * w; ++i) {
-        if (view.warpedW[i] < 0) continue;
-        const double px = std::floor(view.warpedX[i] + 0.5), py = std::floor(view.warpedY[i] + 0.5);
-        if (px < 0 || py < 0 || px >= outW || py >= outH) continue;
-        raise(size_t(py) * outW + size_t(px), view.warpedW[i]);
+      // Locals: the stores below are doubles, which may alias the projection's and the table's.
+      const ViewProjection projection = view.projection;
+      const double* levelToInverseDepth = view.levelToInverseDepth.data();
+      double* warpedX = view.warpedX.data();
+      double* warpedY = view.warpedY.data();
+      double* warpedW = view.warpedW.data();
+      const int width = w, outWidth = outW, outHeight = outH;
+      // A row's inverse depths first (a look-up per sample), then its projection in a loop that
+      // vectorises (forwardRow). A level declared missing has a NaN inverse depth: not warped.
+      static thread_local std::vector<double> inverseRow;
+      inverseRow.resize(size_t(width));
+      double* inverse = inverseRow.data();
+      for (int y = y0; y < y1; ++y) {
+        const uint16_t* levels = depth.row(y);
+        for (int x = 0; x < width; ++x) inverse[x] = levelToInverseDepth[levels[x]];
+        const size_t row = size_t(y) * width;
+        const double *xs = warpedX + row, *ys = warpedY + row, *ws = warpedW + row;
+        projection.forwardRow(inverse, width, y, warpedX + row, warpedY + row, warpedW + row);
+        // Every sample also lands as a point, so thin foreground keeps its width (while the row is
+        // at hand; the z-buffer keeps the largest value whatever the order).
+        for (int x = 0; x < width; ++x) {
+          if (ws[x] < 0) continue;
+          const double px = std::floor(xs[x] + 0.5), py = std::floor(ys[x] + 0.5);
+          if (px < 0 || py < 0 || px >= outWidth || py >= outHeight) continue;
+          raise(size_t(py) * outWidth + size_t(px), ws[x]);
+        }
       }
     });
+    rasteriseTriangles(view, w, h, raise);
   };
+  // Where the views run side by side, or there is one thread (OpenCV then runs every loop on the
+  // calling thread), this view's thread is the buffer's only writer.
   AtomicMaxBuffer& zbuffer = view.zbuffer;
   if (viewsSideBySide() || cv::getNumThreads() <= 1) drawInto([&zbuffer](size_t i, double value) { zbuffer.raiseAlone(i, value); });
   else drawInto([&zbuffer](size_t i, double value) { zbuffer.raise(i, value); });
