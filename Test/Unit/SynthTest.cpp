@@ -508,6 +508,25 @@ TEST(SubPixelSampler, RowSamplingEqualsTwoDimensionalSamplingOnWholeRows) {
     }
 }
 
+// A reference and a target camera for the row projections' tests: random focal lengths and
+// principal points, the same y focal length and principal point; rectified (a shift along x only) or
+// turned about y (up to 0.3 rad, or 3 rad in one trial of seven) and moved anywhere.
+std::pair<Camera, Camera> randomPair(std::mt19937& random, int trial, bool rectified) {
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  Camera reference, target;
+  reference.K[0][0] = reference.K[1][1] = 500 + 1500 * unit(random);
+  target.K[0][0] = target.K[1][1] = 500 + 1500 * unit(random);
+  reference.K[0][2] = target.K[0][2] = 320 * unit(random);
+  reference.K[1][2] = target.K[1][2] = 240 * unit(random);
+  if (!rectified) {
+    const double a = (unit(random) - 0.5) * (trial % 7 == 1 ? 6.0 : 0.6), c = std::cos(a), sn = std::sin(a);
+    target.R = Mat3{{{c, 0, sn}, {0, 1, 0}, {-sn, 0, c}}};
+  }
+  target.t = Vec3((unit(random) - 0.5) * 200, rectified ? 0.0 : (unit(random) - 0.5) * 50,
+                  rectified ? 0.0 : (unit(random) - 0.5) * 300);
+  return {reference, target};
+}
+
 // The general depth warp projects a row in one vectorised pass (ViewProjection::forwardRow): where
 // forward() succeeds, its results bit for bit; elsewhere -1. Rotated and rectified rigs, DepthType 0
 // and 1 (which take forward() sample by sample), points behind either camera, on the camera plane
@@ -516,18 +535,8 @@ TEST(ViewProjection, ForwardRowEqualsForwardAtEachSample) {
   std::mt19937 random(23);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   for (int trial = 0; trial < 300; ++trial) {
-    Camera reference, target;
-    reference.K[0][0] = reference.K[1][1] = 500 + 1500 * unit(random);
-    target.K[0][0] = target.K[1][1] = 500 + 1500 * unit(random);
-    reference.K[0][2] = target.K[0][2] = 320 * unit(random);
-    reference.K[1][2] = target.K[1][2] = 240 * unit(random);
     const bool rectified = trial % 4 == 0;
-    if (!rectified) {
-      const double a = (unit(random) - 0.5) * (trial % 7 == 1 ? 6.0 : 0.6), c = std::cos(a), sn = std::sin(a);
-      target.R = Mat3{{{c, 0, sn}, {0, 1, 0}, {-sn, 0, c}}};  // a turn about y, up to 3 rad
-    }
-    target.t = Vec3((unit(random) - 0.5) * 200, rectified ? 0.0 : (unit(random) - 0.5) * 50,
-                    rectified ? 0.0 : (unit(random) - 0.5) * 300);
+    const auto [reference, target] = randomPair(random, trial, rectified);
     const int depthType = rectified ? 0 : trial % 3 == 2 ? 1 : 0;
     const ViewProjection projection(reference, target, depthType, rectified && trial % 8 == 0);
     const int n = 1 + int(300 * unit(random));
@@ -564,18 +573,8 @@ TEST(ViewProjection, BackwardRowEqualsBackwardAtEachSample) {
   std::mt19937 random(29);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   for (int trial = 0; trial < 300; ++trial) {
-    Camera reference, target;
-    reference.K[0][0] = reference.K[1][1] = 500 + 1500 * unit(random);
-    target.K[0][0] = target.K[1][1] = 500 + 1500 * unit(random);
-    reference.K[0][2] = target.K[0][2] = 320 * unit(random);
-    reference.K[1][2] = target.K[1][2] = 240 * unit(random);
     const bool rectified = trial % 4 == 0;
-    if (!rectified) {
-      const double a = (unit(random) - 0.5) * (trial % 7 == 1 ? 6.0 : 0.6), c = std::cos(a), sn = std::sin(a);
-      target.R = Mat3{{{c, 0, sn}, {0, 1, 0}, {-sn, 0, c}}};
-    }
-    target.t = Vec3((unit(random) - 0.5) * 200, rectified ? 0.0 : (unit(random) - 0.5) * 50,
-                    rectified ? 0.0 : (unit(random) - 0.5) * 300);
+    const auto [reference, target] = randomPair(random, trial, rectified);
     const ViewProjection projection(reference, target, 0, rectified && trial % 8 == 0);
     const int n = 1 + int(300 * unit(random)), step = 1 + trial % 2;
     const double start = step == 2 ? 0.5 : 0.0;

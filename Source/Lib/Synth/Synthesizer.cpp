@@ -541,12 +541,10 @@ void Synthesizer::warpChroma(ViewState& view, const Frame& texture) {
       // indices) in passes that vectorise (as in warpTexture), before the look-ups.
       static thread_local std::vector<double> blockDepthRow, sourceRow, sourceVRow, gridRow;
       static thread_local std::vector<uint8_t> blockEdgeRow, sourceOkRow;
-      sourceVRow.resize(size_t(chromaW));
-      sourceOkRow.resize(size_t(chromaW));
+      for (auto* buffer : {&blockDepthRow, &sourceRow, &sourceVRow, &gridRow}) buffer->resize(size_t(chromaW));
+      for (auto* buffer : {&blockEdgeRow, &sourceOkRow}) buffer->resize(size_t(chromaW));
       double* sourcesV = sourceVRow.data();
       uint8_t* sourceOk = sourceOkRow.data();
-      for (auto* buffer : {&blockDepthRow, &sourceRow, &gridRow}) buffer->resize(size_t(chromaW));
-      blockEdgeRow.resize(size_t(chromaW));
       double* blockDepth = blockDepthRow.data();
       double* sources = sourceRow.data();
       double* grid = gridRow.data();
