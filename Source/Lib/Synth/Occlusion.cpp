@@ -152,8 +152,7 @@ void rejectMisplacedSamples(const std::vector<WarpedLayer*>& views, const std::v
         for (size_t i = begin; i < end; ++i) {
           const bool v0 = d0[i] >= 0.0, v1 = d1[i] >= 0.0;
           const uint8_t view = v0 == v1 ? kNone : v0 ? first : second;
-          out[i] = view;
-          stillBehind[i] = uint8_t(view != kNone);
+          out[i] = view;  // (rejectBetweenTwoViews decides each candidate once: no stillBehind flags)
           any |= uint8_t(view != kNone);
         }
       } else {
