@@ -60,16 +60,24 @@ public:
   }
   // raise() where no other thread writes the buffer meanwhile: a plain compare and store (the same
   // result, without the atomic read-modify-write).
-  void raiseAlone(size_t i, double value) {
-    const int64_t bits = toBits(value);
-    if (bits > cells_[i].load(std::memory_order_relaxed)) cells_[i].store(bits, std::memory_order_relaxed);
-  }
+  void raiseAlone(size_t i, double value) { raiseCell(cells_[i], value); }
+  // raiseAlone() as a small object that holds the cells' address (the buffer's own would be read
+  // again after every store to a cell).
+  struct LoneWriter {
+    std::atomic<int64_t>* cells;
+    void operator()(size_t i, double value) const { raiseCell(cells[i], value); }
+  };
+  LoneWriter loneWriter() { return {cells_.data()}; }
   // Cells [begin, end) as doubles into out[0 .. end - begin).
   void copyTo(size_t begin, size_t end, double* out) const {
     for (size_t i = begin; i < end; ++i) out[i - begin] = fromBits(cells_[i].load(std::memory_order_relaxed));
   }
 
 private:
+  // The cell is stored whether or not it changes (no branch to mispredict): only for a lone writer.
+  static void raiseCell(std::atomic<int64_t>& cell, double value) {
+    cell.store(std::max(toBits(value), cell.load(std::memory_order_relaxed)), std::memory_order_relaxed);
+  }
   static int64_t toBits(double v) {
     int64_t bits;
     std::memcpy(&bits, &v, sizeof bits);

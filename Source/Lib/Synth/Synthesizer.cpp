@@ -233,7 +233,7 @@ void Synthesizer::warpDepth(ViewState& view, const Plane& depth) {
   // Where the views run side by side, or there is one thread (OpenCV then runs every loop on the
   // calling thread), this view's thread is the buffer's only writer.
   AtomicMaxBuffer& zbuffer = view.zbuffer;
-  if (viewsSideBySide() || cv::getNumThreads() <= 1) drawInto([&zbuffer](size_t i, double value) { zbuffer.raiseAlone(i, value); });
+  if (viewsSideBySide() || cv::getNumThreads() <= 1) drawInto(zbuffer.loneWriter());
   else drawInto([&zbuffer](size_t i, double value) { zbuffer.raise(i, value); });
   // The z-buffer becomes the layer's depth, and the rest of the layer is cleared, row by row.
   parallelRanges(outH, [&](int y0, int y1) {
@@ -252,6 +252,7 @@ void Synthesizer::rasteriseTriangles(ViewState& view, int w, int h, const Raise&
     // Locals for what the loop reads (members and captures would be reloaded around every call).
     const double discontinuity = discontinuity_;
     const int width = w;
+    const Raise put = raise;  // a copy no store can change: what it holds stays in registers
     for (int y = y0; y < y1; ++y) {
       // The quad's two rows, read once for both triangles.
       const double* xTop = view.warpedX.data() + size_t(y) * width;
@@ -265,16 +266,27 @@ void Synthesizer::rasteriseTriangles(ViewState& view, int w, int h, const Raise&
         // Corners 0 and 3 belong to both triangles; a triangle whose depths span more than the
         // discontinuity crosses a depth edge.
         const double lo03 = std::min(d0, d3), hi03 = std::max(d0, d3);
-        if (d1 >= 0 && std::max(hi03, d1) - std::min(lo03, d1) <= discontinuity) {
+        const bool draw[2] = {d1 >= 0 && std::max(hi03, d1) - std::min(lo03, d1) <= discontinuity,
+                              d2 >= 0 && std::max(hi03, d2) - std::min(lo03, d2) <= discontinuity};
+#if defined(__SSE4_1__)
+        // Both triangles side by side: corners (0, 1, 3) in lane 0, (0, 3, 2) in lane 1.
+        if (!(draw[0] | draw[1])) continue;
+        const DoublePair tx[3] = {{xTop[x], xTop[x]}, {xTop[x + 1], xBottom[x + 1]}, {xBottom[x + 1], xBottom[x]}};
+        const DoublePair ty[3] = {{yTop[x], yTop[x]}, {yTop[x + 1], yBottom[x + 1]}, {yBottom[x + 1], yBottom[x]}};
+        const DoublePair tw[3] = {{d0, d0}, {d1, d3}, {d3, d2}};
+        rasteriseTrianglePair(put, outW, outH, tx, ty, tw, draw);
+#else
+        if (draw[0]) {
           const double tx[3] = {xTop[x], xTop[x + 1], xBottom[x + 1]}, ty[3] = {yTop[x], yTop[x + 1], yBottom[x + 1]};
           const double tw[3] = {d0, d1, d3};
-          rasteriseTriangle(raise, outW, outH, tx, ty, tw);
+          rasteriseTriangle(put, outW, outH, tx, ty, tw);
         }
-        if (d2 >= 0 && std::max(hi03, d2) - std::min(lo03, d2) <= discontinuity) {
+        if (draw[1]) {
           const double tx[3] = {xTop[x], xBottom[x + 1], xBottom[x]}, ty[3] = {yTop[x], yBottom[x + 1], yBottom[x]};
           const double tw[3] = {d0, d3, d2};
-          rasteriseTriangle(raise, outW, outH, tx, ty, tw);
+          rasteriseTriangle(put, outW, outH, tx, ty, tw);
         }
+#endif
       }
     }
   });

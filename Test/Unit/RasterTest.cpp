@@ -1,0 +1,180 @@
+// The general depth warp's triangle rasteriser (Synth/Raster.h): rasteriseTriangle and the two
+// triangles side by side (rasteriseTrianglePair) against a plain copy of the per-triangle loop the
+// warp used before them. The z-buffers must hold the same bits.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <random>
+#include <vector>
+
+#include "Synth/Parallel.h"
+#include "Synth/Raster.h"
+
+namespace vs {
+namespace {
+
+constexpr double kEmpty = -1.0;  // the z-buffer's kNoDepth
+
+int64_t bitsOf(double value) {
+  int64_t bits;
+  std::memcpy(&bits, &value, sizeof bits);
+  return bits;
+}
+
+// AtomicMaxBuffer's order: the doubles' bits as signed integers.
+struct PlainRaise {
+  std::vector<double>* cells;
+  void operator()(size_t i, double value) const {
+    if (bitsOf(value) > bitsOf((*cells)[i])) (*cells)[i] = value;
+  }
+};
+
+void rasterisePlainly(std::vector<double>& cells, int width, int height, const double* x, const double* y,
+                      const double* w) {
+  auto covered = [](double lo, double hi, int size, int& first, int& last) {
+    if (hi < -1e-9 || lo > size - 1 + 1e-9) return false;
+    lo = std::max(lo - 1e-9, 0.0);
+    hi = std::min(hi + 1e-9, double(size - 1));
+    first = int(lo);
+    if (double(first) < lo) ++first;
+    last = int(hi);
+    return first <= last;
+  };
+  const double minX = std::min(x[0], std::min(x[1], x[2])), maxX = std::max(x[0], std::max(x[1], x[2]));
+  const double minY = std::min(y[0], std::min(y[1], y[2])), maxY = std::max(y[0], std::max(y[1], y[2]));
+  int x0, x1, y0, y1;
+  if (!covered(minX, maxX, width, x0, x1) || !covered(minY, maxY, height, y0, y1)) return;
+  const double area = (x[1] - x[0]) * (y[2] - y[0]) - (x[2] - x[0]) * (y[1] - y[0]);
+  if (std::fabs(area) < 1e-12) return;
+  const double inv = 1.0 / area;
+  const double a1 = (y[2] - y[0]) * inv, c1 = -(x[2] - x[0]) * inv;
+  const double a2 = -(y[1] - y[0]) * inv, c2 = (x[1] - x[0]) * inv;
+  const double k1 = -(a1 * x[0] + c1 * y[0]), k2 = -(a2 * x[0] + c2 * y[0]);
+  const PlainRaise raise{&cells};
+  for (int py = y0; py <= y1; ++py)
+    for (int px = x0; px <= x1; ++px) {
+      const double b1 = a1 * px + (c1 * py + k1), b2 = a2 * px + (c2 * py + k2), b0 = 1.0 - b1 - b2;
+      if (b0 < -1e-9 || b1 < -1e-9 || b2 < -1e-9) continue;
+      raise(size_t(py) * width + px, w[0] + b1 * (w[1] - w[0]) + b2 * (w[2] - w[0]));
+    }
+}
+
+// Quads of warped samples as the general depth warp makes them: a grid's samples moved by a random
+// shift, with corners put exactly on pixel centres or 1e-9 and 2e-9 off them (where the tolerances
+// decide), large quads whose pixels span more than a 2 x 2 square, quads across the picture's
+// borders, and degenerate ones. Depths span zero so that interpolated values go slightly negative.
+struct Quad {
+  double x[4], y[4], w[4];
+};
+
+Quad randomQuad(std::mt19937& rng, int width, int height) {
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  std::uniform_int_distribution<int> kind(0, 9);
+  const int shape = kind(rng);
+  // Shape 1: areas about the 1e-12 below which a triangle is degenerate.
+  const double scale = shape == 0 ? 1.0 + 6.0 * unit(rng) : shape == 1 ? 1e-6 * (0.5 + unit(rng)) : 1.0;
+  double baseX = -2.0 + (width + 3.0) * unit(rng), baseY = -2.0 + (height + 3.0) * unit(rng);
+  if (shape == 1) {  // around a pixel centre
+    baseX = std::round(baseX) - scale * unit(rng);
+    baseY = std::round(baseY) - scale * unit(rng);
+  }
+  const double jitter = shape == 1 || shape == 2 ? 0.0 : 0.3;
+  Quad q;
+  for (int c = 0; c < 4; ++c) {
+    double x = baseX + scale * (c & 1) + jitter * (unit(rng) - 0.5);
+    double y = baseY + scale * (c >> 1) + jitter * (unit(rng) - 0.5);
+    if (shape != 1 && kind(rng) < 4) {  // onto a pixel centre, or just off it
+      const double off[5] = {0.0, 1e-9, -1e-9, 2e-9, -2e-9};
+      x = std::round(x) + off[kind(rng) % 5];
+      y = std::round(y) + off[kind(rng) % 5];
+    }
+    q.x[c] = x;
+    q.y[c] = y;
+    q.w[c] = kind(rng) == 0 ? 0.0 : unit(rng) * (kind(rng) < 5 ? 1e-3 : 1.0);
+  }
+  return q;
+}
+
+TEST(Raster, TriangleEqualsPlainLoop) {
+  std::mt19937 rng(7);
+  const int width = 23, height = 17;
+  std::vector<double> plain(size_t(width) * height, kEmpty), ours = plain;
+  const PlainRaise raise{&ours};
+  for (int t = 0; t < 20000; ++t) {
+    const Quad q = randomQuad(rng, width, height);
+    rasterisePlainly(plain, width, height, q.x, q.y, q.w);
+    rasteriseTriangle(raise, width, height, q.x, q.y, q.w);
+  }
+  size_t raised = 0;
+  for (size_t i = 0; i < plain.size(); ++i) {
+    ASSERT_EQ(bitsOf(plain[i]), bitsOf(ours[i])) << "cell " << i;
+    raised += plain[i] != kEmpty;
+  }
+  EXPECT_GT(raised, plain.size() / 2);
+}
+
+#if defined(__SSE4_1__)
+TEST(Raster, TrianglePairEqualsTwoPlainTriangles) {
+  std::mt19937 rng(11);
+  std::bernoulli_distribution often(0.8);
+  // Small pictures, so that quads often reach the last row and column (the square's clamped cells).
+  for (const int size : {1, 2, 5, 31}) {
+    const int width = size, height = size + 1;
+    std::vector<double> plain(size_t(width) * height, kEmpty), ours = plain;
+    const PlainRaise raise{&ours};
+    for (int t = 0; t < 20000; ++t) {
+      const Quad q = randomQuad(rng, width, height);
+      const bool draw[2] = {often(rng), often(rng)};
+      // The warp's two triangles of a quad: corners (0, 1, 3) and (0, 3, 2).
+      const int corner[2][3] = {{0, 1, 3}, {0, 3, 2}};
+      DoublePair x[3], y[3], w[3];
+      for (int k = 0; k < 2; ++k) {
+        double tx[3], ty[3], tw[3];
+        for (int c = 0; c < 3; ++c) {
+          tx[c] = x[c][k] = q.x[corner[k][c]];
+          ty[c] = y[c][k] = q.y[corner[k][c]];
+          tw[c] = w[c][k] = q.w[corner[k][c]];
+        }
+        if (draw[k]) rasterisePlainly(plain, width, height, tx, ty, tw);
+      }
+      // A corner of a triangle not drawn may be anything (the warp's samples that did not land).
+      for (int k = 0; k < 2; ++k)
+        if (!draw[k]) x[2][k] = y[1][k] = std::nan("");
+      rasteriseTrianglePair(raise, width, height, x, y, w, draw);
+    }
+    size_t raised = 0;
+    for (size_t i = 0; i < plain.size(); ++i) {
+      ASSERT_EQ(bitsOf(plain[i]), bitsOf(ours[i])) << "picture " << width << " x " << height << ", cell " << i;
+      raised += plain[i] != kEmpty;
+    }
+    EXPECT_GT(raised, plain.size() / 2);
+  }
+}
+#endif
+
+TEST(Raster, LoneWriterKeepsWhatAtomicRaiseKeeps) {
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> value(-2.0, 2.0);
+  std::uniform_int_distribution<size_t> cell(0, 63);
+  AtomicMaxBuffer atomic, lone;
+  atomic.reset(64, kEmpty);
+  lone.reset(64, kEmpty);
+  const AtomicMaxBuffer::LoneWriter writer = lone.loneWriter();
+  const double special[4] = {0.0, -0.0, 1e-300, -1e-12};
+  for (int t = 0; t < 5000; ++t) {
+    const size_t i = cell(rng);
+    const double v = t % 7 == 0 ? special[t % 4] : value(rng);
+    atomic.raise(i, v);
+    writer(i, v);
+  }
+  std::vector<double> a(64), b(64);
+  atomic.copyTo(0, 64, a.data());
+  lone.copyTo(0, 64, b.data());
+  for (size_t i = 0; i < 64; ++i) EXPECT_EQ(bitsOf(a[i]), bitsOf(b[i])) << "cell " << i;
+}
+
+}  // namespace
+}  // namespace vs
