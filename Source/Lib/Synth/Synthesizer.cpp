@@ -461,13 +461,17 @@ void Synthesizer::warpTexture(ViewState& view, const std::vector<const Plane*>& 
     sourceU.resize(size_t(width));
     sourceV.resize(size_t(width));
     sourceOk.resize(size_t(width));
+    // Their addresses in locals: a thread_local vector's would be looked up again for every sample.
+    double* us = sourceU.data();
+    double* vs = sourceV.data();
+    uint8_t* ok = sourceOk.data();
     for (int y = y0; y < y1; ++y) {
-      projection.backwardRow(depth + size_t(y) * width, width, y, sourceU.data(), sourceV.data(), sourceOk.data());
+      projection.backwardRow(depth + size_t(y) * width, width, y, us, vs, ok);
       for (int x = 0; x < width; ++x) {
         const size_t i = size_t(y) * width + x;
         if (depth[i] < 0) continue;
-        const double u = sourceU[size_t(x)], v = sourceV[size_t(x)];
-        if (!sourceOk[size_t(x)] || u < -0.5 || v < -0.5 || u > referenceWidth - 0.5 || v > referenceHeight - 0.5) {
+        const double u = us[x], v = vs[x];
+        if (!ok[x] || u < -0.5 || v < -0.5 || u > referenceWidth - 0.5 || v > referenceHeight - 0.5) {
           depth[i] = kNoDepth;
           continue;
         }
