@@ -341,7 +341,8 @@ void inpaintGroup(const BlendedLayer& layer, const std::vector<uint8_t>& mask, i
   samples.resize(area * 4);
   const int group = task.group;
   // The crop's blocks: whole ones inside, parts of the first and last (the crop's edges need not
-  // fall on a block's).
+  // fall on a block's). The mask's bytes are copied as they are (non-zero: a mask sample), a whole
+  // block's row at once and without a branch on its label.
   const int firstBlock = c.x / kBlock, lastBlock = (c.x + c.width - 1) / kBlock;
   for (int y = 0; y < c.height; ++y) {
     const int* label = groups.label.data() + size_t((c.y + y) / kBlock) * groups.columns;
@@ -350,27 +351,40 @@ void inpaintGroup(const BlendedLayer& layer, const std::vector<uint8_t>& mask, i
     uint8_t* g = groupMask.data() + size_t(y) * cw;
     for (int b = firstBlock; b <= lastBlock; ++b) {
       const int x0 = std::max(b * kBlock, c.x) - c.x, x1 = std::min((b + 1) * kBlock, c.x + c.width) - c.x;
-      if (label[b] == group) {
-        for (int x = x0; x < x1; ++x) g[x] = m[x] != 0;
+      const bool ours = label[b] == group;
+      if (x1 - x0 == kBlock) {
+        uint32_t bytes;
+        std::memcpy(&bytes, m + x0, sizeof bytes);
+        bytes &= 0u - uint32_t(ours);
+        std::memcpy(g + x0, &bytes, sizeof bytes);
       } else {
-        for (int x = x0; x < x1; ++x) g[x] = 0;
+        for (int x = x0; x < x1; ++x) g[x] = ours ? m[x] : 0;
       }
     }
-    // The planes the layer lacks hold zeros. A sample's four lanes are written at once, by channel
-    // count, so that the loops vectorise.
-    float* to = samples.data() + size_t(y) * cw * 4;
-    const float* from0 = layer.colour[0].data() + row;
+    // The planes the layer lacks hold zeros. By channel count, through restrict pointers and with
+    // the width in a local, so that the loops vectorise (the stores could otherwise alias the crop).
+    float* __restrict to = samples.data() + size_t(y) * cw * 4;
+    const float* __restrict from0 = layer.colour[0].data() + row;
+    const float* __restrict from1 = channels > 1 ? layer.colour[1].data() + row : from0;
+    const float* __restrict from2 = channels > 2 ? layer.colour[2].data() + row : from0;
+    const int width = c.width;
     if (channels == 1) {
-      for (int x = 0; x < c.width; ++x) {
-        const float lanes[4] = {from0[x], 0.0f, 0.0f, 0.0f};
-        std::memcpy(to + size_t(x) * 4, lanes, sizeof lanes);
+      for (int x = 0; x < width; ++x) {
+        to[4 * x] = from0[x];
+        to[4 * x + 1] = to[4 * x + 2] = to[4 * x + 3] = 0.0f;
+      }
+    } else if (channels == 2) {
+      for (int x = 0; x < width; ++x) {
+        to[4 * x] = from0[x];
+        to[4 * x + 1] = from1[x];
+        to[4 * x + 2] = to[4 * x + 3] = 0.0f;
       }
     } else {
-      const float* from1 = layer.colour[1].data() + row;
-      const float* from2 = channels > 2 ? layer.colour[2].data() + row : nullptr;
-      for (int x = 0; x < c.width; ++x) {
-        const float lanes[4] = {from0[x], from1[x], from2 ? from2[x] : 0.0f, 0.0f};
-        std::memcpy(to + size_t(x) * 4, lanes, sizeof lanes);
+      for (int x = 0; x < width; ++x) {
+        to[4 * x] = from0[x];
+        to[4 * x + 1] = from1[x];
+        to[4 * x + 2] = from2[x];
+        to[4 * x + 3] = 0.0f;
       }
     }
   }
