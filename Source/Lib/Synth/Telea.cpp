@@ -173,7 +173,6 @@ inline Lanes load(const float* p) {
   std::memcpy(&v, p, sizeof v);
   return v;
 }
-inline LaneMask every(bool yes) { return LaneMask{} - int32_t(yes); }
 // `yes ? a : b` lane by lane without a branch: the conditions follow the mask's shape, which no
 // branch predictor guesses.
 inline Lanes pick(LaneMask yes, Lanes a, Lanes b) { return Lanes((LaneMask(a) & yes) | (LaneMask(b) & ~yes)); }
@@ -197,21 +196,20 @@ inline float neighbourWeight(const Offset& o, float neighbourTime, float time, f
 }
 
 // For each combination of a neighbour's four neighbours being known (bit 0 right, 1 left, 2 below,
-// 3 above): which of them a colour gradient reads, and whether it is a doubled central difference.
+// 3 above): where a colour gradient reads each side, in floats from the neighbour (the neighbour
+// itself where that side is not known: a difference with its own colour is what OpenCV's one-sided
+// and zero gradients come to), and whether it is a doubled central difference.
 struct GradientRule {
-  LaneMask right, left, below, above;
+  ptrdiff_t right, left, below, above;
   float scaleX, scaleY;
 };
-struct GradientRules {
-  GradientRule rule[16];
-  GradientRules() {
-    for (int bits = 0; bits < 16; ++bits) {
-      const bool r = bits & 1, l = bits & 2, b = bits & 4, a = bits & 8;
-      rule[bits] = {every(r), every(l), every(b), every(a), 1.0f + float(r && l), 1.0f + float(b && a)};
-    }
+void gradientRules(ptrdiff_t rowStep, GradientRule rule[16]) {
+  for (int bits = 0; bits < 16; ++bits) {
+    const bool r = bits & 1, l = bits & 2, b = bits & 4, a = bits & 8;
+    rule[bits] = {r ? 4 : 0, l ? -4 : 0, b ? rowStep : 0, a ? -rowStep : 0, 1.0f + float(r && l),
+                  1.0f + float(b && a)};
   }
-};
-const GradientRules kGradientRules;
+}
 
 // The same bits read for a filled sample's time gradient: lanes 0 (x) and 1 (y) take the right
 // and lower neighbours' times (`after`), the left and upper ones' (`before`), halved where both
@@ -238,7 +236,7 @@ const TimeGradientRules kTimeGradientRules;
 // filled (OpenCV skips those), in OpenCV's order; `weight` holds every neighbour's weight;
 // `knownSides` points at the sample's entry of the grid of which 4-neighbours are known
 // (GradientRules' bits).
-void interiorSums(const float* centre, ptrdiff_t rowStep, const uint8_t* knownSides,
+void interiorSums(const float* centre, const GradientRule* rules, const uint8_t* knownSides,
                   const Offset* offsets, const ptrdiff_t* gridOffset, const ptrdiff_t* sampleOffset,
                   const float* weight, const uint16_t* known, size_t count, Lanes& ia, Lanes& jx, Lanes& jy,
                   float& sum) {
@@ -249,11 +247,11 @@ void interiorSums(const float* centre, ptrdiff_t rowStep, const uint8_t* knownSi
     const ptrdiff_t g = gridOffset[m];
     const Offset& o = offsets[m];
     const float w = weight[m];
-    const GradientRule& rule = kGradientRules.rule[knownSides[g]];
+    const GradientRule& rule = rules[knownSides[g]];
     const float* q = centre + sampleOffset[m];
     const Lanes c = load(q);
-    const Lanes gx = (pick(rule.right, load(q + 4), c) - pick(rule.left, load(q - 4), c)) * rule.scaleX;
-    const Lanes gy = (pick(rule.below, load(q + rowStep), c) - pick(rule.above, load(q - rowStep), c)) * rule.scaleY;
+    const Lanes gx = (load(q + rule.right) - load(q + rule.left)) * rule.scaleX;
+    const Lanes gy = (load(q + rule.below) - load(q + rule.above)) * rule.scaleY;
     a += w * c;
     x -= w * (gx * o.rx);
     y -= w * (gy * o.ry);
@@ -307,6 +305,12 @@ void teleaInpaint(const uint8_t* mask, size_t maskStride, int width, int height,
   std::vector<uint32_t>& band = scratch.band;
   if (band.size() < n) band.resize(n);
   size_t bandCount = 0;
+  // The same pass records which 4-neighbours of each interior sample are known (bit 0 right, 1
+  // left, 2 below, 3 above), kept as the inward march fills: a neighbour's gradient rule is then one
+  // byte, not four flags.
+  std::vector<uint8_t>& knownSides = scratch.knownSides;
+  knownSides.resize(n);
+  uint8_t* sides = knownSides.data();
   {
     uint32_t* to = band.data();
     auto word = [](const uint8_t* p) {
@@ -317,27 +321,32 @@ void teleaInpaint(const uint8_t* mask, size_t maskStride, int width, int height,
     for (int r = 1; r < rows - 1; ++r) {
       const uint8_t* f = fl + at(r, 0);
       const uint32_t base = uint32_t(at(r, 0));
+      uint8_t* rowSides = sides + at(r, 0);
       for (int c = 1; c < cols - 1; ++c) {
         // Samples c..c+7 read columns c-1..c+8 of this row and c..c+7 of the rows beside it.
         if (c + 9 <= cols && (word(f + c - 1) | word(f + c + 1) | word(f + c - cols) | word(f + c + cols)) == 0) {
+          const uint64_t allKnown = 0x0f0f0f0f0f0f0f0full;
+          std::memcpy(rowSides + c, &allKnown, sizeof allKnown);
           c += 7;
           continue;
         }
-        const bool beside = (f[c - cols] == kInside) | (f[c + cols] == kInside) | (f[c - 1] == kInside) |
-                            (f[c + 1] == kInside);
+        const bool right = f[c + 1] != kInside, left = f[c - 1] != kInside;
+        const bool below = f[c + cols] != kInside, above = f[c - cols] != kInside;
+        rowSides[c] = uint8_t(right | left << 1 | below << 2 | above << 3);
         to[bandCount] = base + uint32_t(c);
-        bandCount += (f[c] != kInside) & beside;
+        bandCount += (f[c] != kInside) & !(right & left & below & above);
       }
     }
   }
   // The outer ring: known interior samples within `range` (Chebyshev) of a mask sample, band left
   // out. Row-wise counts of mask samples in the window, then, row by row, the count of rows of the
-  // window that hold one, per column.
+  // window that hold one, per column. Counts of at most 2 range + 1 <= 201 rows are bytes: a quarter
+  // of the memory traffic of ints, sixteen columns to a vector.
   outer.resize(n);
   {
-    std::vector<int>& rowCount = scratch.rowCount;  // rows 0..rows-1: whether the row's window holds
-    rowCount.resize(n + cols);                      // mask samples; then the column counts
-    int* near = rowCount.data();
+    std::vector<uint8_t>& rowCount = scratch.rowCount;  // rows 0..rows-1: whether the row's window
+    rowCount.resize(n + cols);                          // holds mask samples; then the column counts
+    uint8_t* near = rowCount.data();
     // A row's window of `span` samples is the union of two of `covered` samples, the largest power of
     // two not above it, and those come from doubling: log(span) passes of byte ORs that vectorise,
     // where a running count along the row waits on itself sample by sample. spanBytes[range + c] is
@@ -349,7 +358,7 @@ void teleaInpaint(const uint8_t* mask, size_t maskStride, int width, int height,
     uint8_t* e = spanBytes.data();
     for (int r = 0; r < rows; ++r) {
       const uint8_t* f = fl + at(r, 0);
-      int* to = near + at(r, 0);
+      uint8_t* to = near + at(r, 0);
       for (int c = 0; c < cols; ++c) e[range + c] = f[c] == kInside;
       std::fill(e + range + cols, e + length, uint8_t(0));  // the doubling's last row left its ORs
       int covered = 1;  // e[k]: some flag in k..k+covered-1
@@ -359,15 +368,15 @@ void teleaInpaint(const uint8_t* mask, size_t maskStride, int width, int height,
       for (int c = 0; c < cols; ++c) to[c] = e[c] | e[c + span - covered];
       std::fill(e, e + range, uint8_t(0));
     }
-    int* columnCount = near + n;
-    std::fill(columnCount, columnCount + cols, 0);
+    uint8_t* columnCount = near + n;
+    std::fill(columnCount, columnCount + cols, uint8_t(0));
     for (int r = 0; r < std::min(range, rows); ++r) {
-      const int* from = near + at(r, 0);
+      const uint8_t* from = near + at(r, 0);
       for (int c = 0; c < cols; ++c) columnCount[c] += from[c];
     }
     for (int r = 0; r < rows; ++r) {
       if (r + range < rows) {
-        const int* from = near + at(r + range, 0);
+        const uint8_t* from = near + at(r + range, 0);
         for (int c = 0; c < cols; ++c) columnCount[c] += from[c];
       }
       const uint8_t* f = fl + at(r, 0);
@@ -376,10 +385,12 @@ void teleaInpaint(const uint8_t* mask, size_t maskStride, int width, int height,
         std::memset(to, kKnown, cols);
       } else {
         to[0] = to[cols - 1] = kKnown;
-        for (int c = 1; c < cols - 1; ++c) to[c] = columnCount[c] > 0 && f[c] != kInside ? kInside : kKnown;
+        // Without a branch, so that it vectorises.
+        static_assert(kKnown == 0, "known is 0");
+        for (int c = 1; c < cols - 1; ++c) to[c] = uint8_t(kInside * ((columnCount[c] != 0) & (f[c] != kInside)));
       }
       if (r - range >= 0) {
-        const int* from = near + at(r - range, 0);
+        const uint8_t* from = near + at(r - range, 0);
         for (int c = 0; c < cols; ++c) columnCount[c] -= from[c];
       }
     }
@@ -398,10 +409,11 @@ void teleaInpaint(const uint8_t* mask, size_t maskStride, int width, int height,
     outer[s] = kBand;
     queue.push(s, t);
   });
+  // It passed the band and every sample it pushed (the queue ends empty), and nothing else.
   {
-    const uint8_t* o = outer.data();
     float* tm = time.data();
-    for (size_t s = 0; s < n; ++s) tm[s] = o[s] == kChanged ? -tm[s] : tm[s];
+    for (size_t b = 0; b < bandCount; ++b) tm[band[b]] = -tm[band[b]];
+    for (const uint32_t s : scratch.positions) tm[s] = -tm[s];
   }
 
   // The neighbours within the radius, in OpenCV's order (row by row).
@@ -422,6 +434,8 @@ void teleaInpaint(const uint8_t* mask, size_t maskStride, int width, int height,
       sampleOffset.push_back(ptrdiff_t(dr) * rowStep + ptrdiff_t(dc) * 4);
     }
   const size_t offsetCount = offsets.size();
+  GradientRule gradientRule[16];
+  gradientRules(rowStep, gradientRule);
   std::vector<uint16_t>& known = scratch.known;
   known.resize(offsetCount);
   // The offsets' fields side by side, and room for each sample's neighbour times and weights.
@@ -436,19 +450,6 @@ void teleaInpaint(const uint8_t* mask, size_t maskStride, int width, int height,
     rx[m] = offsets[m].rx;
     ry[m] = offsets[m].ry;
     distance[m] = offsets[m].distance;
-  }
-
-  // Which 4-neighbours of each interior sample are known (bit 0 right, 1 left, 2 below, 3 above), kept
-  // as the march fills: a neighbour's gradient rule is then one byte, not four flags.
-  std::vector<uint8_t>& knownSides = scratch.knownSides;
-  knownSides.resize(n);
-  uint8_t* sides = knownSides.data();
-  for (int r = 1; r < rows - 1; ++r) {
-    const uint8_t* fr = fl + at(r, 0);
-    uint8_t* to = sides + at(r, 0);
-    for (int c = 1; c < cols - 1; ++c)
-      to[c] = uint8_t((fr[c + 1] != kInside) | (fr[c - 1] != kInside) << 1 | (fr[c + cols] != kInside) << 2 |
-                      (fr[c - cols] != kInside) << 3);
   }
 
   // Inward march from the band, filling each sample as it is reached. The picture is OpenCV's `out`,
@@ -492,7 +493,7 @@ void teleaInpaint(const uint8_t* mask, size_t maskStride, int width, int height,
       for (size_t m = 0; m < offsetCount; ++m)
         weight[m] = neighbourWeight(rx[m], ry[m], distance[m], neighbourTime[m], t, gradTx, gradTy);
       Lanes a, x, y;
-      interiorSums(centre, rowStep, sides + s, offsets.data(), gridOffset.data(), sampleOffset.data(), weight,
+      interiorSums(centre, gradientRule, sides + s, offsets.data(), gridOffset.data(), sampleOffset.data(), weight,
                    known.data(), knownCount, a, x, y, sum);
       for (int p = 0; p < 4; ++p) {
         ia[p] = a[p];

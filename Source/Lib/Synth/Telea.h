@@ -33,7 +33,7 @@ struct TeleaOffset {
 struct TeleaScratch {
   std::vector<uint8_t> flags, outer, knownSides;
   std::vector<float> time;
-  std::vector<int> rowCount;        // the outer ring's window counts
+  std::vector<uint8_t> rowCount;    // the outer ring's window counts
   std::vector<uint8_t> rowSpan;     // one row's window flags, padded
   std::vector<uint64_t> queue;     // arrival time and push count
   std::vector<uint32_t> positions;  // grid position of each push
