@@ -1,6 +1,6 @@
-// The general depth warp's triangle rasteriser (Synth/Raster.h): rasteriseTriangle and the two
-// triangles side by side (rasteriseTrianglePair) against a plain copy of the per-triangle loop the
-// warp used before them. The z-buffers must hold the same bits.
+// The general depth warp's triangle rasteriser (Synth/Raster.h): rasteriseTriangle and two quads'
+// triangles side by side (rasteriseQuadPair) against a plain copy of the per-triangle loop the warp
+// used before them. The z-buffers must hold the same bits.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -117,8 +117,12 @@ TEST(Raster, TriangleEqualsPlainLoop) {
 }
 
 #if defined(__SSE4_1__)
-TEST(Raster, TrianglePairEqualsTwoPlainTriangles) {
-  std::mt19937 rng(11);
+// Quads as the warp passes neighbours to rasteriseQuads: lanes 2q and 2q + 1 quad q's triangles,
+// corners (0, 1, 3) and (0, 3, 2).
+template <int kQuads>
+void checkQuadsEqualPlainTriangles(uint32_t seed) {
+  using Doubles = typename QuadLanes<kQuads>::Doubles;
+  std::mt19937 rng(seed);
   std::bernoulli_distribution often(0.8);
   // Small pictures, so that quads often reach the last row and column (the square's clamped cells).
   for (const int size : {1, 2, 5, 31}) {
@@ -126,33 +130,39 @@ TEST(Raster, TrianglePairEqualsTwoPlainTriangles) {
     std::vector<double> plain(size_t(width) * height, kEmpty), ours = plain;
     const PlainRaise raise{&ours};
     for (int t = 0; t < 20000; ++t) {
-      const Quad q = randomQuad(rng, width, height);
-      const bool draw[2] = {often(rng), often(rng)};
-      // The warp's two triangles of a quad: corners (0, 1, 3) and (0, 3, 2).
+      Quad quads[kQuads];
+      for (Quad& q : quads) q = randomQuad(rng, width, height);
+      bool draw[2 * kQuads];
+      for (bool& d : draw) d = often(rng);
       const int corner[2][3] = {{0, 1, 3}, {0, 3, 2}};
-      DoublePair x[3], y[3], w[3];
-      for (int k = 0; k < 2; ++k) {
+      Doubles x[3] = {}, y[3] = {}, w[3] = {};
+      for (int k = 0; k < 2 * kQuads; ++k) {
+        const Quad& q = quads[k / 2];
         double tx[3], ty[3], tw[3];
         for (int c = 0; c < 3; ++c) {
-          tx[c] = x[c][k] = q.x[corner[k][c]];
-          ty[c] = y[c][k] = q.y[corner[k][c]];
-          tw[c] = w[c][k] = q.w[corner[k][c]];
+          tx[c] = x[c][k] = q.x[corner[k % 2][c]];
+          ty[c] = y[c][k] = q.y[corner[k % 2][c]];
+          tw[c] = w[c][k] = q.w[corner[k % 2][c]];
         }
         if (draw[k]) rasterisePlainly(plain, width, height, tx, ty, tw);
+        // A corner of a triangle not drawn may be anything (the warp's samples that did not land).
+        else x[2][k] = y[1][k] = std::nan("");
       }
-      // A corner of a triangle not drawn may be anything (the warp's samples that did not land).
-      for (int k = 0; k < 2; ++k)
-        if (!draw[k]) x[2][k] = y[1][k] = std::nan("");
-      rasteriseTrianglePair(raise, width, height, x, y, w, draw);
+      rasteriseQuads<kQuads>(raise, width, height, x, y, w, draw);
     }
     size_t raised = 0;
     for (size_t i = 0; i < plain.size(); ++i) {
-      ASSERT_EQ(bitsOf(plain[i]), bitsOf(ours[i])) << "picture " << width << " x " << height << ", cell " << i;
+      ASSERT_EQ(bitsOf(plain[i]), bitsOf(ours[i])) << kQuads << " quads, picture " << width << " x " << height << ", cell " << i;
       raised += plain[i] != kEmpty;
     }
     EXPECT_GT(raised, plain.size() / 2);
   }
 }
+
+TEST(Raster, OneQuadInVectorLanesEqualsTwoPlainTriangles) { checkQuadsEqualPlainTriangles<1>(11); }
+#if defined(__AVX__)
+TEST(Raster, TwoQuadsInVectorLanesEqualFourPlainTriangles) { checkQuadsEqualPlainTriangles<2>(13); }
+#endif
 #endif
 
 TEST(Raster, LoneWriterKeepsWhatAtomicRaiseKeeps) {

@@ -8,7 +8,9 @@
 #include <cstdint>
 #include <cstring>
 
-#if defined(__SSE4_1__)
+#if defined(__AVX__)
+#include <immintrin.h>
+#elif defined(__SSE4_1__)
 #include <smmintrin.h>
 #endif
 
@@ -74,92 +76,164 @@ inline void rasteriseTriangle(const Raise& raise, int width, int height, const d
 }
 
 #if defined(__SSE4_1__)
-// Two doubles, and a mask of two lanes; each lane is computed exactly as the scalar double is.
-typedef double DoublePair __attribute__((vector_size(16)));
-typedef int64_t MaskPair __attribute__((vector_size(16)));
+// The triangles of kQuads quads of warped samples side by side in vector lanes: kQuads 1 with SSE4.1
+// (two doubles a register), 2 with AVX (four). Each lane is computed exactly as the scalar double is.
+template <int kQuads>
+struct QuadLanes;
+template <>
+struct QuadLanes<1> {
+  static constexpr int kLanes = 2;
+  typedef double Doubles __attribute__((vector_size(16)));
+  typedef int64_t Mask __attribute__((vector_size(16)));
+  // std::ceil and std::floor lane by lane.
+  static Doubles ceil(Doubles v) { return Doubles(_mm_ceil_pd(__m128d(v))); }
+  static Doubles floor(Doubles v) { return Doubles(_mm_floor_pd(__m128d(v))); }
+  static Doubles splat(double v) { return Doubles{v, v}; }
+  static Mask lanes(const bool* yes) { return Mask{-int64_t(yes[0]), -int64_t(yes[1])}; }
+  static bool any(Mask m) { return (m[0] | m[1]) != 0; }
+  // Each quad's two lanes exchanged.
+  static Doubles swapped(Doubles v) { return Doubles{v[1], v[0]}; }
+  // One coordinate of the corners of quad q[0] (samples q[0] and q[0] + 1 of rows `top` and `bottom`)
+  // in the lanes rasteriseQuads takes: triangles (0, 1, 3) and (0, 3, 2).
+  static void corners(const double* top, const double* bottom, const int* q, Doubles* out) {
+    const int a = q[0];
+    out[0] = Doubles{top[a], top[a]};
+    out[1] = Doubles{top[a + 1], bottom[a + 1]};
+    out[2] = Doubles{bottom[a + 1], bottom[a]};
+  }
+};
+#if defined(__AVX__)
+template <>
+struct QuadLanes<2> {
+  static constexpr int kLanes = 4;
+  typedef double Doubles __attribute__((vector_size(32)));
+  typedef int64_t Mask __attribute__((vector_size(32)));
+  static Doubles ceil(Doubles v) { return Doubles(_mm256_ceil_pd(__m256d(v))); }
+  static Doubles floor(Doubles v) { return Doubles(_mm256_floor_pd(__m256d(v))); }
+  static Doubles splat(double v) { return Doubles{v, v, v, v}; }
+  static Mask lanes(const bool* yes) {
+    return Mask{-int64_t(yes[0]), -int64_t(yes[1]), -int64_t(yes[2]), -int64_t(yes[3])};
+  }
+  static bool any(Mask m) { return (m[0] | m[1] | m[2] | m[3]) != 0; }
+  static Doubles swapped(Doubles v) { return Doubles{v[1], v[0], v[3], v[2]}; }
+  static void corners(const double* top, const double* bottom, const int* q, Doubles* out) {
+    const int a = q[0], b = q[1];
+    out[0] = Doubles{top[a], top[a], top[b], top[b]};
+    out[1] = Doubles{top[a + 1], bottom[a + 1], top[b + 1], bottom[b + 1]};
+    out[2] = Doubles{bottom[a + 1], bottom[a], bottom[b + 1], bottom[b]};
+  }
+};
+#endif
 
-// rasteriseTriangle() for two triangles at once, triangle k in lane k of the corners x[i], y[i], w[i],
-// drawn where draw[k]: the same pixels raised with the same values (the z-buffer keeps the largest
-// whatever the order). The general depth warp's triangles are about a pixel wide: the two
-// triangles of a quad are set up side by side, and when all the pixel centres their boxes reach lie
-// in one 2 x 2 square, as they nearly always do, that square is tested without branches.
-template <class Raise>
-[[gnu::always_inline]] inline void rasteriseTrianglePair(const Raise& raise, int width, int height, const DoublePair* x,
-                                  const DoublePair* y, const DoublePair* w, const bool* draw) {
+// rasteriseTriangle() for the two triangles of each of kQuads quads at once, triangle k in lane k of
+// the corners x[i], y[i], w[i] (lanes 2q and 2q + 1 for quad q), drawn where draw[k]: the same pixels
+// raised with the same values (the z-buffer keeps the largest whatever the order). The general depth
+// warp's quads are about a pixel wide: when all the pixel centres a quad's two boxes reach lie in one
+// 2 x 2 square, as they nearly always do, that square is tested without branches; a quad reaching
+// further has its triangles drawn one by one.
+template <int kQuads, class Raise>
+[[gnu::always_inline]] inline void rasteriseQuads(const Raise& raise, int width, int height,
+                                                  const typename QuadLanes<kQuads>::Doubles* x,
+                                                  const typename QuadLanes<kQuads>::Doubles* y,
+                                                  const typename QuadLanes<kQuads>::Doubles* w, const bool* draw) {
+  using L = QuadLanes<kQuads>;
+  using Doubles = typename L::Doubles;
+  using Mask = typename L::Mask;
+  constexpr int kLanes = L::kLanes;
   // std::min(a, b) is b < a ? b : a, and std::max(a, b) is a < b ? b : a, lane by lane.
-  auto least = [](DoublePair a, DoublePair b) { return b < a ? b : a; };
-  auto most = [](DoublePair a, DoublePair b) { return a < b ? b : a; };
+  auto least = [](Doubles a, Doubles b) { return b < a ? b : a; };
+  auto most = [](Doubles a, Doubles b) { return a < b ? b : a; };
   // coveredRange() lane by lane: [first, last] as doubles, and where it is not empty.
-  auto covered = [](DoublePair lo, DoublePair hi, int size, DoublePair& first, DoublePair& last) {
-    const double top = double(size - 1);
-    const DoublePair zero = {0.0, 0.0}, topPair = {top, top};
-    const MaskPair some = ~((hi < -1e-9) | (lo > size - 1 + 1e-9));
-    DoublePair l = lo - 1e-9, h = hi + 1e-9;
+  auto covered = [](Doubles lo, Doubles hi, int size, Doubles& first, Doubles& last) {
+    const Doubles zero = L::splat(0.0), top = L::splat(double(size - 1));
+    const Mask some = ~((hi < -1e-9) | (lo > size - 1 + 1e-9));
+    Doubles l = lo - 1e-9, h = hi + 1e-9;
     l = l < zero ? zero : l;
-    h = topPair < h ? topPair : h;
-    first = DoublePair(_mm_ceil_pd(__m128d(l)));  // ceil and floor of non-negative values, as
-    last = DoublePair(_mm_floor_pd(__m128d(h)));  // coveredRange's conversions to int give
-    return some & MaskPair(first <= last);
+    h = top < h ? top : h;
+    first = L::ceil(l);  // ceil and floor of non-negative values, as coveredRange's conversions to
+    last = L::floor(h);  // int give
+    return some & Mask(first <= last);
   };
-  DoublePair firstX, lastX, firstY, lastY;
-  const MaskPair inX = covered(least(x[0], least(x[1], x[2])), most(x[0], most(x[1], x[2])), width, firstX, lastX);
-  const MaskPair inY = covered(least(y[0], least(y[1], y[2])), most(y[0], most(y[1], y[2])), height, firstY, lastY);
-  const DoublePair area = (x[1] - x[0]) * (y[2] - y[0]) - (x[2] - x[0]) * (y[1] - y[0]);
-  const MaskPair magnitude = MaskPair(area) & INT64_MAX;  // fabs
-  const MaskPair drawn = {-int64_t(draw[0]), -int64_t(draw[1])};
-  const MaskPair valid = drawn & inX & inY & ~(DoublePair(magnitude) < 1e-12);
-  if (!(valid[0] | valid[1])) return;
-  const DoublePair inv = 1.0 / area;
-  const DoublePair a1 = (y[2] - y[0]) * inv, c1 = -(x[2] - x[0]) * inv;
-  const DoublePair a2 = -(y[1] - y[0]) * inv, c2 = (x[1] - x[0]) * inv;
-  const DoublePair k1 = -(a1 * x[0] + c1 * y[0]), k2 = -(a2 * x[0] + c2 * y[0]);
-  const DoublePair dw1 = w[1] - w[0], dw2 = w[2] - w[0];
-  // The square holding every lane's pixel centres (a lane not drawn reaches none).
-  const DoublePair none = {1e300, 1e300};
-  const DoublePair fromX = valid ? firstX : none, toX = valid ? lastX : -none;
-  const DoublePair fromY = valid ? firstY : none, toY = valid ? lastY : -none;
-  const double left = std::min(fromX[0], fromX[1]), right = std::max(toX[0], toX[1]);
-  const double top = std::min(fromY[0], fromY[1]), bottom = std::max(toY[0], toY[1]);
-  if (right - left > 1 || bottom - top > 1) {
-    for (int k = 0; k < 2; ++k) {
-      if (!valid[k]) continue;
-      const TriangleSetup t = {a1[k], c1[k], k1[k], a2[k], c2[k], k2[k], w[0][k], dw1[k], dw2[k]};
-      raiseCovered(raise, width, t, int(firstX[k]), int(lastX[k]), int(firstY[k]), int(lastY[k]));
+  Doubles firstX, lastX, firstY, lastY;
+  const Mask inX = covered(least(x[0], least(x[1], x[2])), most(x[0], most(x[1], x[2])), width, firstX, lastX);
+  const Mask inY = covered(least(y[0], least(y[1], y[2])), most(y[0], most(y[1], y[2])), height, firstY, lastY);
+  const Doubles area = (x[1] - x[0]) * (y[2] - y[0]) - (x[2] - x[0]) * (y[1] - y[0]);
+  const Mask magnitude = Mask(area) & INT64_MAX;  // fabs
+  const Mask valid = L::lanes(draw) & inX & inY & ~(Doubles(magnitude) < 1e-12);
+  if (!L::any(valid)) return;
+  const Doubles inv = 1.0 / area;
+  const Doubles a1 = (y[2] - y[0]) * inv, c1 = -(x[2] - x[0]) * inv;
+  const Doubles a2 = -(y[1] - y[0]) * inv, c2 = (x[1] - x[0]) * inv;
+  const Doubles k1 = -(a1 * x[0] + c1 * y[0]), k2 = -(a2 * x[0] + c2 * y[0]);
+  const Doubles dw1 = w[1] - w[0], dw2 = w[2] - w[0];
+  // Each quad's square, in both of its lanes: the least first and the largest last pixel centre of
+  // its two triangles (a lane not drawn reaches none).
+  const Doubles none = L::splat(1e300);
+  const Doubles fromX = valid ? firstX : none, toX = valid ? lastX : -none;
+  const Doubles fromY = valid ? firstY : none, toY = valid ? lastY : -none;
+  const Doubles left = least(fromX, L::swapped(fromX)), right = most(toX, L::swapped(toX));
+  const Doubles top = least(fromY, L::swapped(fromY)), bottom = most(toY, L::swapped(toY));
+  const Mask fits = (right - left <= 1.0) & (bottom - top <= 1.0);
+  const Mask square = valid & fits;
+  for (int k = 0; k < kLanes; ++k) {
+    if (!valid[k] || fits[k]) continue;
+    const TriangleSetup t = {a1[k], c1[k], k1[k], a2[k], c2[k], k2[k], w[0][k], dw1[k], dw2[k]};
+    raiseCovered(raise, width, t, int(firstX[k]), int(lastX[k]), int(firstY[k]), int(lastY[k]));
+  }
+  if (!L::any(square)) return;
+  // Every sample of a quad's square is raised, without a branch: where none of its lanes covers it,
+  // with -0, whose bits are the least in the z-buffer's order (the doubles' bits as signed integers),
+  // which changes nothing. The square's second column or row may lie outside the picture, where no
+  // lane reaches: those raise the first one's instead. A quad without a square raises cell 0 so.
+  size_t cells[kQuads][2][2] = {};  // [quad][row][column]
+  for (int q = 0; q < kQuads; ++q) {
+    if (!(square[2 * q] | square[2 * q + 1])) continue;
+    const int column = int(left[2 * q]), row = int(top[2 * q]);
+    const size_t nextColumn = size_t(std::min(column + 1, width - 1));
+    const size_t rowCell = size_t(row) * width, nextRowCell = size_t(std::min(row + 1, height - 1)) * width;
+    cells[q][0][0] = rowCell + size_t(column);
+    cells[q][0][1] = rowCell + nextColumn;
+    cells[q][1][0] = nextRowCell + size_t(column);
+    cells[q][1][1] = nextRowCell + nextColumn;
+  }
+  const Mask nothing = Mask(L::splat(-0.0));  // INT64_MIN in every lane
+  auto raiseAt = [&](int dy, int dx, Doubles px, Mask rowIn, Doubles r1, Doubles r2) {
+    const Doubles b1 = a1 * px + r1, b2 = a2 * px + r2, b0 = 1.0 - b1 - b2;
+    const Mask inside = rowIn & (px >= firstX) & (px <= lastX) & ~((b0 < -1e-9) | (b1 < -1e-9) | (b2 < -1e-9));
+    // Raising with a quad's two lanes' values is raising with the larger in that order.
+    const Mask bits = inside ? Mask(w[0] + b1 * dw1 + b2 * dw2) : nothing;
+    for (int q = 0; q < kQuads; ++q) {
+      const int64_t larger = std::max(bits[2 * q], bits[2 * q + 1]);
+      double value;
+      std::memcpy(&value, &larger, sizeof value);
+      raise(cells[q][dy][dx], value);
     }
-    return;
-  }
-  // Every sample of the square is raised, without a branch: where no lane covers it, with -0, whose
-  // bits are the least in the z-buffer's order (the doubles' bits as signed integers), which changes
-  // nothing. The square's second column or row may lie outside the picture, where no lane reaches:
-  // those raise the first one's instead.
-  const size_t column = size_t(left), nextColumnCell = size_t(std::min(int(left) + 1, width - 1));
-  const size_t row = size_t(top) * width, nextRowCell = size_t(std::min(int(top) + 1, height - 1)) * width;
-  const size_t cells[2][2] = {{row + column, row + nextColumnCell}, {nextRowCell + column, nextRowCell + nextColumnCell}};
-  auto raiseAt = [&](size_t cell, double px, MaskPair rowIn, DoublePair r1, DoublePair r2) {
-    const DoublePair b1 = a1 * px + r1, b2 = a2 * px + r2, b0 = 1.0 - b1 - b2;
-    const MaskPair inside = rowIn & (px >= firstX) & (px <= lastX) & ~((b0 < -1e-9) | (b1 < -1e-9) | (b2 < -1e-9));
-    // Raising with both lanes' values is raising with the larger in that order.
-    const MaskPair bits = inside ? MaskPair(w[0] + b1 * dw1 + b2 * dw2) : MaskPair{INT64_MIN, INT64_MIN};
-    const int64_t larger = std::max(bits[0], bits[1]);
-    double value;
-    std::memcpy(&value, &larger, sizeof value);
-    raise(cell, value);
   };
-  const double nextColumn = left + 1;
+  const Doubles nextColumn = left + 1.0;
   {
-    const MaskPair rowIn = valid & (top >= firstY) & (top <= lastY);
-    const DoublePair r1 = c1 * top + k1, r2 = c2 * top + k2;
-    raiseAt(cells[0][0], left, rowIn, r1, r2);
-    raiseAt(cells[0][1], nextColumn, rowIn, r1, r2);
+    const Mask rowIn = square & (top >= firstY) & (top <= lastY);
+    const Doubles r1 = c1 * top + k1, r2 = c2 * top + k2;
+    raiseAt(0, 0, left, rowIn, r1, r2);
+    raiseAt(0, 1, nextColumn, rowIn, r1, r2);
   }
   {
-    const double nextRow = top + 1;
-    const MaskPair rowIn = valid & (nextRow >= firstY) & (nextRow <= lastY);
-    const DoublePair r1 = c1 * nextRow + k1, r2 = c2 * nextRow + k2;
-    raiseAt(cells[1][0], left, rowIn, r1, r2);
-    raiseAt(cells[1][1], nextColumn, rowIn, r1, r2);
+    const Doubles nextRow = top + 1.0;
+    const Mask rowIn = square & (nextRow >= firstY) & (nextRow <= lastY);
+    const Doubles r1 = c1 * nextRow + k1, r2 = c2 * nextRow + k2;
+    raiseAt(1, 0, left, rowIn, r1, r2);
+    raiseAt(1, 1, nextColumn, rowIn, r1, r2);
   }
 }
+
+// The quads rasteriseQuads takes at once where this build has the registers for them (0: none, the
+// triangles are drawn one by one).
+#if defined(__AVX__)
+constexpr int kQuadsAtOnce = 2;
+#else
+constexpr int kQuadsAtOnce = 1;
+#endif
+#else
+constexpr int kQuadsAtOnce = 0;
 #endif
 
 }  // namespace vs

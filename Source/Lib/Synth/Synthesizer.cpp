@@ -259,35 +259,56 @@ void Synthesizer::rasteriseTriangles(ViewState& view, int w, int h, const Raise&
       const double* yTop = view.warpedY.data() + size_t(y) * width;
       const double* wTop = view.warpedW.data() + size_t(y) * width;
       const double *xBottom = xTop + width, *yBottom = yTop + width, *wBottom = wTop + width;
-      for (int x = 0; x + 1 < width; ++x) {
+      // Which of quad x's two triangles to draw: corners 0 and 3 belong to both, a quad with a corner
+      // not warped has none (most quads in a hole skip here), and a triangle whose depths span more
+      // than the discontinuity crosses a depth edge.
+      auto triangles = [&](int x, bool* draw) {
         const double d0 = wTop[x], d1 = wTop[x + 1], d2 = wBottom[x], d3 = wBottom[x + 1];
-        // A quad with a corner not warped has no triangle: most of them, in a hole, skip here.
-        if (d0 < 0 || d3 < 0 || (d1 < 0 && d2 < 0)) continue;
-        // Corners 0 and 3 belong to both triangles; a triangle whose depths span more than the
-        // discontinuity crosses a depth edge.
+        draw[0] = draw[1] = false;
+        if (d0 < 0 || d3 < 0 || (d1 < 0 && d2 < 0)) return;
         const double lo03 = std::min(d0, d3), hi03 = std::max(d0, d3);
-        const bool draw[2] = {d1 >= 0 && std::max(hi03, d1) - std::min(lo03, d1) <= discontinuity,
-                              d2 >= 0 && std::max(hi03, d2) - std::min(lo03, d2) <= discontinuity};
+        draw[0] = d1 >= 0 && std::max(hi03, d1) - std::min(lo03, d1) <= discontinuity;
+        draw[1] = d2 >= 0 && std::max(hi03, d2) - std::min(lo03, d2) <= discontinuity;
+      };
 #if defined(__SSE4_1__)
-        // Both triangles side by side: corners (0, 1, 3) in lane 0, (0, 3, 2) in lane 1.
-        if (!(draw[0] | draw[1])) continue;
-        const DoublePair tx[3] = {{xTop[x], xTop[x]}, {xTop[x + 1], xBottom[x + 1]}, {xBottom[x + 1], xBottom[x]}};
-        const DoublePair ty[3] = {{yTop[x], yTop[x]}, {yTop[x + 1], yBottom[x + 1]}, {yBottom[x + 1], yBottom[x]}};
-        const DoublePair tw[3] = {{d0, d0}, {d1, d3}, {d3, d2}};
-        rasteriseTrianglePair(put, outW, outH, tx, ty, tw, draw);
+      // kQuadsAtOnce quads side by side (Raster.h); at the row's end, lanes past its last quad repeat
+      // that quad, not drawn. Lanes 2q and 2q + 1: quad q's triangles (0, 1, 3) and (0, 3, 2).
+      using Lanes = QuadLanes<kQuadsAtOnce>;
+      for (int x = 0; x + 1 < width; x += kQuadsAtOnce) {
+        bool draw[2 * kQuadsAtOnce];
+        int quad[kQuadsAtOnce];
+        triangles(x, draw);
+        quad[0] = x;
+        for (int q = 1; q < kQuadsAtOnce; ++q) {
+          quad[q] = x + q + 1 < width ? x + q : x;
+          if (quad[q] != x) triangles(quad[q], draw + 2 * q);
+          else draw[2 * q] = draw[2 * q + 1] = false;
+        }
+        bool anyDrawn = false;
+        for (const bool d : draw) anyDrawn |= d;
+        if (!anyDrawn) continue;
+        Lanes::Doubles tx[3], ty[3], tw[3];
+        Lanes::corners(xTop, xBottom, quad, tx);
+        Lanes::corners(yTop, yBottom, quad, ty);
+        Lanes::corners(wTop, wBottom, quad, tw);
+        rasteriseQuads<kQuadsAtOnce>(put, outW, outH, tx, ty, tw, draw);
+      }
 #else
+      for (int x = 0; x + 1 < width; ++x) {
+        bool draw[2];
+        triangles(x, draw);
         if (draw[0]) {
           const double tx[3] = {xTop[x], xTop[x + 1], xBottom[x + 1]}, ty[3] = {yTop[x], yTop[x + 1], yBottom[x + 1]};
-          const double tw[3] = {d0, d1, d3};
+          const double tw[3] = {wTop[x], wTop[x + 1], wBottom[x + 1]};
           rasteriseTriangle(put, outW, outH, tx, ty, tw);
         }
         if (draw[1]) {
           const double tx[3] = {xTop[x], xBottom[x + 1], xBottom[x]}, ty[3] = {yTop[x], yBottom[x + 1], yBottom[x]};
-          const double tw[3] = {d0, d3, d2};
+          const double tw[3] = {wTop[x], wBottom[x + 1], wBottom[x]};
           rasteriseTriangle(put, outW, outH, tx, ty, tw);
         }
-#endif
       }
+#endif
     }
   });
 }
