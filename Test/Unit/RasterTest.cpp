@@ -159,9 +159,45 @@ void checkQuadsEqualPlainTriangles(uint32_t seed) {
   }
 }
 
+// QuadLanes::corners puts quad q's corners (samples q[k] and q[k] + 1 of the two rows) in lanes 2k
+// and 2k + 1 as triangles (0, 1, 3) and (0, 3, 2), corner 0 top left, 3 bottom right.
+template <int kQuads>
+void checkCornerLanes() {
+  using L = QuadLanes<kQuads>;
+  std::vector<double> top(16), bottom(16);
+  for (int i = 0; i < 16; ++i) {
+    top[size_t(i)] = 100 + i;
+    bottom[size_t(i)] = 200 + i;
+  }
+  const int quads[4] = {3, 0, 9, 14};
+  typename L::Doubles lanes[3];
+  L::corners(top.data(), bottom.data(), quads, lanes);
+  for (int k = 0; k < kQuads; ++k) {
+    const int q = quads[k];
+    const double corner[4] = {top[size_t(q)], top[size_t(q) + 1], bottom[size_t(q)], bottom[size_t(q) + 1]};
+    const int triangle[2][3] = {{0, 1, 3}, {0, 3, 2}};
+    for (int t = 0; t < 2; ++t)
+      for (int c = 0; c < 3; ++c)
+        EXPECT_EQ(lanes[c][2 * k + t], corner[triangle[t][c]]) << kQuads << " quads, quad " << k << ", triangle " << t;
+  }
+}
+
+TEST(Raster, CornersFillEachQuadsLanes) {
+  checkCornerLanes<1>();
+#if defined(__AVX__)
+  checkCornerLanes<2>();
+#endif
+#if defined(__AVX512F__)
+  checkCornerLanes<4>();
+#endif
+}
+
 TEST(Raster, OneQuadInVectorLanesEqualsTwoPlainTriangles) { checkQuadsEqualPlainTriangles<1>(11); }
 #if defined(__AVX__)
 TEST(Raster, TwoQuadsInVectorLanesEqualFourPlainTriangles) { checkQuadsEqualPlainTriangles<2>(13); }
+#endif
+#if defined(__AVX512F__)
+TEST(Raster, FourQuadsInVectorLanesEqualEightPlainTriangles) { checkQuadsEqualPlainTriangles<4>(17); }
 #endif
 #endif
 
