@@ -201,6 +201,65 @@ TEST(Raster, FourQuadsInVectorLanesEqualEightPlainTriangles) { checkQuadsEqualPl
 #endif
 #endif
 
+// A row of quads as the general depth warp passes it: two rows of warped samples, some not warped
+// (w < 0), depths on both sides of the discontinuity, widths odd and even (the last quads of a row
+// fill only some lanes).
+TEST(Raster, QuadRowEqualsPlainTrianglesOfEachQuad) {
+  std::mt19937 rng(23);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  // A wide discontinuity too, which no span of warped depths exceeds: then only the corners left
+  // out decide.
+  for (const double discontinuity : {0.3, 10.0})
+  for (const int width : {2, 3, 4, 5, 8, 9, 13, 40}) {
+    const int outWidth = width + 3, outHeight = 6;
+    std::vector<double> plain(size_t(outWidth) * outHeight, kEmpty), ours = plain;
+    const PlainRaise raise{&ours};
+    for (int t = 0; t < 3000; ++t) {
+      std::vector<double> x[2], y[2], w[2];
+      const double shift = 3.0 * unit(rng) - 1.0, row = 4.0 * unit(rng);
+      for (int r = 0; r < 2; ++r) {
+        for (int i = 0; i < width; ++i) {
+          double px = i + shift + 0.4 * (unit(rng) - 0.5), py = row + r + 0.4 * (unit(rng) - 0.5);
+          if (unit(rng) < 0.3) px = std::round(px);  // on a pixel centre's column
+          if (unit(rng) < 0.3) py = std::round(py);
+          x[r].push_back(px);
+          y[r].push_back(py);
+          const double u = unit(rng);
+          // 0 and 0.3 span the narrow discontinuity exactly.
+          w[r].push_back(u < 0.1 ? -1.0 : u < 0.2 ? 0.0 : u < 0.3 ? 0.3 : u < 0.6 ? 0.5 : unit(rng));
+        }
+      }
+      for (int q = 0; q + 1 < width; ++q) {
+        const double d[4] = {w[0][size_t(q)], w[0][size_t(q) + 1], w[1][size_t(q)], w[1][size_t(q) + 1]};
+        const double cx[4] = {x[0][size_t(q)], x[0][size_t(q) + 1], x[1][size_t(q)], x[1][size_t(q) + 1]};
+        const double cy[4] = {y[0][size_t(q)], y[0][size_t(q) + 1], y[1][size_t(q)], y[1][size_t(q) + 1]};
+        const int triangle[2][3] = {{0, 1, 3}, {0, 3, 2}};
+        for (const auto& corners : triangle) {
+          double tx[3], ty[3], tw[3], lo = HUGE_VAL, hi = -HUGE_VAL;
+          bool warped = true;
+          for (int c = 0; c < 3; ++c) {
+            tx[c] = cx[corners[c]];
+            ty[c] = cy[corners[c]];
+            tw[c] = d[corners[c]];
+            warped = warped && tw[c] >= 0;
+            lo = std::min(lo, tw[c]);
+            hi = std::max(hi, tw[c]);
+          }
+          if (warped && hi - lo <= discontinuity) rasterisePlainly(plain, outWidth, outHeight, tx, ty, tw);
+        }
+      }
+      rasteriseQuadRow(raise, width, outWidth, outHeight, discontinuity, x[0].data(), y[0].data(), w[0].data(),
+                       x[1].data(), y[1].data(), w[1].data());
+    }
+    size_t raised = 0;
+    for (size_t i = 0; i < plain.size(); ++i) {
+      ASSERT_EQ(bitsOf(plain[i]), bitsOf(ours[i])) << "row of " << width << ", cell " << i;
+      raised += plain[i] != kEmpty;
+    }
+    EXPECT_GT(raised, plain.size() / 2);
+  }
+}
+
 TEST(Raster, LoneWriterKeepsWhatAtomicRaiseKeeps) {
   std::mt19937 rng(3);
   std::uniform_real_distribution<double> value(-2.0, 2.0);

@@ -95,7 +95,7 @@ struct QuadLanes<1> {
   static Doubles swapped(Doubles v) { return Doubles{v[1], v[0]}; }
   // One coordinate of the corners of quad q[0] (samples q[0] and q[0] + 1 of rows `top` and `bottom`)
   // in the lanes rasteriseQuads takes: triangles (0, 1, 3) and (0, 3, 2).
-  static void corners(const double* top, const double* bottom, const int* q, Doubles* out) {
+  [[gnu::always_inline]] static void corners(const double* top, const double* bottom, const int* q, Doubles* out) {
     const int a = q[0];
     out[0] = Doubles{top[a], top[a]};
     out[1] = Doubles{top[a + 1], bottom[a + 1]};
@@ -116,7 +116,7 @@ struct QuadLanes<2> {
   }
   static bool any(Mask m) { return (m[0] | m[1] | m[2] | m[3]) != 0; }
   static Doubles swapped(Doubles v) { return Doubles{v[1], v[0], v[3], v[2]}; }
-  static void corners(const double* top, const double* bottom, const int* q, Doubles* out) {
+  [[gnu::always_inline]] static void corners(const double* top, const double* bottom, const int* q, Doubles* out) {
     const int a = q[0], b = q[1];
     out[0] = Doubles{top[a], top[a], top[b], top[b]};
     out[1] = Doubles{top[a + 1], bottom[a + 1], top[b + 1], bottom[b + 1]};
@@ -145,7 +145,7 @@ struct QuadLanes<4> {
   }
   static bool any(Mask m) { return (m[0] | m[1] | m[2] | m[3] | m[4] | m[5] | m[6] | m[7]) != 0; }
   static Doubles swapped(Doubles v) { return Doubles{v[1], v[0], v[3], v[2], v[5], v[4], v[7], v[6]}; }
-  static void corners(const double* top, const double* bottom, const int* q, Doubles* out) {
+  [[gnu::always_inline]] static void corners(const double* top, const double* bottom, const int* q, Doubles* out) {
     const int a = q[0], b = q[1], c = q[2], d = q[3];
     out[0] = Doubles{top[a], top[a], top[b], top[b], top[c], top[c], top[d], top[d]};
     out[1] = Doubles{top[a + 1], bottom[a + 1], top[b + 1], bottom[b + 1], top[c + 1], bottom[c + 1], top[d + 1], bottom[d + 1]};
@@ -266,5 +266,66 @@ constexpr int kQuadsAtOnce = 1;
 #else
 constexpr int kQuadsAtOnce = 0;
 #endif
+
+// Rasterises the triangles of the quads between two rows of `width` warped reference samples
+// (positions x, y in the virtual view and inverse depths w; w < 0: not warped): quad x has corners 0
+// to 3 at samples x and x + 1 of the top row, then of the bottom row, and triangles (0, 1, 3) and
+// (0, 3, 2), each drawn when its three corners are warped and their inverse depths span at most
+// `discontinuity` (more, and it crosses a depth edge). Into a z-buffer outWidth x outHeight.
+template <class Raise>
+inline void rasteriseQuadRow(const Raise& raise, int width, int outWidth, int outHeight, double discontinuity,
+                             const double* xTop, const double* yTop, const double* wTop, const double* xBottom,
+                             const double* yBottom, const double* wBottom) {
+  const Raise put = raise;  // a copy no store can change: what it holds stays in registers
+  // Which of quad x's two triangles to draw: corners 0 and 3 belong to both, and a quad with a corner
+  // not warped has none (most quads in a hole stop at the first test).
+  auto triangles = [&](int x, bool* draw) {
+    const double d0 = wTop[x], d1 = wTop[x + 1], d2 = wBottom[x], d3 = wBottom[x + 1];
+    draw[0] = draw[1] = false;
+    if (d0 < 0 || d3 < 0 || (d1 < 0 && d2 < 0)) return;
+    const double lo03 = std::min(d0, d3), hi03 = std::max(d0, d3);
+    draw[0] = d1 >= 0 && std::max(hi03, d1) - std::min(lo03, d1) <= discontinuity;
+    draw[1] = d2 >= 0 && std::max(hi03, d2) - std::min(lo03, d2) <= discontinuity;
+  };
+#if defined(__SSE4_1__)
+  // kQuadsAtOnce quads side by side; at the row's end, lanes past its last quad repeat quad x, not
+  // drawn.
+  using Lanes = QuadLanes<kQuadsAtOnce>;
+  for (int x = 0; x + 1 < width; x += kQuadsAtOnce) {
+    bool draw[2 * kQuadsAtOnce];
+    int quad[kQuadsAtOnce];
+    triangles(x, draw);
+    quad[0] = x;
+    for (int q = 1; q < kQuadsAtOnce; ++q) {
+      quad[q] = x + q + 1 < width ? x + q : x;
+      if (quad[q] != x) triangles(quad[q], draw + 2 * q);
+      else draw[2 * q] = draw[2 * q + 1] = false;
+    }
+    bool anyDrawn = false;
+    for (const bool d : draw) anyDrawn |= d;
+    if (!anyDrawn) continue;
+    typename Lanes::Doubles tx[3], ty[3], tw[3];
+    Lanes::corners(xTop, xBottom, quad, tx);
+    Lanes::corners(yTop, yBottom, quad, ty);
+    Lanes::corners(wTop, wBottom, quad, tw);
+    rasteriseQuads<kQuadsAtOnce>(put, outWidth, outHeight, tx, ty, tw, draw);
+  }
+#else
+  for (int x = 0; x + 1 < width; ++x) {
+    bool draw[2];
+    triangles(x, draw);
+    if (draw[0]) {
+      const double tx[3] = {xTop[x], xTop[x + 1], xBottom[x + 1]}, ty[3] = {yTop[x], yTop[x + 1], yBottom[x + 1]};
+      const double tw[3] = {wTop[x], wTop[x + 1], wBottom[x + 1]};
+      rasteriseTriangle(put, outWidth, outHeight, tx, ty, tw);
+    }
+    if (draw[1]) {
+      const double tx[3] = {xTop[x], xBottom[x + 1], xBottom[x]}, ty[3] = {yTop[x], yBottom[x + 1], yBottom[x]};
+      const double tw[3] = {wTop[x], wBottom[x + 1], wBottom[x]};
+      rasteriseTriangle(put, outWidth, outHeight, tx, ty, tw);
+    }
+  }
+#endif
+}
 
 }  // namespace vs

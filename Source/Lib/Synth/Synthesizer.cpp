@@ -191,44 +191,52 @@ void Synthesizer::warpDepth(ViewState& view, const Plane& depth) {
     return;
   }
   const int w = depth.width, h = depth.height;
-  const size_t n = size_t(w) * size_t(h);
-  view.warpedX.resize(n);
-  view.warpedY.resize(n);
-  view.warpedW.resize(n);
   const int outW = outputFormat_.width, outH = outputFormat_.height;
   view.luma.resize(outW, outH, rgb_ ? 3 : 1);  // cleared row by row below (clearRows)
   view.zbuffer.reset(size_t(outW) * outH, kNoDepth);
+  // Row by row: each reference row is projected into the virtual view (forwardRow), its samples are
+  // raised as points, and the quads between it and the row above are rasterised while both rows are
+  // at hand (two rows of positions, not the whole picture's). A range of rows also projects the row
+  // after its last, for the quads between them; that row's points are raised by the range holding it.
   auto drawInto = [&](const auto& raise) {
     parallelRanges(h, [&](int y0, int y1) {
       // Locals: the stores below are doubles, which may alias the projection's and the table's.
       const ViewProjection projection = view.projection;
       const double* levelToInverseDepth = view.levelToInverseDepth.data();
-      double* warpedX = view.warpedX.data();
-      double* warpedY = view.warpedY.data();
-      double* warpedW = view.warpedW.data();
-      const int width = w, outWidth = outW, outHeight = outH;
+      const int width = w, height = h, outWidth = outW, outHeight = outH;
+      const double discontinuity = discontinuity_;
+      const auto put = raise;  // a copy no store can change: what it holds stays in registers
       // A row's inverse depths first (a look-up per sample), then its projection in a loop that
-      // vectorises (forwardRow). A level declared missing has a NaN inverse depth: not warped.
-      static thread_local std::vector<double> inverseRow;
+      // vectorises. A level declared missing has a NaN inverse depth: not warped.
+      static thread_local std::vector<double> inverseRow, rowBuffers;
       inverseRow.resize(size_t(width));
+      rowBuffers.resize(size_t(width) * 6);
       double* inverse = inverseRow.data();
-      for (int y = y0; y < y1; ++y) {
+      // Positions and inverse depths of two rows: the one above (the quads' top) and the current.
+      double *xAbove = rowBuffers.data(), *yAbove = xAbove + width, *wAbove = yAbove + width;
+      double *xs = wAbove + width, *ys = xs + width, *ws = ys + width;
+      auto project = [&](int y) {
         const uint16_t* levels = depth.row(y);
         for (int x = 0; x < width; ++x) inverse[x] = levelToInverseDepth[levels[x]];
-        const size_t row = size_t(y) * width;
-        const double *xs = warpedX + row, *ys = warpedY + row, *ws = warpedW + row;
-        projection.forwardRow(inverse, width, y, warpedX + row, warpedY + row, warpedW + row);
-        // Every sample also lands as a point, so thin foreground keeps its width (while the row is
-        // at hand; the z-buffer keeps the largest value whatever the order).
-        for (int x = 0; x < width; ++x) {
-          if (ws[x] < 0) continue;
-          const double px = std::floor(xs[x] + 0.5), py = std::floor(ys[x] + 0.5);
-          if (px < 0 || py < 0 || px >= outWidth || py >= outHeight) continue;
-          raise(size_t(py) * outWidth + size_t(px), ws[x]);
+        projection.forwardRow(inverse, width, y, xs, ys, ws);
+      };
+      for (int y = y0; y <= y1 && y < height; ++y) {
+        project(y);
+        // Every sample also lands as a point, so thin foreground keeps its width.
+        if (y < y1) {
+          for (int x = 0; x < width; ++x) {
+            if (ws[x] < 0) continue;
+            const double px = std::floor(xs[x] + 0.5), py = std::floor(ys[x] + 0.5);
+            if (px < 0 || py < 0 || px >= outWidth || py >= outHeight) continue;
+            put(size_t(py) * outWidth + size_t(px), ws[x]);
+          }
         }
+        if (y > y0) rasteriseQuadRow(put, width, outWidth, outHeight, discontinuity, xAbove, yAbove, wAbove, xs, ys, ws);
+        std::swap(xAbove, xs);
+        std::swap(yAbove, ys);
+        std::swap(wAbove, ws);
       }
     });
-    rasteriseTriangles(view, w, h, raise);
   };
   // Where the views run side by side, or there is one thread (OpenCV then runs every loop on the
   // calling thread), this view's thread is the buffer's only writer.
@@ -241,76 +249,6 @@ void Synthesizer::warpDepth(ViewState& view, const Plane& depth) {
     view.zbuffer.copyTo(size_t(y0) * outW, size_t(y1) * outW, view.luma.inverseDepth.data() + size_t(y0) * outW);
   });
   closeCracks(view.luma.inverseDepth, outW, outH, discontinuity_);
-}
-
-template <class Raise>
-void Synthesizer::rasteriseTriangles(ViewState& view, int w, int h, const Raise& raise) {
-  // Triangles of each quad of neighbouring samples, when all three lie on one surface: corners
-  // (0, 1, 3) and (0, 3, 2) of the quad (x, y), (x + 1, y), (x, y + 1), (x + 1, y + 1), in that order.
-  const int outW = view.luma.width, outH = view.luma.height;
-  parallelRanges(h - 1, [&](int y0, int y1) {
-    // Locals for what the loop reads (members and captures would be reloaded around every call).
-    const double discontinuity = discontinuity_;
-    const int width = w;
-    const Raise put = raise;  // a copy no store can change: what it holds stays in registers
-    for (int y = y0; y < y1; ++y) {
-      // The quad's two rows, read once for both triangles.
-      const double* xTop = view.warpedX.data() + size_t(y) * width;
-      const double* yTop = view.warpedY.data() + size_t(y) * width;
-      const double* wTop = view.warpedW.data() + size_t(y) * width;
-      const double *xBottom = xTop + width, *yBottom = yTop + width, *wBottom = wTop + width;
-      // Which of quad x's two triangles to draw: corners 0 and 3 belong to both, a quad with a corner
-      // not warped has none (most quads in a hole skip here), and a triangle whose depths span more
-      // than the discontinuity crosses a depth edge.
-      auto triangles = [&](int x, bool* draw) {
-        const double d0 = wTop[x], d1 = wTop[x + 1], d2 = wBottom[x], d3 = wBottom[x + 1];
-        draw[0] = draw[1] = false;
-        if (d0 < 0 || d3 < 0 || (d1 < 0 && d2 < 0)) return;
-        const double lo03 = std::min(d0, d3), hi03 = std::max(d0, d3);
-        draw[0] = d1 >= 0 && std::max(hi03, d1) - std::min(lo03, d1) <= discontinuity;
-        draw[1] = d2 >= 0 && std::max(hi03, d2) - std::min(lo03, d2) <= discontinuity;
-      };
-#if defined(__SSE4_1__)
-      // kQuadsAtOnce quads side by side (Raster.h); at the row's end, lanes past its last quad repeat
-      // that quad, not drawn. Lanes 2q and 2q + 1: quad q's triangles (0, 1, 3) and (0, 3, 2).
-      using Lanes = QuadLanes<kQuadsAtOnce>;
-      for (int x = 0; x + 1 < width; x += kQuadsAtOnce) {
-        bool draw[2 * kQuadsAtOnce];
-        int quad[kQuadsAtOnce];
-        triangles(x, draw);
-        quad[0] = x;
-        for (int q = 1; q < kQuadsAtOnce; ++q) {
-          quad[q] = x + q + 1 < width ? x + q : x;
-          if (quad[q] != x) triangles(quad[q], draw + 2 * q);
-          else draw[2 * q] = draw[2 * q + 1] = false;
-        }
-        bool anyDrawn = false;
-        for (const bool d : draw) anyDrawn |= d;
-        if (!anyDrawn) continue;
-        Lanes::Doubles tx[3], ty[3], tw[3];
-        Lanes::corners(xTop, xBottom, quad, tx);
-        Lanes::corners(yTop, yBottom, quad, ty);
-        Lanes::corners(wTop, wBottom, quad, tw);
-        rasteriseQuads<kQuadsAtOnce>(put, outW, outH, tx, ty, tw, draw);
-      }
-#else
-      for (int x = 0; x + 1 < width; ++x) {
-        bool draw[2];
-        triangles(x, draw);
-        if (draw[0]) {
-          const double tx[3] = {xTop[x], xTop[x + 1], xBottom[x + 1]}, ty[3] = {yTop[x], yTop[x + 1], yBottom[x + 1]};
-          const double tw[3] = {wTop[x], wTop[x + 1], wBottom[x + 1]};
-          rasteriseTriangle(put, outW, outH, tx, ty, tw);
-        }
-        if (draw[1]) {
-          const double tx[3] = {xTop[x], xBottom[x + 1], xBottom[x]}, ty[3] = {yTop[x], yBottom[x + 1], yBottom[x]};
-          const double tw[3] = {wTop[x], wBottom[x + 1], wBottom[x]};
-          rasteriseTriangle(put, outW, outH, tx, ty, tw);
-        }
-      }
-#endif
-    }
-  });
 }
 
 void Synthesizer::warpDepthRows(ViewState& view, const Plane& depth) {

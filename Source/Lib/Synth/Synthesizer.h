@@ -91,16 +91,13 @@ private:
     std::vector<uint8_t> dropScratch;                      // removeBoundaryNoise
     std::vector<uint8_t> rowHoleScratch, boxHoleScratch;  // flagCrowdedHoles: holes along rows, in 7x7 boxes
     size_t alignedSamples = 0;                             // this frame's depth edge alignment count
-    // The general depth warp's forward-projected reference samples and its z-buffer (shared by the
-    // threads of the view's warp when the views do not run side by side).
-    std::vector<double> warpedX, warpedY, warpedW;
+    // The general depth warp's z-buffer (shared by the threads of the view's warp when the views do
+    // not run side by side).
     AtomicMaxBuffer zbuffer;
   };
 
   void warpDepth(ViewState& view, const Plane& depth);
   void warpDepthRows(ViewState& view, const Plane& depth);
-  template <class Raise>
-  void rasteriseTriangles(ViewState& view, int width, int height, const Raise& raise);
   void cleanIsolatedSamples(WarpedLayer& layer);
   void flagCrowdedHoles(ViewState& view);
   void keepStaticFill(const std::vector<ReferenceFrame>& references, std::vector<uint8_t>& lumaHoles,
