@@ -152,7 +152,8 @@ void checkQuadsEqualPlainTriangles(uint32_t seed) {
     }
     size_t raised = 0;
     for (size_t i = 0; i < plain.size(); ++i) {
-      ASSERT_EQ(bitsOf(plain[i]), bitsOf(ours[i])) << kQuads << " quads, picture " << width << " x " << height << ", cell " << i;
+      ASSERT_EQ(bitsOf(plain[i]), bitsOf(ours[i]))
+          << kQuads << " quads, picture " << width << " x " << height << ", cell " << i;
       raised += plain[i] != kEmpty;
     }
     EXPECT_GT(raised, plain.size() / 2);

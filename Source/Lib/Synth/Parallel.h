@@ -58,11 +58,9 @@ public:
     while (bits > current && !cells_[i].compare_exchange_weak(current, bits, std::memory_order_relaxed)) {
     }
   }
-  // raise() where no other thread writes the buffer meanwhile: a plain compare and store (the same
-  // result, without the atomic read-modify-write).
-  void raiseAlone(size_t i, double value) { raiseCell(cells_[i], value); }
-  // raiseAlone() as a small object that holds the cells' address (the buffer's own would be read
-  // again after every store to a cell).
+  // raise() where no other thread writes the buffer meanwhile: a plain load, max and store (the same
+  // result, without the atomic read-modify-write), as a small object that holds the cells' address
+  // (the buffer's own would be read again after every store to a cell).
   struct LoneWriter {
     std::atomic<int64_t>* cells;
     void operator()(size_t i, double value) const { raiseCell(cells[i], value); }

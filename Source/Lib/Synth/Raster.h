@@ -148,8 +148,10 @@ struct QuadLanes<4> {
   [[gnu::always_inline]] static void corners(const double* top, const double* bottom, const int* q, Doubles* out) {
     const int a = q[0], b = q[1], c = q[2], d = q[3];
     out[0] = Doubles{top[a], top[a], top[b], top[b], top[c], top[c], top[d], top[d]};
-    out[1] = Doubles{top[a + 1], bottom[a + 1], top[b + 1], bottom[b + 1], top[c + 1], bottom[c + 1], top[d + 1], bottom[d + 1]};
-    out[2] = Doubles{bottom[a + 1], bottom[a], bottom[b + 1], bottom[b], bottom[c + 1], bottom[c], bottom[d + 1], bottom[d]};
+    out[1] = Doubles{top[a + 1], bottom[a + 1], top[b + 1], bottom[b + 1],
+                     top[c + 1], bottom[c + 1], top[d + 1], bottom[d + 1]};
+    out[2] = Doubles{bottom[a + 1], bottom[a], bottom[b + 1], bottom[b],
+                     bottom[c + 1], bottom[c], bottom[d + 1], bottom[d]};
   }
 };
 #endif

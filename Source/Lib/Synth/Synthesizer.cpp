@@ -231,7 +231,8 @@ void Synthesizer::warpDepth(ViewState& view, const Plane& depth) {
             put(size_t(py) * outWidth + size_t(px), ws[x]);
           }
         }
-        if (y > y0) rasteriseQuadRow(put, width, outWidth, outHeight, discontinuity, xAbove, yAbove, wAbove, xs, ys, ws);
+        if (y > y0)
+          rasteriseQuadRow(put, width, outWidth, outHeight, discontinuity, xAbove, yAbove, wAbove, xs, ys, ws);
         std::swap(xAbove, xs);
         std::swap(yAbove, ys);
         std::swap(wAbove, ws);
