@@ -77,7 +77,8 @@ inline void rasteriseTriangle(const Raise& raise, int width, int height, const d
 
 #if defined(__SSE4_1__)
 // The triangles of kQuads quads of warped samples side by side in vector lanes: kQuads 1 with SSE4.1
-// (two doubles a register), 2 with AVX (four). Each lane is computed exactly as the scalar double is.
+// (two doubles a register), 2 with AVX (four), 4 with AVX-512 (eight). Each lane is computed exactly
+// as the scalar double is.
 template <int kQuads>
 struct QuadLanes;
 template <>
