@@ -28,12 +28,14 @@ void closeCracks(std::vector<double>& inverseDepth, int width, int height, doubl
   // A gap starts only where a sample lies more than the tolerance behind the one before it (close()
   // asks at least that), which few do: those are flagged for a whole line at a time in a branch-free
   // pass, and only they are visited.
-  static thread_local std::vector<uint8_t> flagsBuffer;
   // Rows (each row by one thread). A gap closed at x changes samples x and x + 1, which the tests at
   // x + 1 and x + 2 read: from a flagged sample on, the samples are tested one by one on the current
   // values until two in a row have passed without a close; the flags beyond are still those of the
   // current values.
   parallelRanges(height, [&](int y0, int y1) {
+    // Declared here, where each thread of the pool passes it: that registers its destructor on the
+    // thread (one declared outside the loop's body would never be freed there).
+    static thread_local std::vector<uint8_t> flagsBuffer;
     flagsBuffer.resize(size_t(width));
     uint8_t* flags = flagsBuffer.data();
     const double limit = tolerance;
@@ -58,6 +60,7 @@ void closeCracks(std::vector<double>& inverseDepth, int width, int height, doubl
   // y changes that column's rows y and y + 1 only: a row's flags, found before it is visited, stay
   // those of the current values for the whole row.
   parallelRanges(width, [&](int x0, int x1) {
+    static thread_local std::vector<uint8_t> flagsBuffer;
     flagsBuffer.resize(size_t(width));
     uint8_t* flags = flagsBuffer.data();
     const double limit = tolerance;

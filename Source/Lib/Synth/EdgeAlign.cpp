@@ -115,9 +115,11 @@ size_t alignDepthEdges(const Plane& depth, const Plane& luma, const EdgeAlignOpt
     return 0;
   const int w = depth.width, h = depth.height;
   // Edge flags of one line, per thread (alignEdge reads the input depth and writes `out`, so flags
-  // found before aligning a line are the ones found while aligning it).
-  static thread_local std::vector<uint8_t> edgeFlags;
+  // found before aligning a line are the ones found while aligning it). Declared inside the loops'
+  // bodies: a thread_local's destructor is registered on a thread when that thread passes its
+  // declaration, so one declared out here would never be freed on the pool's threads.
   parallelRanges(h, [&](int y0, int y1) {
+    static thread_local std::vector<uint8_t> edgeFlags;
     edgeFlags.resize(size_t(w));
     for (int y = y0; y < y1; ++y) {
       const Line line{depth.row(y), luma.row(y), out.row(y), 1, w, 0, y, 1, 0};
@@ -130,6 +132,7 @@ size_t alignDepthEdges(const Plane& depth, const Plane& luma, const EdgeAlignOpt
   // and finds their edges row by row, in memory order.
   scratch = out;
   parallelRanges(w, [&](int x0, int x1) {
+    static thread_local std::vector<uint8_t> edgeFlags;
     edgeFlags.resize(size_t(w));
     for (int y = 0; y + 1 < h; ++y) {
       markDepthEdges(scratch.row(y) + x0, scratch.row(y + 1) + x0, x1 - x0, options, edgeFlags.data());
