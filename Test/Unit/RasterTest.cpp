@@ -10,6 +10,7 @@
 #include <random>
 #include <vector>
 
+#include "PlainRaster.h"
 #include "Synth/Parallel.h"
 #include "Synth/Raster.h"
 
@@ -18,35 +19,21 @@ namespace {
 
 constexpr double kEmpty = -1.0;  // the z-buffer's kNoDepth
 
-int64_t bitsOf(double value) {
-  int64_t bits;
-  std::memcpy(&bits, &value, sizeof bits);
-  return bits;
-}
+using plain::bitsOf;
 
-// AtomicMaxBuffer's order: the doubles' bits as signed integers.
+// AtomicMaxBuffer's order, as a rasteriser's raise(i, value).
 struct PlainRaise {
   std::vector<double>* cells;
-  void operator()(size_t i, double value) const {
-    if (bitsOf(value) > bitsOf((*cells)[i])) (*cells)[i] = value;
-  }
+  void operator()(size_t i, double value) const { plain::raise((*cells)[i], value); }
 };
 
 void rasterisePlainly(std::vector<double>& cells, int width, int height, const double* x, const double* y,
                       const double* w) {
-  auto covered = [](double lo, double hi, int size, int& first, int& last) {
-    if (hi < -1e-9 || lo > size - 1 + 1e-9) return false;
-    lo = std::max(lo - 1e-9, 0.0);
-    hi = std::min(hi + 1e-9, double(size - 1));
-    first = int(lo);
-    if (double(first) < lo) ++first;
-    last = int(hi);
-    return first <= last;
-  };
   const double minX = std::min(x[0], std::min(x[1], x[2])), maxX = std::max(x[0], std::max(x[1], x[2]));
   const double minY = std::min(y[0], std::min(y[1], y[2])), maxY = std::max(y[0], std::max(y[1], y[2]));
   int x0, x1, y0, y1;
-  if (!covered(minX, maxX, width, x0, x1) || !covered(minY, maxY, height, y0, y1)) return;
+  if (!plain::coveredRange(minX, maxX, width, x0, x1) || !plain::coveredRange(minY, maxY, height, y0, y1))
+    return;
   const double area = (x[1] - x[0]) * (y[2] - y[0]) - (x[2] - x[0]) * (y[1] - y[0]);
   if (std::fabs(area) < 1e-12) return;
   const double inv = 1.0 / area;

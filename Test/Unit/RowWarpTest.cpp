@@ -11,29 +11,13 @@
 #include <vector>
 
 #include "Common/Camera.h"
+#include "PlainRaster.h"
 #include "Synth/Layer.h"
 #include "Synth/RowWarp.h"
 #include "Synth/Warp.h"
 
 namespace vs {
 namespace {
-
-void raiseBits(double& cell, double value) {
-  int64_t a, b;
-  std::memcpy(&a, &value, sizeof a);
-  std::memcpy(&b, &cell, sizeof b);
-  if (a > b) cell = value;
-}
-
-bool coveredRange(double lo, double hi, int size, int& first, int& last) {
-  if (hi < -1e-9 || lo > size - 1 + 1e-9) return false;
-  lo = std::max(lo - 1e-9, 0.0);
-  hi = std::min(hi + 1e-9, double(size - 1));
-  first = int(lo);
-  if (double(first) < lo) ++first;
-  last = int(hi);
-  return first <= last;
-}
 
 void warpRowPlainly(const ViewProjection& projection, const std::vector<double>& rowDepth, double discontinuity,
                     int splatting, const uint16_t* levels, int width, const uint8_t* nearBoundary, double* z,
@@ -56,11 +40,11 @@ void warpRowPlainly(const ViewProjection& projection, const std::vector<double>&
         std::swap(a, b);
       }
       int first, last;
-      if (!coveredRange(x0, x1, outWidth, first, last)) continue;
+      if (!plain::coveredRange(x0, x1, outWidth, first, last)) continue;
       const double span = x1 - x0;
       for (int px = first; px <= last; ++px) {
         const double t = span > 0 ? (px - x0) / span : 0.0;
-        raiseBits(z[px], a + t * (b - a));
+        plain::raise(z[px], a + t * (b - a));
       }
     }
   }
@@ -68,7 +52,7 @@ void warpRowPlainly(const ViewProjection& projection, const std::vector<double>&
     if (ws[x] < 0) continue;
     const double px = std::floor(xs[x] + 0.5);
     if (px < 0 || px >= outWidth) continue;
-    raiseBits(z[size_t(px)], ws[x]);
+    plain::raise(z[size_t(px)], ws[x]);
   }
 }
 
