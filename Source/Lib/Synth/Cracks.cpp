@@ -59,7 +59,7 @@ void closeCracks(std::vector<double>& inverseDepth, int width, int height, doubl
   // Then columns (each thread its range of columns, row by row in memory order). A gap closed in row
   // y changes that column's rows y and y + 1 only: a row's flags, found before it is visited, stay
   // those of the current values for the whole row.
-  parallelRanges(width, [&](int x0, int x1) {
+  parallelColumns(width, [&](int x0, int x1) {
     static thread_local std::vector<uint8_t> flagsBuffer;
     flagsBuffer.resize(size_t(width));
     uint8_t* flags = flagsBuffer.data();

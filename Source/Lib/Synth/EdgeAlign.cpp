@@ -131,7 +131,7 @@ size_t alignDepthEdges(const Plane& depth, const Plane& luma, const EdgeAlignOpt
   // Then the columns of the aligned rows, each from top to bottom; a thread takes a range of columns
   // and finds their edges row by row, in memory order.
   scratch = out;
-  parallelRanges(w, [&](int x0, int x1) {
+  parallelColumns(w, [&](int x0, int x1) {
     static thread_local std::vector<uint8_t> edgeFlags;
     edgeFlags.resize(size_t(w));
     for (int y = 0; y + 1 < h; ++y) {

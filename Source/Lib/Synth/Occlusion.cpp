@@ -64,7 +64,7 @@ void rejectBetweenTwoViews(WarpedLayer& view0, WarpedLayer& view1, double behind
   // Along columns, row by row in memory order (each thread its range of columns), both views at once:
   // down to keep each column's last valid sample above in each view, then up with the one below, where
   // the candidates are decided on the other view's.
-  parallelRanges(w, [&](int x0, int x1) {
+  parallelColumns(w, [&](int x0, int x1) {
     const uint8_t* soleView = scratch.soleView.data();
     const double* rowFarthest = scratch.around.data();
     double* up = scratch.above.data();
@@ -216,7 +216,7 @@ void rejectMisplacedSamples(const std::vector<WarpedLayer*>& views, const std::v
     // Along columns, row by row in memory order (each thread its range of columns): down to keep
     // each column's last valid sample above, then up with the one below, where the candidates are
     // decided.
-    parallelRanges(w, [&](int x0, int x1) {
+    parallelColumns(w, [&](int x0, int x1) {
       const uint8_t* soleView = sole.data();
       const double* const* depth = depths.data();
       double* last = columnLast.data();

@@ -20,6 +20,15 @@ void parallelRanges(int count, const Body& body) {
   cv::parallel_for_(cv::Range(0, count), [&](const cv::Range& range) { body(range.start, range.end); });
 }
 
+// parallelRanges() for loops over columns that scan every row: one sub-range per thread, so that each
+// thread reads long runs of every row.
+template <class Body>
+void parallelColumns(int count, const Body& body) {
+  if (count <= 0) return;
+  cv::parallel_for_(cv::Range(0, count), [&](const cv::Range& range) { body(range.start, range.end); },
+                    double(cv::getNumThreads()));
+}
+
 // Calls body(begin, end) on disjoint sub-ranges of [0, count) made of whole blocks of 64 Ki
 // elements: for passes over a frame-sized array that has no rows.
 template <class Body>
@@ -39,7 +48,8 @@ void copyOnThreads(const std::vector<T>& from, std::vector<T>& to) {
   });
 }
 
-// A z-buffer of inverse depths that many threads may raise at once. Non-negative doubles order like
+// A z-buffer of inverse depths that many threads may raise at once (one writer needs none of this:
+// Raster.h's raiseCell on plain doubles keeps the same values). Non-negative doubles order like
 // their bit patterns read as signed integers, and kNoDepth (-1) reads as a negative one, so an
 // integer atomic max is a max of the doubles; the result does not depend on the order of writes.
 class AtomicMaxBuffer {
@@ -58,24 +68,12 @@ public:
     while (bits > current && !cells_[i].compare_exchange_weak(current, bits, std::memory_order_relaxed)) {
     }
   }
-  // raise() where no other thread writes the buffer meanwhile: a plain load, max and store (the same
-  // result, without the atomic read-modify-write), as a small object that holds the cells' address
-  // (the buffer's own would be read again after every store to a cell).
-  struct LoneWriter {
-    std::atomic<int64_t>* cells;
-    void operator()(size_t i, double value) const { raiseCell(cells[i], value); }
-  };
-  LoneWriter loneWriter() { return {cells_.data()}; }
   // Cells [begin, end) as doubles into out[0 .. end - begin).
   void copyTo(size_t begin, size_t end, double* out) const {
     for (size_t i = begin; i < end; ++i) out[i - begin] = fromBits(cells_[i].load(std::memory_order_relaxed));
   }
 
 private:
-  // The cell is stored whether or not it changes (no branch to mispredict): only for a lone writer.
-  static void raiseCell(std::atomic<int64_t>& cell, double value) {
-    cell.store(std::max(toBits(value), cell.load(std::memory_order_relaxed)), std::memory_order_relaxed);
-  }
   static int64_t toBits(double v) {
     int64_t bits;
     std::memcpy(&bits, &v, sizeof bits);
