@@ -5,6 +5,7 @@
 // ../shared/data is present.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <map>
@@ -307,6 +308,29 @@ TEST(StabilityDeterminism, SameInputTwiceAndAnyThreadCountGiveBitIdenticalOutput
       EXPECT_TRUE(outputs[threads][k] == outputs[1][k]) << "output " << k << ": " << threads << " threads against 1";
   recordFigure("most threads in use", used);
   recordFigure("outputs compared bit for bit", double(outputs.size() * outputs[1].size() * 3));
+}
+
+// One reference view on several threads: the general depth warp's threads then share one z-buffer
+// (atomic raises), where one thread, or two views side by side, each draw into their own.
+TEST(StabilityDeterminism, OneReferenceViewGivesTheSameOutputOnSharedAndOwnZBuffers) {
+  const int defaultThreads = cv::getNumThreads();
+  for (const Case* c : allCases()) {
+    Scene scene = c->scene;
+    scene.settings.references.pop_back();
+    SynthesisInputs inputs = c->inputs;
+    inputs.textures.pop_back();
+    inputs.depths.pop_back();
+    cv::setNumThreads(std::max(2, cv::getNumberOfCPUs()));
+    const test::SynthesisResult shared = test::synthesize(scene, inputs);
+    cv::setNumThreads(1);
+    const test::SynthesisResult own = test::synthesize(scene, inputs);
+    EXPECT_TRUE(shared.output == own.output) << c->name;
+    // The view warps onto most of the picture: the comparison is not of two empty frames.
+    const size_t samples = size_t(c->generated->width()) * c->generated->height();
+    EXPECT_LT(own.holesAfterBlend, samples / 2) << c->name;
+    EXPECT_FALSE(test::allSamplesEqual(own.output.planes[0], 16)) << c->name;
+  }
+  cv::setNumThreads(defaultThreads);
 }
 
 // --- Real data: a Middlebury scene (cameras in millimetres, 432x382) ---------------------------------

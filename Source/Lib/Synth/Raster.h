@@ -16,6 +16,25 @@
 
 namespace vs {
 
+// The z-buffer's order: non-negative inverse depths order like their bits read as signed 64-bit
+// integers, and kNoDepth (-1) reads as a negative one. Keeps the larger of the cell and the value in
+// that order (AtomicMaxBuffer::raise, for one writer): the cell is stored whether or not it changes,
+// a select and a store with no branch to mispredict.
+inline void raiseCell(double& cell, double value) {
+  int64_t a, b;
+  std::memcpy(&a, &value, sizeof a);
+  std::memcpy(&b, &cell, sizeof b);
+  const int64_t larger = a > b ? a : b;
+  std::memcpy(&cell, &larger, sizeof larger);
+}
+
+// raise(i, value) over a z-buffer of doubles that one thread writes: raiseCell on cell i. A small
+// object that holds the cells' address (a vector's own would be read again after every store).
+struct LoneRaise {
+  double* cells;
+  void operator()(size_t i, double value) const { raiseCell(cells[i], value); }
+};
+
 // Pixel-centre range [first, last] covered by [lo, hi] within [0, size - 1]; false when empty.
 inline bool coveredRange(double lo, double hi, int size, int& first, int& last) {
   if (hi < -1e-9 || lo > size - 1 + 1e-9) return false;
@@ -51,7 +70,7 @@ inline void raiseCovered(const Raise& raise, int width, const TriangleSetup& t, 
 // y[i]) and inverse depths w[i] >= 0, with the barycentric interpolation of w; a degenerate triangle
 // (area below 1e-12) raises nothing.
 // raise(i, value) keeps the larger of cell i and value in the z-buffer's order (AtomicMaxBuffer::raise,
-// or its loneWriter() where one thread writes the buffer).
+// or LoneRaise where one thread writes the buffer).
 template <class Raise>
 inline void rasteriseTriangle(const Raise& raise, int width, int height, const double* x, const double* y,
                               const double* w) {

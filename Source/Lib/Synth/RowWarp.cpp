@@ -11,16 +11,6 @@ namespace vs {
 
 namespace {
 
-// Keeps the larger of the cell and the value, compared as AtomicMaxBuffer compares (the bit patterns
-// as signed integers), so this path gives what the general path's buffer would.
-inline void raise(double& cell, double value) {
-  int64_t a, b;
-  std::memcpy(&a, &value, sizeof a);
-  std::memcpy(&b, &cell, sizeof b);
-  const int64_t larger = a > b ? a : b;  // a select and a store: no branch to mispredict
-  std::memcpy(&cell, &larger, sizeof larger);
-}
-
 // Whether the segment between neighbours (x0, a) and (x1, b) adds nothing to their two points: true
 // when both have the same inverse depth a (not -0) and lie at most one pixel apart, as neighbours of
 // one level do; most segments are such. Every centre c the segment covers then gets a + t * 0 = a
@@ -109,7 +99,7 @@ void RowDepthWarp::warp(const uint16_t* levels, int width, const uint8_t* nearBo
     if (ws[x] < 0) continue;
     const double px = std::floor(xs[x] + 0.5);
     if (px < 0 || px >= outWidth) continue;
-    raise(z[size_t(px)], ws[x]);
+    raiseCell(z[size_t(px)], ws[x]);
   }
   if (splatting == 0) return;
   // The segments between horizontal neighbours on one surface (within BoundaryGrowth samples of a
@@ -145,7 +135,7 @@ void RowDepthWarp::warp(const uint16_t* levels, int width, const uint8_t* nearBo
     const double span = x1 - x0;
     for (int px = first; px <= last; ++px) {
       const double t = span > 0 ? (px - x0) / span : 0.0;
-      raise(z[px], a + t * (b - a));
+      raiseCell(z[px], a + t * (b - a));
     }
   }
 }

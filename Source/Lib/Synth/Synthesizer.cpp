@@ -192,8 +192,13 @@ void Synthesizer::warpDepth(ViewState& view, const Plane& depth) {
   }
   const int w = depth.width, h = depth.height;
   const int outW = outputFormat_.width, outH = outputFormat_.height;
-  view.luma.resize(outW, outH, rgb_ ? 3 : 1);  // cleared row by row below (clearRows)
-  view.zbuffer.reset(size_t(outW) * outH, kNoDepth);
+  view.luma.resize(outW, outH, rgb_ ? 3 : 1);  // cleared row by row (clearRows)
+  // Where the views run side by side, or there is one thread (OpenCV then runs every loop on the
+  // calling thread), this view's thread is the only writer: the triangles are drawn straight into the
+  // layer's depth. Otherwise into an atomic z-buffer, then copied.
+  const bool lone = viewsSideBySide() || cv::getNumThreads() <= 1;
+  if (lone) parallelRanges(outH, [&](int y0, int y1) { clearRows(view.luma, y0, y1); });
+  else view.zbuffer.reset(size_t(outW) * outH, kNoDepth);
   // Row by row: each reference row is projected into the virtual view (forwardRow), its samples are
   // raised as points, and the quads between it and the row above are rasterised while both rows are
   // at hand (two rows of positions, not the whole picture's). A range of rows also projects the row
@@ -239,16 +244,17 @@ void Synthesizer::warpDepth(ViewState& view, const Plane& depth) {
       }
     });
   };
-  // Where the views run side by side, or there is one thread (OpenCV then runs every loop on the
-  // calling thread), this view's thread is the buffer's only writer.
-  AtomicMaxBuffer& zbuffer = view.zbuffer;
-  if (viewsSideBySide() || cv::getNumThreads() <= 1) drawInto(zbuffer.loneWriter());
-  else drawInto([&zbuffer](size_t i, double value) { zbuffer.raise(i, value); });
-  // The z-buffer becomes the layer's depth, and the rest of the layer is cleared, row by row.
-  parallelRanges(outH, [&](int y0, int y1) {
-    clearRows(view.luma, y0, y1);
-    view.zbuffer.copyTo(size_t(y0) * outW, size_t(y1) * outW, view.luma.inverseDepth.data() + size_t(y0) * outW);
-  });
+  if (lone) {
+    drawInto(LoneRaise{view.luma.inverseDepth.data()});
+  } else {
+    AtomicMaxBuffer& zbuffer = view.zbuffer;
+    drawInto([&zbuffer](size_t i, double value) { zbuffer.raise(i, value); });
+    // The z-buffer becomes the layer's depth, and the rest of the layer is cleared, row by row.
+    parallelRanges(outH, [&](int y0, int y1) {
+      clearRows(view.luma, y0, y1);
+      zbuffer.copyTo(size_t(y0) * outW, size_t(y1) * outW, view.luma.inverseDepth.data() + size_t(y0) * outW);
+    });
+  }
   closeCracks(view.luma.inverseDepth, outW, outH, discontinuity_);
 }
 

@@ -91,8 +91,8 @@ private:
     std::vector<uint8_t> dropScratch;                      // removeBoundaryNoise
     std::vector<uint8_t> rowHoleScratch, boxHoleScratch;  // flagCrowdedHoles: holes along rows, in 7x7 boxes
     size_t alignedSamples = 0;                             // this frame's depth edge alignment count
-    // The general depth warp's z-buffer (shared by the threads of the view's warp when the views do
-    // not run side by side).
+    // The general depth warp's z-buffer where the threads of the view's warp share it (the views do
+    // not run side by side); one thread draws into the layer's depth instead.
     AtomicMaxBuffer zbuffer;
   };
 
