@@ -36,6 +36,17 @@ void clearRows(WarpedLayer& layer, int y0, int y1) {
   std::fill(layer.edge.data() + begin, layer.edge.data() + end, uint8_t(0));
 }
 
+// CleanNoiseOption on one row of a layer's depth: a sample with holes on both sides along its row is
+// a stray point of a surface seen elsewhere, removed before it picks up colour. Removing a sample
+// never changes the decision for the next one (it is removed only when the next is a hole, which is
+// then not removed either), so the decisions are taken on the row as it was: a branch-free pass that
+// vectorises flags the samples (in `isolated`, width bytes), and only those are then cleared.
+void cleanIsolatedSamples(double* row, int width, uint8_t* isolated) {
+  if (width < 3) return;
+  for (int x = 1; x + 1 < width; ++x) isolated[x] = uint8_t((row[x] >= 0) & (row[x - 1] < 0) & (row[x + 1] < 0));
+  forEachFlag(isolated + 1, width - 2, [&](int x) { row[x + 1] = kNoDepth; });
+}
+
 }  // namespace
 
 Synthesizer::Synthesizer(const Scene& scene, SynthesisMode mode)
@@ -273,40 +284,22 @@ void Synthesizer::warpDepthRows(ViewState& view, const Plane& depth) {
   parallelRanges(std::min(h, outH), [&](int y0, int y1) {
     const int width = w, outWidth = outW, growth = oneD.boundaryGrowth;
     const bool nearEdges = oneD.splatting == 2;
-    // The row's boundary flags, kept per thread between frames.
-    static thread_local std::vector<uint8_t> nearRow;
+    const bool cleanNoise = oneD.cleanNoise;
+    // The row's boundary flags and isolated samples, kept per thread between frames.
+    static thread_local std::vector<uint8_t> nearRow, isolatedRow;
     nearRow.resize(size_t(width));
+    isolatedRow.resize(size_t(outWidth));
     for (int y = y0; y < y1; ++y) {
       clearRows(view.luma, y, y + 1);
       // Within BoundaryGrowth samples of a reference depth edge.
       if (nearEdges) markWithinReach(view.referenceStep.data() + size_t(y) * width, width, growth, nearRow.data());
-      rowWarp.warp(depth.row(y), width, nearRow.data(), view.luma.inverseDepth.data() + size_t(y) * outWidth,
-                   outWidth);
+      double* row = view.luma.inverseDepth.data() + size_t(y) * outWidth;
+      rowWarp.warp(depth.row(y), width, nearRow.data(), row, outWidth);
+      // A row is all its own warp writes: it is cleaned while it is at hand.
+      if (cleanNoise) cleanIsolatedSamples(row, outWidth, isolatedRow.data());
     }
   });
-  if (oneD.cleanNoise) cleanIsolatedSamples(view.luma);
   closeCracks(view.luma.inverseDepth, outW, outH, discontinuity_);
-}
-
-void Synthesizer::cleanIsolatedSamples(WarpedLayer& layer) {
-  // CleanNoiseOption: a sample with holes on both sides along its row is a stray point of a surface
-  // seen elsewhere: removed before it picks up colour.
-  // Removing a sample never changes the decision for the next one (it is removed only when the next
-  // is a hole, which is then not removed either), so the decisions are taken on the row as it was: a
-  // branch-free pass that vectorises flags the samples, and only those are then cleared.
-  const int w = layer.width;
-  parallelRanges(layer.height, [&](int y0, int y1) {
-    static thread_local std::vector<uint8_t> isolatedRow;
-    isolatedRow.assign(size_t(std::max(w, 2)), 0);
-    uint8_t* isolated = isolatedRow.data();
-    const int width = w;  // a local: the byte stores could alias the captured width
-    for (int y = y0; y < y1; ++y) {
-      double* row = layer.inverseDepth.data() + size_t(y) * width;
-      for (int x = 1; x + 1 < width; ++x)
-        isolated[x] = uint8_t((row[x] >= 0) & (row[x - 1] < 0) & (row[x + 1] < 0));
-      forEachFlag(isolated, width, [&](int x) { row[x] = kNoDepth; });
-    }
-  });
 }
 
 void Synthesizer::flagCrowdedHoles(ViewState& view) {
@@ -334,17 +327,26 @@ void Synthesizer::flagCrowdedHoles(ViewState& view) {
                            padded[x + 6]);
     }
   });
-  std::vector<uint8_t>& boxHoles = view.boxHoleScratch;  // at most 49
-  boxHoles.resize(size_t(w) * h);
   parallelRanges(h, [&](int rowBegin, int rowEnd) {
     const int width = w, height = h, most = threshold;  // locals: see markReferenceEdges
+    // The 7 rows' sum (at most 49) as a window that slides down the thread's rows: the row entering
+    // added, the one leaving taken away (byte arithmetic, exact as the sums stay below 256).
+    static thread_local std::vector<uint8_t> sumRow;
+    sumRow.assign(size_t(width), 0);
+    uint8_t* sum = sumRow.data();
+    auto add = [&](int r) {
+      const uint8_t* count = rowHoles.data() + size_t(r) * width;
+      for (int x = 0; x < width; ++x) sum[x] = uint8_t(sum[x] + count[x]);
+    };
+    auto remove = [&](int r) {
+      const uint8_t* count = rowHoles.data() + size_t(r) * width;
+      for (int x = 0; x < width; ++x) sum[x] = uint8_t(sum[x] - count[x]);
+    };
+    // Rows rowBegin - 4 to rowBegin + 2: the first step takes row rowBegin - 4 away again.
+    for (int r = std::max(0, rowBegin - 4); r < std::min(height, rowBegin + 3); ++r) add(r);
     for (int y = rowBegin; y < rowEnd; ++y) {
-      uint8_t* sum = boxHoles.data() + size_t(y) * width;
-      std::fill(sum, sum + width, uint8_t(0));
-      for (int r = std::max(0, y - 3); r < std::min(height, y + 4); ++r) {
-        const uint8_t* count = rowHoles.data() + size_t(r) * width;
-        for (int x = 0; x < width; ++x) sum[x] = uint8_t(sum[x] + count[x]);
-      }
+      if (y + 3 < height) add(y + 3);
+      if (y - 4 >= 0) remove(y - 4);
       uint8_t* edge = layer.edge.data() + size_t(y) * width;
       for (int x = 0; x < width; ++x) edge[x] |= uint8_t(sum[x] > most);
     }

@@ -89,7 +89,7 @@ private:
     std::vector<uint8_t> filledSamples;             // the samples given a level there
     // Per-frame working buffers of the view's own steps (a view's steps may run beside another's).
     std::vector<uint8_t> dropScratch;                      // removeBoundaryNoise
-    std::vector<uint8_t> rowHoleScratch, boxHoleScratch;  // flagCrowdedHoles: holes along rows, in 7x7 boxes
+    std::vector<uint8_t> rowHoleScratch;                   // flagCrowdedHoles: holes along rows
     size_t alignedSamples = 0;                             // this frame's depth edge alignment count
     // The general depth warp's z-buffer where the threads of the view's warp share it (the views do
     // not run side by side); one thread draws into the layer's depth instead.
@@ -98,7 +98,6 @@ private:
 
   void warpDepth(ViewState& view, const Plane& depth);
   void warpDepthRows(ViewState& view, const Plane& depth);
-  void cleanIsolatedSamples(WarpedLayer& layer);
   void flagCrowdedHoles(ViewState& view);
   void keepStaticFill(const std::vector<ReferenceFrame>& references, std::vector<uint8_t>& lumaHoles,
                       std::vector<uint8_t>& chromaHoles);
