@@ -448,8 +448,11 @@ std::vector<BadInputCase> catalogue() {
        },
        1,
        {"left_depth.yuv: frame 1, plane Y: sample 4000 at (x 3, y 2) exceeds 1023, the maximum of 10-bit samples"}, 1});
+  // Every file of the first frame is wrong; they are read side by side, and the first in reading
+  // order (the left view's texture) is the one named.
   add({"WrongBitDepth", "8-bit files read as 10-bit: samples above 1023",
-       setKey("TextureBitDepth", "10"), 1, {"exceeds 1023, the maximum of 10-bit samples (wrong bit depth"}, 0});
+       setKey("TextureBitDepth", "10"), 1,
+       {"left.yuv: frame 0, plane Y: sample", "exceeds 1023, the maximum of 10-bit samples (wrong bit depth"}, 0});
 
   // ---- Output -------------------------------------------------------------------------------------
   add({"OutputIsInput", "the output is the left texture", setKey("OutputVirtualViewImageName", "left.yuv"), 1,

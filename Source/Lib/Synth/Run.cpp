@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <exception>
 #include <fstream>
 #include <functional>
 #include <future>
@@ -16,6 +17,7 @@
 #include "Common/Metrics.h"
 #include "Common/Depth.h"
 #include "Common/Yuv.h"
+#include "Synth/Parallel.h"
 #include "Synth/Plan.h"
 
 namespace vs {
@@ -166,17 +168,41 @@ RunSummary runSequence(const std::string& toolName, const Config& config, const 
     slot.textures.resize(textures.size());
     slot.depths.resize(depths.size());
   }
-  auto readInputs = [&](int64_t frameIndex, Inputs& slot) {
+  // The files of one frame: each view's texture and depth (every view its own readers and buffers),
+  // then the ground truth. onThreads: the views (and the truth) read side by side on the pool, for
+  // the first frame, which nothing else overlaps; a failure is reported as the first file in that
+  // order would be read alone.
+  auto readInputs = [&](int64_t frameIndex, Inputs& slot, bool onThreads) {
     const auto start = std::chrono::steady_clock::now();
-    for (size_t k = 0; k < textures.size(); ++k) {
-      textures[k]->read(frameIndex, slot.textures[k]);
-      depths[k]->readLuma(frameIndex, slot.depths[k]);
+    const int jobs = int(textures.size()) + (truth ? 1 : 0);
+    auto readJob = [&](int j) {
+      if (size_t(j) == textures.size()) {
+        truth->read(frameIndex, slot.truth);
+        return;
+      }
+      textures[size_t(j)]->read(frameIndex, slot.textures[size_t(j)]);
+      depths[size_t(j)]->readLuma(frameIndex, slot.depths[size_t(j)]);
+    };
+    if (onThreads && jobs > 1) {
+      std::vector<std::exception_ptr> failed(static_cast<size_t>(jobs));
+      parallelRanges(jobs, [&](int j0, int j1) {
+        for (int j = j0; j < j1; ++j) try {
+            readJob(j);
+          } catch (...) {
+            failed[size_t(j)] = std::current_exception();
+          }
+      });
+      for (const std::exception_ptr& failure : failed)
+        if (failure) std::rethrow_exception(failure);
+    } else {
+      for (int j = 0; j < jobs; ++j) readJob(j);
     }
-    if (truth) truth->read(frameIndex, slot.truth);
     slot.seconds = secondsSince(start);
   };
+  // The first frame is read when the loop asks for it, on the calling thread and the pool; each next
+  // one on a thread of its own while the frame before is synthesized.
   std::future<void> nextRead;
-  if (available > 0) nextRead = std::async(std::launch::async, readInputs, s.startFrame, std::ref(slots[0]));
+  if (available > 0) nextRead = std::async(std::launch::deferred, readInputs, s.startFrame, std::ref(slots[0]), true);
   // A frame's read that is still running when the loop leaves early (an error) is waited for here,
   // before the buffers it fills go away.
   struct ReadWaiter {
@@ -198,7 +224,7 @@ RunSummary runSequence(const std::string& toolName, const Config& config, const 
     // Read time: what the read took on its own thread, or the wait for it when that is longer.
     times.read = std::max(secondsSince(start), f == 0 ? current.seconds : 0.0);
     if (f + 1 < available)
-      nextRead = std::async(std::launch::async, readInputs, frameIndex + 1, std::ref(slots[(f + 1) % 2]));
+      nextRead = std::async(std::launch::async, readInputs, frameIndex + 1, std::ref(slots[(f + 1) % 2]), false);
     std::vector<ReferenceFrame> references(textures.size());
     for (size_t k = 0; k < textures.size(); ++k) references[k] = ReferenceFrame{&current.textures[k], &current.depths[k]};
     const Frame& truthFrame = current.truth;
