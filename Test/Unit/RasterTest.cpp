@@ -170,6 +170,38 @@ void checkCornerLanes() {
   }
 }
 
+// QuadLanes::cornersInRow, for quads x to x + kQuads - 1, gives what corners() gives for them, at
+// every x the rows allow.
+template <int kQuads>
+void checkCornersInRow() {
+  using L = QuadLanes<kQuads>;
+  std::vector<double> top(16), bottom(16);
+  for (int i = 0; i < 16; ++i) {
+    top[size_t(i)] = 100 + i * 1.5;
+    bottom[size_t(i)] = -200 - i * 0.25;
+  }
+  for (int x = 0; x + kQuads < 16; ++x) {
+    int quads[kQuads];
+    for (int q = 0; q < kQuads; ++q) quads[q] = x + q;
+    typename L::Doubles gathered[3], loaded[3];
+    L::corners(top.data(), bottom.data(), quads, gathered);
+    L::cornersInRow(top.data(), bottom.data(), x, loaded);
+    for (int c = 0; c < 3; ++c)
+      for (int k = 0; k < L::kLanes; ++k)
+        EXPECT_EQ(loaded[c][k], gathered[c][k]) << kQuads << " quads from " << x << ", corner " << c << ", lane " << k;
+  }
+}
+
+TEST(Raster, CornersOfQuadsSideBySideEqualTheirGatheredCorners) {
+  checkCornersInRow<1>();
+#if defined(__AVX__)
+  checkCornersInRow<2>();
+#endif
+#if defined(__AVX512F__)
+  checkCornersInRow<4>();
+#endif
+}
+
 TEST(Raster, CornersFillEachQuadsLanes) {
   checkCornerLanes<1>();
 #if defined(__AVX__)

@@ -121,6 +121,12 @@ struct QuadLanes<1> {
     out[1] = Doubles{top[a + 1], bottom[a + 1]};
     out[2] = Doubles{bottom[a + 1], bottom[a]};
   }
+  // corners() for the quads x, x + 1, ... that follow each other along the rows (samples x to x +
+  // kQuads of both rows are read).
+  [[gnu::always_inline]] static void cornersInRow(const double* top, const double* bottom, int x, Doubles* out) {
+    const int q[1] = {x};
+    corners(top, bottom, q, out);
+  }
 };
 #if defined(__AVX__)
 template <>
@@ -141,6 +147,18 @@ struct QuadLanes<2> {
     out[0] = Doubles{top[a], top[a], top[b], top[b]};
     out[1] = Doubles{top[a + 1], bottom[a + 1], top[b + 1], bottom[b + 1]};
     out[2] = Doubles{bottom[a + 1], bottom[a], bottom[b + 1], bottom[b]};
+  }
+  // Two samples of each row at a time, and their lanes moved into place.
+  [[gnu::always_inline]] static void cornersInRow(const double* top, const double* bottom, int x, Doubles* out) {
+    typedef double Two __attribute__((vector_size(16)));
+    Two t0, t1, b0, b1;  // samples x and x + 1, then x + 1 and x + 2
+    std::memcpy(&t0, top + x, sizeof t0);
+    std::memcpy(&t1, top + x + 1, sizeof t1);
+    std::memcpy(&b0, bottom + x, sizeof b0);
+    std::memcpy(&b1, bottom + x + 1, sizeof b1);
+    out[0] = __builtin_shufflevector(t0, t0, 0, 0, 1, 1);
+    out[1] = __builtin_shufflevector(t1, b1, 0, 2, 1, 3);
+    out[2] = __builtin_shufflevector(b1, b0, 0, 2, 1, 3);
   }
 };
 #endif
@@ -172,6 +190,18 @@ struct QuadLanes<4> {
                      top[c + 1], bottom[c + 1], top[d + 1], bottom[d + 1]};
     out[2] = Doubles{bottom[a + 1], bottom[a], bottom[b + 1], bottom[b],
                      bottom[c + 1], bottom[c], bottom[d + 1], bottom[d]};
+  }
+  // Four samples of each row at a time, and their lanes moved into place.
+  [[gnu::always_inline]] static void cornersInRow(const double* top, const double* bottom, int x, Doubles* out) {
+    typedef double Four __attribute__((vector_size(32)));
+    Four t0, t1, b0, b1;  // samples x to x + 3, then x + 1 to x + 4
+    std::memcpy(&t0, top + x, sizeof t0);
+    std::memcpy(&t1, top + x + 1, sizeof t1);
+    std::memcpy(&b0, bottom + x, sizeof b0);
+    std::memcpy(&b1, bottom + x + 1, sizeof b1);
+    out[0] = __builtin_shufflevector(t0, t0, 0, 0, 1, 1, 2, 2, 3, 3);
+    out[1] = __builtin_shufflevector(t1, b1, 0, 4, 1, 5, 2, 6, 3, 7);
+    out[2] = __builtin_shufflevector(b1, b0, 0, 4, 1, 5, 2, 6, 3, 7);
   }
 };
 #endif
@@ -251,10 +281,13 @@ template <int kQuads, class Raise>
   auto raiseAt = [&](int dy, int dx, Doubles px, Mask rowIn, Doubles r1, Doubles r2) {
     const Doubles b1 = a1 * px + r1, b2 = a2 * px + r2, b0 = 1.0 - b1 - b2;
     const Mask inside = rowIn & (px >= firstX) & (px <= lastX) & ~((b0 < -1e-9) | (b1 < -1e-9) | (b2 < -1e-9));
-    // Raising with a quad's two lanes' values is raising with the larger in that order.
+    // Raising with a quad's two lanes' values is raising with the larger in that order (found for
+    // every quad at once: each lane against its pair's).
     const Mask bits = inside ? Mask(w[0] + b1 * dw1 + b2 * dw2) : nothing;
+    const Mask pair = Mask(L::swapped(Doubles(bits)));
+    const Mask largest = bits < pair ? pair : bits;
     for (int q = 0; q < kQuads; ++q) {
-      const int64_t larger = std::max(bits[2 * q], bits[2 * q + 1]);
+      const int64_t larger = largest[2 * q];
       double value;
       std::memcpy(&value, &larger, sizeof value);
       raise(cells[q][dy][dx], value);
@@ -327,9 +360,15 @@ inline void rasteriseQuadRow(const Raise& raise, int width, int outWidth, int ou
     for (const bool d : draw) anyDrawn |= d;
     if (!anyDrawn) continue;
     typename Lanes::Doubles tx[3], ty[3], tw[3];
-    Lanes::corners(xTop, xBottom, quad, tx);
-    Lanes::corners(yTop, yBottom, quad, ty);
-    Lanes::corners(wTop, wBottom, quad, tw);
+    if (x + kQuadsAtOnce < width) {  // quads x to x + kQuadsAtOnce - 1, side by side
+      Lanes::cornersInRow(xTop, xBottom, x, tx);
+      Lanes::cornersInRow(yTop, yBottom, x, ty);
+      Lanes::cornersInRow(wTop, wBottom, x, tw);
+    } else {
+      Lanes::corners(xTop, xBottom, quad, tx);
+      Lanes::corners(yTop, yBottom, quad, ty);
+      Lanes::corners(wTop, wBottom, quad, tw);
+    }
     rasteriseQuads<kQuadsAtOnce>(put, outWidth, outHeight, tx, ty, tw, draw);
   }
 #else
