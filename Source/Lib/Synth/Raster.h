@@ -110,7 +110,7 @@ struct QuadLanes<1> {
   static Doubles floor(Doubles v) { return Doubles(_mm_floor_pd(__m128d(v))); }
   static Doubles splat(double v) { return Doubles{v, v}; }
   static Mask lanes(const bool* yes) { return Mask{-int64_t(yes[0]), -int64_t(yes[1])}; }
-  static bool any(Mask m) { return (m[0] | m[1]) != 0; }
+  static bool any(Mask m) { return !_mm_testz_si128(__m128i(m), __m128i(m)); }
   // Each quad's two lanes exchanged.
   static Doubles swapped(Doubles v) { return Doubles{v[1], v[0]}; }
   // One coordinate of the corners of quad q[0] (samples q[0] and q[0] + 1 of rows `top` and `bottom`)
@@ -140,7 +140,7 @@ struct QuadLanes<2> {
   static Mask lanes(const bool* yes) {
     return Mask{-int64_t(yes[0]), -int64_t(yes[1]), -int64_t(yes[2]), -int64_t(yes[3])};
   }
-  static bool any(Mask m) { return (m[0] | m[1] | m[2] | m[3]) != 0; }
+  static bool any(Mask m) { return !_mm256_testz_si256(__m256i(m), __m256i(m)); }
   static Doubles swapped(Doubles v) { return Doubles{v[1], v[0], v[3], v[2]}; }
   [[gnu::always_inline]] static void corners(const double* top, const double* bottom, const int* q, Doubles* out) {
     const int a = q[0], b = q[1];
@@ -181,7 +181,7 @@ struct QuadLanes<4> {
     return Mask{-int64_t(yes[0]), -int64_t(yes[1]), -int64_t(yes[2]), -int64_t(yes[3]),
                 -int64_t(yes[4]), -int64_t(yes[5]), -int64_t(yes[6]), -int64_t(yes[7])};
   }
-  static bool any(Mask m) { return (m[0] | m[1] | m[2] | m[3] | m[4] | m[5] | m[6] | m[7]) != 0; }
+  static bool any(Mask m) { return _mm512_test_epi64_mask(__m512i(m), __m512i(m)) != 0; }
   static Doubles swapped(Doubles v) { return Doubles{v[1], v[0], v[3], v[2], v[5], v[4], v[7], v[6]}; }
   [[gnu::always_inline]] static void corners(const double* top, const double* bottom, const int* q, Doubles* out) {
     const int a = q[0], b = q[1], c = q[2], d = q[3];
@@ -256,11 +256,12 @@ template <int kQuads, class Raise>
   const Doubles top = least(fromY, L::swapped(fromY)), bottom = most(toY, L::swapped(toY));
   const Mask fits = (right - left <= 1.0) & (bottom - top <= 1.0);
   const Mask square = valid & fits;
-  for (int k = 0; k < kLanes; ++k) {
-    if (!valid[k] || fits[k]) continue;
-    const TriangleSetup t = {a1[k], c1[k], k1[k], a2[k], c2[k], k2[k], w[0][k], dw1[k], dw2[k]};
-    raiseCovered(raise, width, t, int(firstX[k]), int(lastX[k]), int(firstY[k]), int(lastY[k]));
-  }
+  if (L::any(valid & ~fits))  // rare: the lanes are looked at one by one only then
+    for (int k = 0; k < kLanes; ++k) {
+      if (!valid[k] || fits[k]) continue;
+      const TriangleSetup t = {a1[k], c1[k], k1[k], a2[k], c2[k], k2[k], w[0][k], dw1[k], dw2[k]};
+      raiseCovered(raise, width, t, int(firstX[k]), int(lastX[k]), int(firstY[k]), int(lastY[k]));
+    }
   if (!L::any(square)) return;
   // Every sample of a quad's square is raised, without a branch: where none of its lanes covers it,
   // with -0, whose bits are the least in the z-buffer's order (the doubles' bits as signed integers),
