@@ -266,18 +266,18 @@ template <int kQuads, class Raise>
   // Every sample of a quad's square is raised, without a branch: where none of its lanes covers it,
   // with -0, whose bits are the least in the z-buffer's order (the doubles' bits as signed integers),
   // which changes nothing. The square's second column or row may lie outside the picture, where no
-  // lane reaches: those raise the first one's instead. A quad without a square raises cell 0 so.
-  size_t cells[kQuads][2][2] = {};  // [quad][row][column]
-  for (int q = 0; q < kQuads; ++q) {
-    if (!(square[2 * q] | square[2 * q + 1])) continue;
-    const int column = int(left[2 * q]), row = int(top[2 * q]);
-    const size_t nextColumn = size_t(std::min(column + 1, width - 1));
-    const size_t rowCell = size_t(row) * width, nextRowCell = size_t(std::min(row + 1, height - 1)) * width;
-    cells[q][0][0] = rowCell + size_t(column);
-    cells[q][0][1] = rowCell + nextColumn;
-    cells[q][1][0] = nextRowCell + size_t(column);
-    cells[q][1][1] = nextRowCell + nextColumn;
-  }
+  // lane reaches: those raise the first one's instead. A quad without a square raises the cells of
+  // column and row 0 so. The cells are found in every lane at once, as doubles (whole numbers below
+  // 2^53, so exact) converted to integers: cells[row][column], quad q's in its lanes.
+  const Mask anySquare = square | Mask(L::swapped(Doubles(square)));
+  const Doubles zero = L::splat(0.0);
+  const Doubles column = anySquare ? left : zero, row = anySquare ? top : zero;
+  const Doubles nextColumn = least(column + 1.0, L::splat(double(width - 1)));
+  const Doubles rowCell = row * double(width);
+  const Doubles nextRowCell = least(row + 1.0, L::splat(double(height - 1))) * double(width);
+  auto cellIndex = [](Doubles v) { return __builtin_convertvector(v, Mask); };
+  const Mask cells[2][2] = {{cellIndex(rowCell + column), cellIndex(rowCell + nextColumn)},
+                            {cellIndex(nextRowCell + column), cellIndex(nextRowCell + nextColumn)}};
   const Mask nothing = Mask(L::splat(-0.0));  // INT64_MIN in every lane
   auto raiseAt = [&](int dy, int dx, Doubles px, Mask rowIn, Doubles r1, Doubles r2) {
     const Doubles b1 = a1 * px + r1, b2 = a2 * px + r2, b0 = 1.0 - b1 - b2;
@@ -291,22 +291,22 @@ template <int kQuads, class Raise>
       const int64_t larger = largest[2 * q];
       double value;
       std::memcpy(&value, &larger, sizeof value);
-      raise(cells[q][dy][dx], value);
+      raise(size_t(cells[dy][dx][2 * q]), value);
     }
   };
-  const Doubles nextColumn = left + 1.0;
+  const Doubles columnAfter = left + 1.0;
   {
     const Mask rowIn = square & (top >= firstY) & (top <= lastY);
     const Doubles r1 = c1 * top + k1, r2 = c2 * top + k2;
     raiseAt(0, 0, left, rowIn, r1, r2);
-    raiseAt(0, 1, nextColumn, rowIn, r1, r2);
+    raiseAt(0, 1, columnAfter, rowIn, r1, r2);
   }
   {
     const Doubles nextRow = top + 1.0;
     const Mask rowIn = square & (nextRow >= firstY) & (nextRow <= lastY);
     const Doubles r1 = c1 * nextRow + k1, r2 = c2 * nextRow + k2;
     raiseAt(1, 0, left, rowIn, r1, r2);
-    raiseAt(1, 1, nextColumn, rowIn, r1, r2);
+    raiseAt(1, 1, columnAfter, rowIn, r1, r2);
   }
 }
 
