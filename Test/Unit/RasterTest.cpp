@@ -135,7 +135,7 @@ void checkQuadsEqualPlainTriangles(uint32_t seed) {
         // A corner of a triangle not drawn may be anything (the warp's samples that did not land).
         else x[2][k] = y[1][k] = std::nan("");
       }
-      rasteriseQuads<kQuads>(raise, width, height, x, y, w, draw);
+      rasteriseQuads<kQuads>(raise, width, height, x, y, w, QuadLanes<kQuads>::lanes(draw));
     }
     size_t raised = 0;
     for (size_t i = 0; i < plain.size(); ++i) {
@@ -199,6 +199,49 @@ TEST(Raster, CornersOfQuadsSideBySideEqualTheirGatheredCorners) {
 #endif
 #if defined(__AVX512F__)
   checkCornersInRow<4>();
+#endif
+}
+
+// drawnTriangles decides as the per-quad rule written out plainly (rasteriseQuadRow's rule for a
+// row's last quads): depths not warped (-1), -0 and +0, NaN, spans exactly at the discontinuity.
+template <int kQuads>
+void checkDrawnTriangles() {
+  using L = QuadLanes<kQuads>;
+  const double values[] = {-1.0, -0.0, 0.0, 0.3, 0.5, 0.8, std::nan(""), 1e300};
+  std::mt19937 rng(29);
+  std::uniform_int_distribution<size_t> pick(0, std::size(values) - 1);
+  for (const double discontinuity : {0.3, 0.2, HUGE_VAL})
+    for (int t = 0; t < 4000; ++t) {
+      std::vector<double> top(kQuads + 1), bottom(kQuads + 1);
+      for (int i = 0; i <= kQuads; ++i) {
+        top[size_t(i)] = values[pick(rng)];
+        bottom[size_t(i)] = values[pick(rng)];
+      }
+      typename L::Doubles w[3];
+      L::cornersInRow(top.data(), bottom.data(), 0, w);
+      const typename L::Mask drawn = drawnTriangles<kQuads>(w, discontinuity);
+      for (int q = 0; q < kQuads; ++q) {
+        const double d0 = top[size_t(q)], d1 = top[size_t(q) + 1], d2 = bottom[size_t(q)], d3 = bottom[size_t(q) + 1];
+        bool draw[2] = {false, false};
+        if (!(d0 < 0 || d3 < 0 || (d1 < 0 && d2 < 0))) {
+          const double lo03 = std::min(d0, d3), hi03 = std::max(d0, d3);
+          draw[0] = d1 >= 0 && std::max(hi03, d1) - std::min(lo03, d1) <= discontinuity;
+          draw[1] = d2 >= 0 && std::max(hi03, d2) - std::min(lo03, d2) <= discontinuity;
+        }
+        for (int k = 0; k < 2; ++k)
+          EXPECT_EQ(drawn[2 * q + k] != 0, draw[k]) << "depths " << d0 << " " << d1 << " " << d2 << " " << d3
+                                                    << ", discontinuity " << discontinuity << ", triangle " << k;
+      }
+    }
+}
+
+TEST(Raster, TrianglesDrawnFromVectorLanesFollowThePlainRule) {
+  checkDrawnTriangles<1>();
+#if defined(__AVX__)
+  checkDrawnTriangles<2>();
+#endif
+#if defined(__AVX512F__)
+  checkDrawnTriangles<4>();
 #endif
 }
 

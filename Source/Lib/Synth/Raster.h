@@ -206,8 +206,30 @@ struct QuadLanes<4> {
 };
 #endif
 
+// Which triangles of quads in the lanes of QuadLanes<kQuads> to draw, from their corners' inverse
+// depths w (as corners() puts them: lane 2q holds quad q's corners 0, 1, 3, lane 2q + 1 its corners 0,
+// 3, 2): rasteriseQuadRow's rule, lane by lane with the same comparisons, minimums and maximums. A
+// triangle is drawn when corners 0 and 3 are warped (not below 0), its own third corner is (at least
+// 0), and the three span at most `discontinuity` (the rule's test that both third corners are below 0
+// only ever stops triangles that this last test stops too).
+template <int kQuads>
+inline typename QuadLanes<kQuads>::Mask drawnTriangles(const typename QuadLanes<kQuads>::Doubles* w, double discontinuity) {
+  using L = QuadLanes<kQuads>;
+  using Doubles = typename L::Doubles;
+  using Mask = typename L::Mask;
+  Mask odd;
+  for (int k = 0; k < L::kLanes; ++k) odd[k] = -int64_t(k & 1);
+  const Doubles corner0 = w[0], corner3 = odd ? w[1] : w[2], third = odd ? w[2] : w[1];
+  auto least = [](Doubles a, Doubles b) { return b < a ? b : a; };  // std::min, lane by lane
+  auto most = [](Doubles a, Doubles b) { return a < b ? b : a; };   // std::max
+  const Doubles lo03 = least(corner0, corner3), hi03 = most(corner0, corner3);
+  const Mask warped = ~(corner0 < 0) & ~(corner3 < 0) & (third >= 0);
+  return warped & Mask(most(hi03, third) - least(lo03, third) <= discontinuity);
+}
+
 // rasteriseTriangle() for the two triangles of each of kQuads quads at once, triangle k in lane k of
-// the corners x[i], y[i], w[i] (lanes 2q and 2q + 1 for quad q), drawn where draw[k]: the same pixels
+// the corners x[i], y[i], w[i] (lanes 2q and 2q + 1 for quad q), drawn where lane k of `drawn` is set
+// (QuadLanes::lanes of a flag per triangle, or QuadLanes::drawn): the same pixels
 // raised with the same values (the z-buffer keeps the largest whatever the order). The general depth
 // warp's quads are about a pixel wide: when all the pixel centres a quad's two boxes reach lie in one
 // 2 x 2 square, as they nearly always do, that square is tested without branches; a quad reaching
@@ -216,7 +238,8 @@ template <int kQuads, class Raise>
 [[gnu::always_inline]] inline void rasteriseQuads(const Raise& raise, int width, int height,
                                                   const typename QuadLanes<kQuads>::Doubles* x,
                                                   const typename QuadLanes<kQuads>::Doubles* y,
-                                                  const typename QuadLanes<kQuads>::Doubles* w, const bool* draw) {
+                                                  const typename QuadLanes<kQuads>::Doubles* w,
+                                                  typename QuadLanes<kQuads>::Mask drawn) {
   using L = QuadLanes<kQuads>;
   using Doubles = typename L::Doubles;
   using Mask = typename L::Mask;
@@ -240,7 +263,7 @@ template <int kQuads, class Raise>
   const Mask inY = covered(least(y[0], least(y[1], y[2])), most(y[0], most(y[1], y[2])), height, firstY, lastY);
   const Doubles area = (x[1] - x[0]) * (y[2] - y[0]) - (x[2] - x[0]) * (y[1] - y[0]);
   const Mask magnitude = Mask(area) & INT64_MAX;  // fabs
-  const Mask valid = L::lanes(draw) & inX & inY & ~(Doubles(magnitude) < 1e-12);
+  const Mask valid = drawn & inX & inY & ~(Doubles(magnitude) < 1e-12);
   if (!L::any(valid)) return;
   const Doubles inv = 1.0 / area;
   const Doubles a1 = (y[2] - y[0]) * inv, c1 = -(x[2] - x[0]) * inv;
@@ -348,29 +371,32 @@ inline void rasteriseQuadRow(const Raise& raise, int width, int outWidth, int ou
   // drawn.
   using Lanes = QuadLanes<kQuadsAtOnce>;
   for (int x = 0; x + 1 < width; x += kQuadsAtOnce) {
-    bool draw[2 * kQuadsAtOnce];
-    int quad[kQuadsAtOnce];
-    triangles(x, draw);
-    quad[0] = x;
-    for (int q = 1; q < kQuadsAtOnce; ++q) {
-      quad[q] = x + q + 1 < width ? x + q : x;
-      if (quad[q] != x) triangles(quad[q], draw + 2 * q);
-      else draw[2 * q] = draw[2 * q + 1] = false;
-    }
-    bool anyDrawn = false;
-    for (const bool d : draw) anyDrawn |= d;
-    if (!anyDrawn) continue;
     typename Lanes::Doubles tx[3], ty[3], tw[3];
-    if (x + kQuadsAtOnce < width) {  // quads x to x + kQuadsAtOnce - 1, side by side
+    typename Lanes::Mask drawn;
+    if (x + kQuadsAtOnce < width) {
+      // Quads x to x + kQuadsAtOnce - 1, side by side: their depths first, which decide what to draw.
+      Lanes::cornersInRow(wTop, wBottom, x, tw);
+      drawn = drawnTriangles<kQuadsAtOnce>(tw, discontinuity);
+      if (!Lanes::any(drawn)) continue;
       Lanes::cornersInRow(xTop, xBottom, x, tx);
       Lanes::cornersInRow(yTop, yBottom, x, ty);
-      Lanes::cornersInRow(wTop, wBottom, x, tw);
     } else {
+      bool draw[2 * kQuadsAtOnce];
+      int quad[kQuadsAtOnce];
+      triangles(x, draw);
+      quad[0] = x;
+      for (int q = 1; q < kQuadsAtOnce; ++q) {
+        quad[q] = x + q + 1 < width ? x + q : x;
+        if (quad[q] != x) triangles(quad[q], draw + 2 * q);
+        else draw[2 * q] = draw[2 * q + 1] = false;
+      }
+      drawn = Lanes::lanes(draw);
+      if (!Lanes::any(drawn)) continue;
       Lanes::corners(xTop, xBottom, quad, tx);
       Lanes::corners(yTop, yBottom, quad, ty);
       Lanes::corners(wTop, wBottom, quad, tw);
     }
-    rasteriseQuads<kQuadsAtOnce>(put, outWidth, outHeight, tx, ty, tw, draw);
+    rasteriseQuads<kQuadsAtOnce>(put, outWidth, outHeight, tx, ty, tw, drawn);
   }
 #else
   for (int x = 0; x + 1 < width; ++x) {
