@@ -541,12 +541,11 @@ void Synthesizer::warpChroma(ViewState& view, const Frame& texture) {
           sampledV.build<kTaps>(sampler, texture.planes[2], j, -1, chromaW);
           tableRow = j;
         }
-        for (int i = 0; i < chromaW; ++i) {
-          // The chroma sample covers a block x block square of luma samples; it takes the depth of
-          // the front-most surface there (the mean inverse depth of the block's samples on it).
-          // Luma samples beyond the picture (an odd size) are not part of the block: they read as
-          // holes here, which neither the maximum nor the sum below takes.
-          const int bw = std::min(kBlock, lumaWidth - i * kBlock), bh = std::min(kBlock, lumaHeight - j * kBlock);
+        // The chroma sample covers a block x block square of luma samples; it takes the depth of the
+        // front-most surface there (the mean inverse depth of the block's samples on it). Luma samples
+        // beyond the picture (an odd size) are not part of the block (bw x bh of it are inside): they
+        // read as holes here, which neither the maximum nor the sum below takes.
+        auto block = [&](int i, int bw, int bh) __attribute__((always_inline)) {
           const size_t corner = size_t(j) * kBlock * lumaWidth + size_t(i) * kBlock;
           double depths[kBlock * kBlock];
           uint8_t edges[kBlock * kBlock];
@@ -573,7 +572,13 @@ void Synthesizer::warpChroma(ViewState& view, const Frame& texture) {
           }
           blockDepth[i] = front < 0 ? kNoDepth : sum / std::max(count, 1);
           blockEdge[i] = edge;
-        }
+        };
+        // Whole blocks first, in a loop whose body knows it (and which the compiler can vectorise),
+        // then those the picture's edge cuts.
+        const int whole = (j + 1) * kBlock <= lumaHeight ? std::min(chromaW, lumaWidth / kBlock) : 0;
+        for (int i = 0; i < whole; ++i) block(i, kBlock, kBlock);
+        for (int i = whole; i < chromaW; ++i)
+          block(i, std::min(kBlock, lumaWidth - i * kBlock), std::min(kBlock, lumaHeight - j * kBlock));
         if (rows) {
           // backward() on a rectified pair: u = rowSource(x, wv), v = y; then cv is the integer j.
           projection.rowSources(blockDepth, chromaW, sources, kBlock, offset);
