@@ -213,7 +213,8 @@ struct QuadLanes<4> {
 // 0), and the three span at most `discontinuity` (the rule's test that both third corners are below 0
 // only ever stops triangles that this last test stops too).
 template <int kQuads>
-inline typename QuadLanes<kQuads>::Mask drawnTriangles(const typename QuadLanes<kQuads>::Doubles* w, double discontinuity) {
+inline typename QuadLanes<kQuads>::Mask drawnTriangles(const typename QuadLanes<kQuads>::Doubles* w,
+                                                       double discontinuity) {
   using L = QuadLanes<kQuads>;
   using Doubles = typename L::Doubles;
   using Mask = typename L::Mask;
@@ -229,7 +230,7 @@ inline typename QuadLanes<kQuads>::Mask drawnTriangles(const typename QuadLanes<
 
 // rasteriseTriangle() for the two triangles of each of kQuads quads at once, triangle k in lane k of
 // the corners x[i], y[i], w[i] (lanes 2q and 2q + 1 for quad q), drawn where lane k of `drawn` is set
-// (QuadLanes::lanes of a flag per triangle, or QuadLanes::drawn): the same pixels
+// (QuadLanes::lanes of a flag per triangle, or drawnTriangles): the same pixels
 // raised with the same values (the z-buffer keeps the largest whatever the order). The general depth
 // warp's quads are about a pixel wide: when all the pixel centres a quad's two boxes reach lie in one
 // 2 x 2 square, as they nearly always do, that square is tested without branches; a quad reaching
