@@ -202,8 +202,9 @@ TEST(Raster, CornersOfQuadsSideBySideEqualTheirGatheredCorners) {
 #endif
 }
 
-// drawnTriangles decides as the per-quad rule written out plainly (rasteriseQuadRow's rule for a
-// row's last quads): depths not warped (-1), -0 and +0, NaN, spans exactly at the discontinuity.
+// drawnTriangles decides as the per-quad rule written out plainly (the rule of the warp's quads
+// before it was evaluated in lanes): depths not warped (-1), -0 and +0, NaN, spans exactly at the
+// discontinuity.
 template <int kQuads>
 void checkDrawnTriangles() {
   using L = QuadLanes<kQuads>;

@@ -13,20 +13,19 @@
 
 namespace vs {
 
-// Calls body(begin, end) on disjoint sub-ranges of [0, count).
+// Calls body(begin, end) on disjoint sub-ranges of [0, count); `stripes` as cv::parallel_for_'s
+// nstripes (-1: as many as the pool likes).
 template <class Body>
-void parallelRanges(int count, const Body& body) {
+void parallelRanges(int count, const Body& body, double stripes = -1.0) {
   if (count <= 0) return;
-  cv::parallel_for_(cv::Range(0, count), [&](const cv::Range& range) { body(range.start, range.end); });
+  cv::parallel_for_(cv::Range(0, count), [&](const cv::Range& range) { body(range.start, range.end); }, stripes);
 }
 
 // parallelRanges() for loops over columns that scan every row: one sub-range per thread, so that each
 // thread reads long runs of every row.
 template <class Body>
 void parallelColumns(int count, const Body& body) {
-  if (count <= 0) return;
-  cv::parallel_for_(cv::Range(0, count), [&](const cv::Range& range) { body(range.start, range.end); },
-                    double(cv::getNumThreads()));
+  parallelRanges(count, body, double(cv::getNumThreads()));
 }
 
 // Calls body(begin, end) on disjoint sub-ranges of [0, count) made of whole blocks of 64 Ki

@@ -206,9 +206,19 @@ struct QuadLanes<4> {
 };
 #endif
 
+// std::min(a, b), which is b < a ? b : a, and std::max(a, b), which is a < b ? b : a, lane by lane.
+template <class Doubles>
+inline Doubles leastLanes(Doubles a, Doubles b) {
+  return b < a ? b : a;
+}
+template <class Doubles>
+inline Doubles mostLanes(Doubles a, Doubles b) {
+  return a < b ? b : a;
+}
+
 // Which triangles of quads in the lanes of QuadLanes<kQuads> to draw, from their corners' inverse
 // depths w (as corners() puts them: lane 2q holds quad q's corners 0, 1, 3, lane 2q + 1 its corners 0,
-// 3, 2): rasteriseQuadRow's rule, lane by lane with the same comparisons, minimums and maximums. A
+// 3, 2): the general depth warp's rule, the same comparisons, minimums and maximums in every lane. A
 // triangle is drawn when corners 0 and 3 are warped (not below 0), its own third corner is (at least
 // 0), and the three span at most `discontinuity` (the rule's test that both third corners are below 0
 // only ever stops triangles that this last test stops too).
@@ -221,11 +231,9 @@ inline typename QuadLanes<kQuads>::Mask drawnTriangles(const typename QuadLanes<
   Mask odd;
   for (int k = 0; k < L::kLanes; ++k) odd[k] = -int64_t(k & 1);
   const Doubles corner0 = w[0], corner3 = odd ? w[1] : w[2], third = odd ? w[2] : w[1];
-  auto least = [](Doubles a, Doubles b) { return b < a ? b : a; };  // std::min, lane by lane
-  auto most = [](Doubles a, Doubles b) { return a < b ? b : a; };   // std::max
-  const Doubles lo03 = least(corner0, corner3), hi03 = most(corner0, corner3);
+  const Doubles lo03 = leastLanes(corner0, corner3), hi03 = mostLanes(corner0, corner3);
   const Mask warped = ~(corner0 < 0) & ~(corner3 < 0) & (third >= 0);
-  return warped & Mask(most(hi03, third) - least(lo03, third) <= discontinuity);
+  return warped & Mask(mostLanes(hi03, third) - leastLanes(lo03, third) <= discontinuity);
 }
 
 // rasteriseTriangle() for the two triangles of each of kQuads quads at once, triangle k in lane k of
@@ -245,9 +253,6 @@ template <int kQuads, class Raise>
   using Doubles = typename L::Doubles;
   using Mask = typename L::Mask;
   constexpr int kLanes = L::kLanes;
-  // std::min(a, b) is b < a ? b : a, and std::max(a, b) is a < b ? b : a, lane by lane.
-  auto least = [](Doubles a, Doubles b) { return b < a ? b : a; };
-  auto most = [](Doubles a, Doubles b) { return a < b ? b : a; };
   // coveredRange() lane by lane: [first, last] as doubles, and where it is not empty.
   auto covered = [](Doubles lo, Doubles hi, int size, Doubles& first, Doubles& last) {
     const Doubles zero = L::splat(0.0), top = L::splat(double(size - 1));
@@ -260,8 +265,10 @@ template <int kQuads, class Raise>
     return some & Mask(first <= last);
   };
   Doubles firstX, lastX, firstY, lastY;
-  const Mask inX = covered(least(x[0], least(x[1], x[2])), most(x[0], most(x[1], x[2])), width, firstX, lastX);
-  const Mask inY = covered(least(y[0], least(y[1], y[2])), most(y[0], most(y[1], y[2])), height, firstY, lastY);
+  const Mask inX = covered(leastLanes(x[0], leastLanes(x[1], x[2])), mostLanes(x[0], mostLanes(x[1], x[2])), width,
+                           firstX, lastX);
+  const Mask inY = covered(leastLanes(y[0], leastLanes(y[1], y[2])), mostLanes(y[0], mostLanes(y[1], y[2])), height,
+                           firstY, lastY);
   const Doubles area = (x[1] - x[0]) * (y[2] - y[0]) - (x[2] - x[0]) * (y[1] - y[0]);
   const Mask magnitude = Mask(area) & INT64_MAX;  // fabs
   const Mask valid = drawn & inX & inY & ~(Doubles(magnitude) < 1e-12);
@@ -276,8 +283,8 @@ template <int kQuads, class Raise>
   const Doubles none = L::splat(1e300);
   const Doubles fromX = valid ? firstX : none, toX = valid ? lastX : -none;
   const Doubles fromY = valid ? firstY : none, toY = valid ? lastY : -none;
-  const Doubles left = least(fromX, L::swapped(fromX)), right = most(toX, L::swapped(toX));
-  const Doubles top = least(fromY, L::swapped(fromY)), bottom = most(toY, L::swapped(toY));
+  const Doubles left = leastLanes(fromX, L::swapped(fromX)), right = mostLanes(toX, L::swapped(toX));
+  const Doubles top = leastLanes(fromY, L::swapped(fromY)), bottom = mostLanes(toY, L::swapped(toY));
   const Mask fits = (right - left <= 1.0) & (bottom - top <= 1.0);
   const Mask square = valid & fits;
   if (L::any(valid & ~fits))  // rare: the lanes are looked at one by one only then
@@ -296,9 +303,9 @@ template <int kQuads, class Raise>
   const Mask anySquare = square | Mask(L::swapped(Doubles(square)));
   const Doubles zero = L::splat(0.0);
   const Doubles column = anySquare ? left : zero, row = anySquare ? top : zero;
-  const Doubles nextColumn = least(column + 1.0, L::splat(double(width - 1)));
+  const Doubles nextColumn = leastLanes(column + 1.0, L::splat(double(width - 1)));
   const Doubles rowCell = row * double(width);
-  const Doubles nextRowCell = least(row + 1.0, L::splat(double(height - 1))) * double(width);
+  const Doubles nextRowCell = leastLanes(row + 1.0, L::splat(double(height - 1))) * double(width);
   auto cellIndex = [](Doubles v) { return __builtin_convertvector(v, Mask); };
   const Mask cells[2][2] = {{cellIndex(rowCell + column), cellIndex(rowCell + nextColumn)},
                             {cellIndex(nextRowCell + column), cellIndex(nextRowCell + nextColumn)}};
@@ -357,52 +364,48 @@ inline void rasteriseQuadRow(const Raise& raise, int width, int outWidth, int ou
                              const double* xTop, const double* yTop, const double* wTop, const double* xBottom,
                              const double* yBottom, const double* wBottom) {
   const Raise put = raise;  // a copy no store can change: what it holds stays in registers
-  // Which of quad x's two triangles to draw: corners 0 and 3 belong to both, and a quad with a corner
-  // not warped has none (most quads in a hole stop at the first test).
-  auto triangles = [&](int x, bool* draw) {
-    const double d0 = wTop[x], d1 = wTop[x + 1], d2 = wBottom[x], d3 = wBottom[x + 1];
-    draw[0] = draw[1] = false;
-    if (d0 < 0 || d3 < 0 || (d1 < 0 && d2 < 0)) return;
-    const double lo03 = std::min(d0, d3), hi03 = std::max(d0, d3);
-    draw[0] = d1 >= 0 && std::max(hi03, d1) - std::min(lo03, d1) <= discontinuity;
-    draw[1] = d2 >= 0 && std::max(hi03, d2) - std::min(lo03, d2) <= discontinuity;
-  };
 #if defined(__SSE4_1__)
-  // kQuadsAtOnce quads side by side; at the row's end, lanes past its last quad repeat quad x, not
-  // drawn.
+  // kQuadsAtOnce quads side by side, their depth corners first, which decide what to draw
+  // (drawnTriangles). At the row's end, lanes past its last quad repeat quad x, not drawn.
   using Lanes = QuadLanes<kQuadsAtOnce>;
   for (int x = 0; x + 1 < width; x += kQuadsAtOnce) {
     typename Lanes::Doubles tx[3], ty[3], tw[3];
     typename Lanes::Mask drawn;
-    if (x + kQuadsAtOnce < width) {
-      // Quads x to x + kQuadsAtOnce - 1, side by side: their depths first, which decide what to draw.
+    const bool sideBySide = x + kQuadsAtOnce < width;
+    int quad[kQuadsAtOnce];
+    if (sideBySide) {
       Lanes::cornersInRow(wTop, wBottom, x, tw);
       drawn = drawnTriangles<kQuadsAtOnce>(tw, discontinuity);
-      if (!Lanes::any(drawn)) continue;
+    } else {
+      bool inRow[2 * kQuadsAtOnce];
+      for (int q = 0; q < kQuadsAtOnce; ++q) {
+        quad[q] = x + q + 1 < width ? x + q : x;
+        inRow[2 * q] = inRow[2 * q + 1] = q == 0 || quad[q] != x;
+      }
+      Lanes::corners(wTop, wBottom, quad, tw);
+      drawn = drawnTriangles<kQuadsAtOnce>(tw, discontinuity) & Lanes::lanes(inRow);
+    }
+    if (!Lanes::any(drawn)) continue;
+    if (sideBySide) {
       Lanes::cornersInRow(xTop, xBottom, x, tx);
       Lanes::cornersInRow(yTop, yBottom, x, ty);
     } else {
-      bool draw[2 * kQuadsAtOnce];
-      int quad[kQuadsAtOnce];
-      triangles(x, draw);
-      quad[0] = x;
-      for (int q = 1; q < kQuadsAtOnce; ++q) {
-        quad[q] = x + q + 1 < width ? x + q : x;
-        if (quad[q] != x) triangles(quad[q], draw + 2 * q);
-        else draw[2 * q] = draw[2 * q + 1] = false;
-      }
-      drawn = Lanes::lanes(draw);
-      if (!Lanes::any(drawn)) continue;
       Lanes::corners(xTop, xBottom, quad, tx);
       Lanes::corners(yTop, yBottom, quad, ty);
-      Lanes::corners(wTop, wBottom, quad, tw);
     }
     rasteriseQuads<kQuadsAtOnce>(put, outWidth, outHeight, tx, ty, tw, drawn);
   }
 #else
   for (int x = 0; x + 1 < width; ++x) {
-    bool draw[2];
-    triangles(x, draw);
+    // Which of quad x's two triangles to draw: corners 0 and 3 belong to both, and a quad with a
+    // corner not warped has none (drawnTriangles' rule, one quad at a time).
+    const double d0 = wTop[x], d1 = wTop[x + 1], d2 = wBottom[x], d3 = wBottom[x + 1];
+    bool draw[2] = {false, false};
+    if (!(d0 < 0 || d3 < 0 || (d1 < 0 && d2 < 0))) {
+      const double lo03 = std::min(d0, d3), hi03 = std::max(d0, d3);
+      draw[0] = d1 >= 0 && std::max(hi03, d1) - std::min(lo03, d1) <= discontinuity;
+      draw[1] = d2 >= 0 && std::max(hi03, d2) - std::min(lo03, d2) <= discontinuity;
+    }
     if (draw[0]) {
       const double tx[3] = {xTop[x], xTop[x + 1], xBottom[x + 1]}, ty[3] = {yTop[x], yTop[x + 1], yBottom[x + 1]};
       const double tw[3] = {wTop[x], wTop[x + 1], wBottom[x + 1]};
