@@ -321,7 +321,8 @@ void blendTwoViews(const ViewPlanes& first, const ViewPlanes& second, int domina
   blend.pickSecondOfBoth = second.weight > (blend.pickFirstAlone ? first.weight : -1.0);
   blend.depthOut = out.inverseDepth.data();
   blend.holeOut = out.hole.data();
-  const bool plain = dominant < 0 && blend.pickFirstAlone && blend.pickSecondAlone;
+  // Read by the SSE4.1 pairs only.
+  [[maybe_unused]] const bool plain = dominant < 0 && blend.pickFirstAlone && blend.pickSecondAlone;
   const size_t width = size_t(out.width);
   parallelRanges(out.height, [&](int rowBegin, int rowEnd) {
     const TwoViewBlend<Channels, NearestViewOnly> local = blend;  // a local: the stores cannot alias it
