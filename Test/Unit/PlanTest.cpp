@@ -5,10 +5,11 @@
 #include "Common/Error.h"
 #include "Common/Metrics.h"
 #include "Common/Options.h"
-#include "Synth/Plan.h"
+#include "Plan/Plan.h"
 #include "Synth/Run.h"
 #include "SynthTestScene.h"
 #include "TestPaths.h"
+#include "TestPlan.h"
 
 namespace vs {
 namespace {
@@ -32,7 +33,7 @@ TEST(Plan, AutoPicksTheOneDimensionalPathForARectifiedRigAndSaysWhy) {
   AnalyticScene analytic;
   const Plan plan = makePlan(rigScene(analytic, SynthesisMode::Auto));
   EXPECT_EQ(plan.mode, SynthesisMode::Parallel1D);
-  EXPECT_NE(plan.lines[0].find("auto: the rig is rectified"), std::string::npos) << plan.lines[0];
+  EXPECT_NE(plan.lines()[0].find("auto: the rig is rectified"), std::string::npos) << plan.lines()[0];
   EXPECT_TRUE(plan.blend);
   EXPECT_TRUE(plan.chroma);
   EXPECT_EQ(plan.copyOf, -1);
@@ -42,7 +43,7 @@ TEST(Plan, AutoPicksTheGeneralPathForARotatedRigAndMode1IsRefusedWithTheDeviatio
   AnalyticScene analytic;
   const Plan plan = makePlan(rigScene(analytic, SynthesisMode::Auto, 0.01));
   EXPECT_EQ(plan.mode, SynthesisMode::General);
-  EXPECT_NE(plan.lines[0].find("rotation differs by 0.573 deg"), std::string::npos) << plan.lines[0];
+  EXPECT_NE(plan.lines()[0].find("rotation differs by 0.573 deg"), std::string::npos) << plan.lines()[0];
   try {
     makePlan(rigScene(analytic, SynthesisMode::Parallel1D, 0.01));
     FAIL() << "SynthesisMode 1 on a rotated rig must be refused";
@@ -75,7 +76,7 @@ TEST(Plan, CopiesWhenTheVirtualCameraIsAReferenceAndSkipsWhatIsNotThere) {
 TEST(Plan, SaysWhetherDepthEdgesAreAlignedAndWhy) {
   AnalyticScene analytic;
   auto depthEdgeLine = [](const Plan& plan) {
-    for (const std::string& line : plan.lines)
+    for (const std::string& line : plan.lines())
       if (line.rfind("depth edges: ", 0) == 0) return line;
     return std::string("(no depth edges line)");
   };
@@ -122,8 +123,8 @@ TEST(OneD, ParallelPathMatchesTheAnalyticViewAndTheGeneralPath) {
   const std::vector<ReferenceFrame> refs = rendered.frames();
   Frame parallel, general;
   StageTimes times;
-  Synthesizer(oneD, SynthesisMode::Parallel1D).synthesize(refs, parallel, times);
-  Synthesizer(oneD, SynthesisMode::General).synthesize(refs, general, times);
+  Synthesizer(oneD, test::planOnPath(oneD, SynthesisMode::Parallel1D)).synthesize(refs, parallel, times);
+  Synthesizer(oneD, test::planOnPath(oneD, SynthesisMode::General)).synthesize(refs, general, times);
   EXPECT_GT(framePsnr(truth, parallel).y, 32.0);
   // Same geometry: the two paths agree closely (not bitwise: the 1D path merges by its own keys).
   EXPECT_GT(framePsnr(general, parallel).y, 40.0);
@@ -131,7 +132,7 @@ TEST(OneD, ParallelPathMatchesTheAnalyticViewAndTheGeneralPath) {
   Scene identity = oneD;
   identity.virtualCamera = identity.settings.references[0].camera;
   Frame copy;
-  Synthesizer(identity, SynthesisMode::Parallel1D).synthesize(refs, copy, times);
+  Synthesizer(identity, test::planOnPath(identity, SynthesisMode::Parallel1D)).synthesize(refs, copy, times);
   EXPECT_TRUE(copy == rendered.textures[0]);
 }
 
@@ -155,12 +156,12 @@ TEST(OneD, TemporalImprovementKeepsThePreviousFillWhereTheReferenceRowsAreUnchan
     }
   for (bool temporal : {true, false}) {
     scene.settings.oneD.temporalImprovement = temporal;
-    Synthesizer sequence(scene, SynthesisMode::Parallel1D);
+    Synthesizer sequence(scene, test::planOnPath(scene, SynthesisMode::Parallel1D));
     Frame output1, output2, fresh2;
     StageTimes times;
     sequence.synthesize(first.frames(), output1, times);
     sequence.synthesize(second.frames(), output2, times);
-    Synthesizer(scene, SynthesisMode::Parallel1D).synthesize(second.frames(), fresh2, times);
+    Synthesizer(scene, test::planOnPath(scene, SynthesisMode::Parallel1D)).synthesize(second.frames(), fresh2, times);
     if (!temporal) {
       EXPECT_TRUE(output2 == fresh2);
       continue;

@@ -10,6 +10,7 @@
 #include "Common/Scene.h"
 #include "Mesh/EglContext.h"
 #include "Mesh/MeshSynthesizer.h"
+#include "Plan/Plan.h"
 
 namespace {
 
@@ -47,6 +48,7 @@ int main(int argc, char** argv) {
     if (check) {
       const vs::Scene scene = vs::loadScene(config);
       vs::readMeshSettings(config);
+      vs::makePlan(scene, vs::Tool::MeshRender);  // refuses what MeshRender cannot do, as a run would
       vs::printConfigCheck("MeshRender", args[0], config, scene);
       const vs::EglContext context;
       std::printf("OpenGL: %s\nconfiguration OK\n", context.description().c_str());

@@ -8,6 +8,7 @@
 #include "Common/Error.h"
 #include "Common/Options.h"
 #include "Common/Scene.h"
+#include "Plan/Plan.h"
 #include "Synth/Run.h"
 
 namespace {
@@ -40,7 +41,9 @@ int main(int argc, char** argv) {
     const std::vector<std::string> overrides(args.begin() + 1, args.end());
     const vs::Config config = vs::Config::load(table, args[0], overrides);
     if (check) {
-      vs::printConfigCheck("ViewSyn", args[0], config, vs::loadScene(config));
+      const vs::Scene scene = vs::loadScene(config);
+      vs::makePlan(scene);  // refuses what no path can do (SynthesisMode 1 on a rig that is not rectified)
+      vs::printConfigCheck("ViewSyn", args[0], config, scene);
       std::printf("configuration OK\n");
       return 0;
     }

@@ -24,16 +24,6 @@
 
 namespace vs {
 
-struct HoleFillOptions {
-  bool backgroundFirst = true;  // IvsrsInpaint 1
-  double depthTolerance = 0;    // inverse depths closer than this are one surface
-  float emptyValue[3] = {0, 0, 0};
-  int inpaintRadius = 3;
-  int maxReach = 256;           // samples a directional search looks along
-  // IvsrsInpaint 1: weights of the directional, row-run and inpainting estimates in the mix.
-  float directionalWeight = 2.0f, rowRunWeight = 3.0f, inpaintWeight = 1.0f;
-};
-
 // Working buffers of fillHoles, kept by a caller that fills every frame so that nothing is allocated
 // per frame once they have grown to the picture's size.
 struct HoleFillScratch {
