@@ -21,6 +21,8 @@
 #include <opencv2/core/mat.hpp>
 
 #include "Synth/Layer.h"
+#include "Synth/ScratchPool.h"
+#include "Synth/Telea.h"
 
 namespace vs {
 
@@ -41,6 +43,18 @@ struct HoleFillScratch {
     cv::Rect crop;
   };
   std::vector<InpaintTask> tasks;
+  // Working buffers of the parallel loop bodies, one set per body running at once (ScratchPool.h).
+  ScratchPool<std::vector<int>> columnRows;  // the directional fill's per-column rows
+  struct Thresholds {                        // the background-only mask's thresholds of one row
+    std::vector<double> run, span;
+  };
+  ScratchPool<Thresholds> thresholdRows;
+  struct InpaintBuffers {                    // one group's inpainting
+    TeleaScratch telea;
+    std::vector<uint8_t> groupMask;
+    std::vector<float> samples;              // the crop's channels, interleaved four to a sample
+  };
+  ScratchPool<InpaintBuffers> inpaintBuffers;
 };
 
 // Fills every hole of `layer` (hole mask cleared, inverse depth set to the background's where
