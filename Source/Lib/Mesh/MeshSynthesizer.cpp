@@ -191,10 +191,13 @@ void MeshSynthesizer::synthesize(const std::vector<ReferenceFrame>& references, 
 }
 
 int runMeshRender(const Config& config) {
-  const Scene scene = loadScene(config);
-  const MeshSettings settings = readMeshSettings(config);
-  MeshFrameRenderer renderer(scene, settings);
-  runSequence("MeshRender", config, scene, renderer);
+  RunReport report("MeshRender", config);
+  runReported(report, [&] {
+    const Scene scene = loadScene(config);
+    const MeshSettings settings = readMeshSettings(config);
+    MeshFrameRenderer renderer(scene, settings);
+    return runSequence("MeshRender", scene, renderer, report);
+  });
   return 0;
 }
 

@@ -72,23 +72,10 @@ private:
   std::unique_ptr<Synthesizer> synthesizer_;
 };
 
-std::string describeTimes(const StageTimes& t, double frames) {
-  char line[512];
-  std::snprintf(line, sizeof line,
-                "read %.4f, depth warp %.4f, texture warp %.4f, blend %.4f, hole fill %.4f, write %.4f, total %.4f",
-                t.read / frames, t.depthWarp / frames, t.textureWarp / frames, t.blend / frames, t.holeFill / frames,
-                t.write / frames, t.total() / frames);
-  return line;
-}
-
 }  // namespace
 
-RunSummary runSequence(const std::string& toolName, const Config& config, const Scene& scene, FrameRenderer& renderer,
+RunSummary runSequence(const std::string& toolName, const Scene& scene, FrameRenderer& renderer, RunReport& report,
                        std::FILE* log) {
-  // Everything people read goes to `log`; nullptr: silent (benchmarks).
-  auto say = [log](const char* format, auto... args) {
-    if (log) std::fprintf(log, format, args...);
-  };
   const SynthesisSettings& s = scene.settings;
   // Room on huge pages for what the frames will allocate: about 200 bytes per output sample with two
   // views (measured on Middlebury), about 60 more per further view; half as much again to spare.
@@ -96,10 +83,7 @@ RunSummary runSequence(const std::string& toolName, const Config& config, const 
   reserveHugePageHeap(samples * (144 + 96 * s.references.size()));
   // Threads 0: every core. The output does not depend on it (Synth/Parallel.h).
   cv::setNumThreads(s.threads > 0 ? s.threads : cv::getNumberOfCPUs());
-  say("%s %s\n\n%s\n%s", toolName.c_str(), VS_VERSION, config.effectiveText().c_str(), describeCameras(scene).c_str());
-  for (const std::string& warning : scene.warnings) say("warning: %s\n", warning.c_str());
-  say("\nplan:\n");
-  for (const std::string& line : renderer.plan()) say("  %s\n", line.c_str());
+  report.begin(scene, renderer.plan(), log);
 
   // Open every input and find how many frames all of them hold from StartFrame on.
   std::vector<std::unique_ptr<YuvReader>> textures, depths;
@@ -142,19 +126,6 @@ RunSummary runSequence(const std::string& toolName, const Config& config, const 
     depthWriter = std::make_unique<YuvWriter>(s.virtualDepthPath, virtualDepthFormat, notDepth);
     virtualDepthFrame.fill(0);
   }
-  std::FILE* report = nullptr;
-  if (!s.reportPath.empty()) {
-    report = std::fopen(s.reportPath.c_str(), "w");
-    if (!report) throw InputError(s.reportPath + ": cannot create the report file");
-    std::fprintf(report, "frame,psnr_y,psnr_u,psnr_v,psnr_yuv,read_s,depth_warp_s,texture_warp_s,blend_s,hole_fill_s,write_s,total_s\n");
-  }
-  struct ReportCloser {
-    std::FILE* f;
-    ~ReportCloser() {
-      if (f) std::fclose(f);
-    }
-  } closer{report};
-
   // Two sets of input buffers: while one frame is synthesized, the next one is read on another
   // thread (reading is file I/O and unpacking; the synthesis keeps the cores busy).
   struct Inputs {
@@ -212,9 +183,7 @@ RunSummary runSequence(const std::string& toolName, const Config& config, const 
     }
   } waiter{nextRead};
   Frame output;
-  PsnrAccumulator accumulator(s.textureFormat.bitDepth, s.textureFormat.chroma != ChromaFormat::Yuv400);
-  RunSummary summary;
-  say("\n");
+  report.startFrames(log);
   for (int64_t f = 0; f < available; ++f) try {
     const int64_t frameIndex = s.startFrame + f;
     StageTimes times;
@@ -237,22 +206,9 @@ RunSummary runSequence(const std::string& toolName, const Config& config, const 
       depthWriter->append(virtualDepthFrame);
     }
     times.write = secondsSince(start);
-    summary.times += times;
-    ++summary.framesWritten;
-    say("frame %lld: %.4f s", (long long)frameIndex, times.total());
-    FramePsnr psnr;
-    if (truth) {
-      psnr = framePsnr(truthFrame, output);
-      accumulator.add(psnr);
-      say("  PSNR Y %s U %s V %s dB", formatPsnr(psnr.y).c_str(), formatPsnr(psnr.u).c_str(), formatPsnr(psnr.v).c_str());
-    }
-    say("\n");
-    if (log) std::fflush(log);
-    if (report)
-      std::fprintf(report, "%lld,%s,%s,%s,%s,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f\n", (long long)frameIndex,
-                   truth ? formatPsnr(psnr.y).c_str() : "", truth ? formatPsnr(psnr.u).c_str() : "",
-                   truth ? formatPsnr(psnr.v).c_str() : "", truth ? formatPsnr(psnr.yuv).c_str() : "", times.read,
-                   times.depthWarp, times.textureWarp, times.blend, times.holeFill, times.write, times.total());
+    FrameRecord record{frameIndex, bool(truth), {}, times};
+    if (truth) record.psnr = framePsnr(truthFrame, output);
+    report.addFrame(record, log);
   } catch (const InputError& e) {
     // Say what is on disk: the writers keep whole frames only.
     std::string written = std::to_string(writer.framesWritten()) + " whole frames were written to " + s.outputPath;
@@ -261,20 +217,7 @@ RunSummary runSequence(const std::string& toolName, const Config& config, const 
     throw InputError(std::string(e.what()) + " (frame " + std::to_string(s.startFrame + f) + "; " + written + ")");
   }
 
-  const double frames = double(summary.framesWritten);
-  say("\n%lld frames written to %s\n", (long long)summary.framesWritten, s.outputPath.c_str());
-  say("seconds per frame: %s\n", describeTimes(summary.times, frames).c_str());
-  if (truth && accumulator.frames() > 0) {
-    summary.meanPsnrY = accumulator.y().frameMean;
-    if (accumulator.hasChroma()) {
-      summary.meanPsnrU = accumulator.u().frameMean;
-      summary.meanPsnrV = accumulator.v().frameMean;
-    }
-    say("mean PSNR: Y %s U %s V %s YUV %s dB\n", formatPsnr(accumulator.y().frameMean).c_str(),
-                accumulator.hasChroma() ? formatPsnr(accumulator.u().frameMean).c_str() : "-",
-                accumulator.hasChroma() ? formatPsnr(accumulator.v().frameMean).c_str() : "-",
-                formatPsnr(accumulator.yuv().frameMean).c_str());
-  }
+  const RunSummary summary = report.finish(s.outputPath, log);
   if (available < s.frameCount)
     throw InputError(shortest + " holds only " + std::to_string(available) + " frames from StartFrame " +
                      std::to_string(s.startFrame) + ", but TotalNumberOfFrames is " + std::to_string(s.frameCount) + "; " +
@@ -283,9 +226,12 @@ RunSummary runSequence(const std::string& toolName, const Config& config, const 
 }
 
 RunSummary runViewSyn(const Config& config, std::FILE* log) {
-  const Scene scene = loadScene(config);
-  ViewSynRenderer renderer(scene);
-  return runSequence("ViewSyn", config, scene, renderer, log);
+  RunReport report("ViewSyn", config);
+  return runReported(report, [&] {
+    const Scene scene = loadScene(config);
+    ViewSynRenderer renderer(scene);
+    return runSequence("ViewSyn", scene, renderer, report, log);
+  });
 }
 
 }  // namespace vs

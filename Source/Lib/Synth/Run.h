@@ -8,6 +8,7 @@
 
 #include "Common/Config.h"
 #include "Common/Scene.h"
+#include "Pipeline/RunReport.h"
 #include "Synth/Synthesizer.h"
 
 namespace vs {
@@ -27,19 +28,14 @@ public:
   }
 };
 
-struct RunSummary {
-  int64_t framesWritten = 0;
-  double meanPsnrY = 0, meanPsnrU = 0, meanPsnrV = 0;  // frame means; 0 without a reference view
-  StageTimes times;                                      // sums over all frames
-};
-
 // Runs the whole sequence. Throws InputError for bad input; when the inputs hold fewer frames than
 // asked for, the frames they do hold are written and then InputError says how many.
-// Progress and summary go to `log` (nullptr: silent).
-RunSummary runSequence(const std::string& toolName, const Config& config, const Scene& scene, FrameRenderer& renderer,
+// Progress and summary go to `log` (nullptr: silent); `report` keeps the frames for the summary.
+RunSummary runSequence(const std::string& toolName, const Scene& scene, FrameRenderer& renderer, RunReport& report,
                        std::FILE* log = stdout);
 
-// ViewSyn's run(): loads the scene, lets the plan decide, runs the sequence.
+// ViewSyn's run(): loads the scene, lets the plan decide, runs the sequence; writes SummaryFile
+// (also when it fails).
 RunSummary runViewSyn(const Config& config, std::FILE* log = stdout);
 
 }  // namespace vs
