@@ -8,7 +8,7 @@
 #include "Common/Error.h"
 #include "Common/Options.h"
 #include "Common/Scene.h"
-#include "Synth/Run.h"
+#include "Synth/ViewSynRenderer.h"
 
 namespace {
 

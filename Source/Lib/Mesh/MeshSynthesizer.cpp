@@ -7,7 +7,8 @@
 #include "Common/Error.h"
 #include "Mesh/MeshPly.h"
 #include "Synth/Colour.h"
-#include "Synth/Run.h"
+#include "Pipeline/FrameLoop.h"
+#include "Synth/Parallel.h"
 
 namespace vs {
 
@@ -196,6 +197,7 @@ int runMeshRender(const Config& config) {
     const Scene scene = loadScene(config);
     const MeshSettings settings = readMeshSettings(config);
     MeshFrameRenderer renderer(scene, settings);
+    setWorkerThreads(scene.settings.threads);
     return runSequence("MeshRender", scene, renderer, report);
   });
   return 0;
