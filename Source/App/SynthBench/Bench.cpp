@@ -110,7 +110,7 @@ int runBench(const BenchSettings& settings) {
   const fs::path work = settings.work.empty() ? temporary.path : fs::path(settings.work);
   std::error_code error;
   fs::create_directories(work, error);
-  if (error || !fs::is_directory(work))
+  if (error || !fs::is_directory(work, error))
     throw InputError("--work " + work.string() + ": cannot create the folder (" +
                          (error ? error.message() : std::string("not a folder")) + ")");
   if (demo)
