@@ -19,9 +19,8 @@ int main(int argc, char** argv) {
   tool.manual = "doc/meshrender.md";
   tool.keys = &table;
   tool.run = [](const vs::Config& config) { vs::runMeshRender(config); };
-  tool.check = [](const vs::Config& config, std::FILE* out) {
-    vs::readMeshSettings(config);
-    if (!out) return;  // --print-config: no OpenGL context needed
+  tool.validate = [](const vs::Config& config, const vs::Scene&) { vs::readMeshSettings(config); };
+  tool.describe = [](std::FILE* out) {
     const vs::EglContext context;
     std::fprintf(out, "OpenGL: %s\n", context.description().c_str());
   };

@@ -37,15 +37,15 @@ CommandLineTool synthesisCommandLine(const SynthesisTool& tool) {
   front.run = [tool](const CommandLine& line) {
     const std::vector<std::string> overrides(line.positional.begin() + 1, line.positional.end());
     const Config config = Config::load(*tool.keys, line.positional[0], overrides);
-    if (line.action == "--print-config") {
+    if (!line.action.empty()) {
       const Scene scene = loadScene(config);
-      if (tool.check) tool.check(config, nullptr);
-      std::fputs(configJson(tool.name, config, scene).c_str(), stdout);
-      return 0;
-    }
-    if (line.action == "--check") {
-      printConfigCheck(tool.name, line.positional[0], config, loadScene(config));
-      if (tool.check) tool.check(config, stdout);
+      if (tool.validate) tool.validate(config, scene);
+      if (line.action == "--print-config") {
+        std::fputs(configJson(tool.name, config, scene).c_str(), stdout);
+        return 0;
+      }
+      printConfigCheck(tool.name, line.positional[0], config, scene);
+      if (tool.describe) tool.describe(stdout);
       std::printf("configuration OK\n");
       return 0;
     }

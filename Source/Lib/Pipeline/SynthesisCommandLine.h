@@ -5,6 +5,7 @@
 //   TOOL --check FILE.cfg [Key=Value ...]          check config and camera file, open no YUV file
 //   TOOL --print-config FILE.cfg [Key=Value ...]   the effective config and the scene as JSON
 //   TOOL --help | --help-markdown
+#include <cstdio>
 #include <functional>
 #include <string>
 
@@ -21,9 +22,11 @@ struct SynthesisTool {
   std::string manual;       // "doc/manual.md"
   const OptionTable* keys = nullptr;
   std::function<void(const Config&)> run;  // renders the sequence (throws InputError)
-  // --check's and --print-config's checks beyond the scene (may be null); prints what it found to
-  // `out` when `out` is not null.
-  std::function<void(const Config&, std::FILE* out)> check;
+  // The tool's own checks beyond config and scene for --check and --print-config (may be null):
+  // throws InputError for what a run would refuse; called before anything is printed.
+  std::function<void(const Config&, const Scene&)> validate;
+  // --check only: what the tool adds to the printout after the cameras (may be null; may throw).
+  std::function<void(std::FILE* out)> describe;
 };
 
 CommandLineTool synthesisCommandLine(const SynthesisTool& tool);
