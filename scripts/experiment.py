@@ -3,9 +3,9 @@
 and resumably, writes one CSV row per run and, with --report, a Markdown report with the classic
 comparison table against VSRS 4.2, a work-precision plot and zoomed crops around depth edges.
 
-    python3 scripts/experiment.py experiments/middlebury.json -j 2 --report doc/results.md
+    python3 scripts/experiment.py cfg/experiments/middlebury.json -j 2 --report doc/results.md
 
-The experiment file format is described in doc/results.md's appendix and in experiments/README.md;
+The experiment file format is described in doc/results.md's appendix and in cfg/experiments/README.md;
 in short it is JSON with the sections "scenes", "methods", "tables", "plot" and "crops".
 Only the Python standard library is needed to run experiments; the report's plots and crops need the
 Debian packages python3-matplotlib and python3-numpy.
@@ -190,7 +190,7 @@ class Experiment:
         data = data_override or os.environ.get("VS_DATA_DIR") or spec.get("data", "../../shared/data")
         self.data_dir = (Path.cwd() / data) if data_override or os.environ.get("VS_DATA_DIR") else (base / data)
         self.data_dir = self.data_dir.resolve()
-        work = work_override or spec.get("work", "../out/experiments/" + self.name)
+        work = work_override or spec.get("work", "../../out/experiments/" + self.name)
         self.work = ((Path.cwd() / work) if work_override else (base / work)).resolve()
         self.threads = int(spec.get("threads", 1))
         self.notes = spec.get("notes", [])
@@ -1203,9 +1203,9 @@ class Report:
                 "every combination is one setting; a list of such objects: their union), optionally restricted "
                 "to `groups` and `cameras`. `tables`, `plot` and `crops` say what the report shows. A result "
                 "row's key is (scene, camera, tool, settings), so a run shared by two methods runs once, and a "
-                "resumed run skips rows already in `results.csv`. The full description: [experiments/README.md](%s).\n"
+                "resumed run skips rows already in `results.csv`. The full description: [cfg/experiments/README.md](%s).\n"
                 % (os.path.relpath(self.exp.path, REPO),
-                   os.path.relpath(REPO / "experiments" / "README.md", self.path.parent)))
+                   os.path.relpath(REPO / "cfg" / "experiments" / "README.md", self.path.parent)))
 
 
 SECONDS_LABEL = {"cpu": "CPU seconds per frame (process, 1 thread)", "tool": "seconds per frame (in-tool wall clock)",
