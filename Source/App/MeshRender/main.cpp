@@ -10,6 +10,7 @@
 #include "Common/Scene.h"
 #include "Mesh/EglContext.h"
 #include "Mesh/MeshSynthesizer.h"
+#include "Pipeline/RunReport.h"
 
 namespace {
 
@@ -24,6 +25,9 @@ void printUsage(std::FILE* out, const vs::OptionTable& table) {
       "                                               context can be created; print the effective\n"
       "                                               configuration, the cameras and the renderer; open no\n"
       "                                               YUV file\n"
+      "  MeshRender --print-config FILE.cfg [Key=Value ...]\n"
+      "                                               print the effective configuration and the scene as\n"
+      "                                               JSON (for scripts); open no YUV file\n"
       "  MeshRender --help                            this text\n\n"
       "Exit codes: 0 success, 1 bad input or no OpenGL (the message says which file, line or key, or what\n"
       "EGL tried), 2 bad usage.\n"
@@ -41,10 +45,17 @@ int main(int argc, char** argv) {
   tool.table = &table;
   tool.printUsage = [&](std::FILE* out) { printUsage(out, table); };
   tool.hasCheck = true;
-  tool.run = [&](const std::vector<std::string>& args, bool check) {
+  tool.hasPrintConfig = true;
+  tool.run = [&](const std::vector<std::string>& args, vs::ToolAction action) {
     const std::vector<std::string> overrides(args.begin() + 1, args.end());
     const vs::Config config = vs::Config::load(table, args[0], overrides);
-    if (check) {
+    if (action == vs::ToolAction::PrintConfig) {
+      const vs::Scene scene = vs::loadScene(config);
+      vs::readMeshSettings(config);
+      std::fputs(vs::configJson("MeshRender", config, scene).c_str(), stdout);
+      return 0;
+    }
+    if (action == vs::ToolAction::Check) {
       const vs::Scene scene = vs::loadScene(config);
       vs::readMeshSettings(config);
       vs::printConfigCheck("MeshRender", args[0], config, scene);

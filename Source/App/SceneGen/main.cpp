@@ -36,7 +36,7 @@ int main(int argc, char** argv) {
   tool.name = "SceneGen";
   tool.table = &table;
   tool.printUsage = [&](std::FILE* out) { printUsage(out, table); };
-  tool.run = [&](const std::vector<std::string>& args, bool) {
+  tool.run = [&](const std::vector<std::string>& args, vs::ToolAction) {
     // A first argument of the form Key=Value means: no config file, overrides only.
     const bool hasConfigFile = args[0].find('=') == std::string::npos;
     const std::string cfgPath = hasConfigFile ? args[0] : std::string();

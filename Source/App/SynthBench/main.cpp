@@ -21,7 +21,7 @@
 #include "Common/Memory.h"
 #include "Common/Options.h"
 #include "Scene/SceneGen.h"
-#include "Synth/Run.h"
+#include "Synth/ViewSynRenderer.h"
 
 extern char** environ;  // the environment the whole-process runs inherit (POSIX)
 

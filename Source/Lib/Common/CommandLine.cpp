@@ -23,12 +23,13 @@ int runCommandLine(int argc, char** argv, const CommandLineTool& tool) {
     std::fputs(tool.table->markdownTable().c_str(), stdout);
     return 0;
   }
-  bool check = false;
-  if (tool.hasCheck && args[0] == "--check") {
-    check = true;
+  ToolAction action = ToolAction::Run;
+  if ((tool.hasCheck && args[0] == "--check") || (tool.hasPrintConfig && args[0] == "--print-config")) {
+    action = args[0] == "--check" ? ToolAction::Check : ToolAction::PrintConfig;
+    const std::string option = args[0];
     args.erase(args.begin());
     if (args.empty()) {
-      std::fprintf(stderr, "%s: --check needs a config file\n", tool.name.c_str());
+      std::fprintf(stderr, "%s: %s needs a config file\n", tool.name.c_str(), option.c_str());
       return 2;
     }
   }
@@ -38,7 +39,7 @@ int runCommandLine(int argc, char** argv, const CommandLineTool& tool) {
     return 2;
   }
   try {
-    return tool.run(args, check);
+    return tool.run(args, action);
   } catch (const InputError& e) {
     std::fprintf(stderr, "%s: error: %s\n", tool.name.c_str(), e.what());
   } catch (const std::bad_alloc&) {

@@ -3,6 +3,7 @@
 //   TOOL --help | -h          the usage and every key, on stdout; exit 0
 //   TOOL --help-markdown      the keys as Markdown tables (the manuals' source); exit 0
 //   TOOL --check FILE ...     where the tool has a check: run it instead of the tool
+//   TOOL --print-config FILE ...  where offered: the effective config and scene as JSON, on stdout
 //   TOOL ARGS ...             the tool
 // No argument prints the usage on stderr and exits 2, as does an unknown --option. Bad input
 // (InputError) is reported as "TOOL: error: ..." on stderr with exit 1, and so is running out of
@@ -18,14 +19,17 @@
 
 namespace vs {
 
+enum class ToolAction { Run, Check, PrintConfig };
+
 struct CommandLineTool {
   std::string name;
   const OptionTable* table = nullptr;          // for --help-markdown
   std::function<void(std::FILE*)> printUsage;  // usage text and the keys
-  // Runs the tool on the arguments after the options; `check` is true for --check (only offered when
-  // `hasCheck`). Returns the exit code.
-  std::function<int(const std::vector<std::string>& args, bool check)> run;
+  // Runs the tool on the arguments after the options; `action` is Check for --check (only offered when
+  // `hasCheck`), PrintConfig for --print-config (when `hasPrintConfig`). Returns the exit code.
+  std::function<int(const std::vector<std::string>& args, ToolAction action)> run;
   bool hasCheck = false;
+  bool hasPrintConfig = false;
 };
 
 int runCommandLine(int argc, char** argv, const CommandLineTool& tool);

@@ -519,15 +519,16 @@ void Config::requireKeys(ProblemList& problems, const std::vector<std::string>& 
                    key + "' (" + spec(key).help + ")");
 }
 
+std::string Config::effectiveValue(const std::string& key) const {
+  return !isSet(key) && spec(key).defaultValue.empty() ? "(not set)" : raw(key);
+}
+
 std::string Config::effectiveText() const {
   std::ostringstream out;
   for (const OptionSpec& s : table_.options()) {
     char line[64];
     std::snprintf(line, sizeof line, "%-32s ", s.key.c_str());
-    out << line;
-    if (!isSet(s.key) && s.defaultValue.empty()) out << "(not set)";
-    else out << raw(s.key);
-    out << "\n";
+    out << line << effectiveValue(s.key) << "\n";
   }
   return out.str();
 }

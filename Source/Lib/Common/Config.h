@@ -109,6 +109,9 @@ public:
   // `extraKeys` (keys required in the chosen mode).
   void requireKeys(ProblemList& problems, const std::vector<std::string>& extraKeys = {}) const;
 
+  // The value effectiveText() shows for `key`: raw(key), or "(not set)" for an unset key without a
+  // default. The JSON summary and --print-config write the same text.
+  std::string effectiveValue(const std::string& key) const;
   // Every key with its effective value, VSRS style ("Key   value"), one a line.
   std::string effectiveText() const;
 
