@@ -5,6 +5,7 @@
 #include <fstream>
 #include <map>
 #include <sstream>
+#include <utility>
 
 #include "Common/Config.h"
 #include "Common/Error.h"
@@ -46,7 +47,7 @@ double detailScaleDivisor(Pattern pattern) {
 
 class Parser {
 public:
-  Parser(std::string name) : name_(std::move(name)) {}
+  explicit Parser(std::string name) : name_(std::move(name)) {}
 
   void line(int number, const std::vector<std::string>& words) {
     where_ = name_ + ":" + std::to_string(number);
@@ -81,12 +82,12 @@ public:
 
   SceneFile finish() {
     finishObject();
-    if (scene_.objects.empty()) problem_.add(name_ + ": no Object in the scene file; at least one expected");
-    problem_.throwIfAny(name_ + ": invalid scene file:");
+    if (scene_.objects.empty()) problems_.add(name_ + ": no Object in the scene file; at least one expected");
+    problems_.throwIfAny(name_ + ": invalid scene file:");
     return scene_;
   }
 
-  void problem(const std::string& text) { problem_.add(where_ + ": " + text); }
+  void problem(const std::string& text) { problems_.add(where_ + ": " + text); }
 
 private:
   void startObject(const std::vector<std::string>& words) {
@@ -217,7 +218,7 @@ private:
 
   std::string name_, where_;
   SceneFile scene_;
-  ProblemList problem_;
+  ProblemList problems_;
   bool orientationGiven_ = false;
   bool detailScaleGiven_ = false;
 };
