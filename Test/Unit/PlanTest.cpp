@@ -10,7 +10,7 @@
 #include "Common/Metrics.h"
 #include "Common/Options.h"
 #include "Plan/Plan.h"
-#include "Synth/Run.h"
+#include "Synth/ViewSynRenderer.h"
 #include "SynthTestScene.h"
 #include "TestPaths.h"
 #include "TestPlan.h"

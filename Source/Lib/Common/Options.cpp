@@ -167,6 +167,9 @@ void addSynthesisOptions(OptionTable& table) {
              intOption("Threads", 0, 0, 256, "-", "Worker threads; 0: all cores"),
              textOption("ReportFile", OptionType::Path, false, "-",
                         "Optional machine-readable report (CSV: one row per frame with PSNR and per-stage seconds)"),
+             textOption("SummaryFile", OptionType::Path, false, "-",
+                        "Optional JSON summary of the run: tool, effective config, plan, frames, means, exit "
+                        "status and error (written also when the run fails; doc/report.md)"),
          });
 }
 

@@ -7,7 +7,8 @@
 #include "Common/Error.h"
 #include "Mesh/MeshPly.h"
 #include "Synth/Colour.h"
-#include "Synth/Run.h"
+#include "Pipeline/FrameLoop.h"
+#include "Synth/Parallel.h"
 
 namespace vs {
 
@@ -160,12 +161,16 @@ void MeshSynthesizer::synthesize(const std::vector<ReferenceFrame>& references, 
 }
 
 int runMeshRender(const Config& config) {
-  const Scene scene = loadScene(config);
-  const MeshSettings settings = readMeshSettings(config);
-  // The plan refuses what MeshRender cannot do before anything is opened.
-  const Plan plan = makePlan(scene, Tool::MeshRender);
-  MeshFrameRenderer renderer(scene, plan, settings);
-  runSequence("MeshRender", config, scene, renderer);
+  RunReport report("MeshRender", config);
+  runReported(report, [&] {
+    const Scene scene = loadScene(config);
+    const MeshSettings settings = readMeshSettings(config);
+    // The plan refuses what MeshRender cannot do before anything is opened.
+    const Plan plan = makePlan(scene, Tool::MeshRender);
+    MeshFrameRenderer renderer(scene, plan, settings);
+    setWorkerThreads(scene.settings.threads);
+    return runSequence("MeshRender", scene, renderer, report);
+  });
   return 0;
 }
 

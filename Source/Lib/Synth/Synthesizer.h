@@ -8,7 +8,7 @@
 //      sub-pixel position its depth gives (Precision, Filter), luma at luma positions and chroma at
 //      chroma positions (no sample replication)
 //   3. blend the views (Layer.h), 4. fill the holes (HoleFill.h), 5. round into the output frame
-// The 1D path (a rectified rig, Plan.h) warps rows into rows instead. Every decision (path, weights,
+// The 1D path (a rectified rig, Plan/Rectification.h) warps rows into rows instead. Every decision (path, weights,
 // tolerances, which stages run) comes from the plan. The stages live in files of their own:
 //   ReferenceEdges.cpp  reference depth edges: which reference samples are unreliable
 //   DepthWarp.cpp       the general path's depth warp (triangles and points into a z-buffer)
@@ -23,6 +23,7 @@
 
 #include "Common/Frame.h"
 #include "Common/Scene.h"
+#include "Common/Timing.h"
 #include "Plan/Plan.h"
 #include "Synth/EdgeAlign.h"
 #include "Synth/HoleFill.h"
@@ -36,31 +37,6 @@
 #include "Synth/Warp.h"
 
 namespace vs {
-
-struct StageTimes {
-  double read = 0, depthWarp = 0, textureWarp = 0, blend = 0, holeFill = 0, write = 0;
-  double total() const { return read + depthWarp + textureWarp + blend + holeFill + write; }
-  StageTimes& operator+=(const StageTimes& o) {
-    read += o.read;
-    depthWarp += o.depthWarp;
-    textureWarp += o.textureWarp;
-    blend += o.blend;
-    holeFill += o.holeFill;
-    write += o.write;
-    return *this;
-  }
-};
-
-// Wall-clock seconds since `start`, for StageTimes.
-inline double secondsSince(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
-
-// One reference view's frame: texture and depth levels (the luma of the depth file).
-struct ReferenceFrame {
-  const Frame* texture = nullptr;
-  const Plane* depth = nullptr;
-};
 
 // Statistics of the last frame, for the log and tests.
 struct FrameStats {

@@ -1,4 +1,3 @@
 # vssynth: ViewSyn's renderer; it receives the plan (vsplan) and decides nothing itself.
-target_link_libraries(vssynth PUBLIC vsplan)
-target_link_libraries(vssynth PUBLIC ${OpenCV_LIBS})
+target_link_libraries(vssynth PUBLIC vsplan vspipeline ${OpenCV_LIBS})
 target_include_directories(vssynth SYSTEM PUBLIC ${OpenCV_INCLUDE_DIRS})
