@@ -22,6 +22,7 @@ public:
     synthesizer_.synthesize(references, output, times);
   }
   std::vector<std::string> plan() const override { return synthesizer_.plan(); }
+  std::vector<std::pair<std::string, std::string>> decisions() const override { return synthesizer_.decisions().fields(); }
 
 private:
   MeshSynthesizer synthesizer_;

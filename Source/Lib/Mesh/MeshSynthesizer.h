@@ -49,6 +49,7 @@ public:
   // Lines for the plan printed before the first frame: the plan's, and what the renderer adds (the
   // OpenGL renderer, the mesh, each view's depth-buffer planes, PLY files).
   std::vector<std::string> plan() const;
+  const Plan& decisions() const { return plan_; }
   const std::string& rendererDescription() const { return renderer_.description(); }
   const BlendOptions& blendOptions() const { return plan_.blending; }
   const HoleFillOptions& holeFillOptions() const { return plan_.lumaFill; }

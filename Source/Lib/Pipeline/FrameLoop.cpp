@@ -17,6 +17,7 @@ RunSummary runSequence(const std::string& toolName, const Scene& scene, FrameRen
   // views (measured on Middlebury), about 60 more per further view; half as much again to spare.
   const size_t samples = size_t(s.textureFormat.width) * size_t(s.textureFormat.height);
   reserveHugePageHeap(samples * (144 + 96 * s.references.size()));
+  report.recordDecisions(renderer.decisions());
   report.begin(scene, renderer.plan(), log);
   SequenceInputs inputs(s);
   SequenceOutputs outputs(s);

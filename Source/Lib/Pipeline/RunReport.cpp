@@ -89,6 +89,13 @@ std::string configMembers(const Config& config, const char* indent) {
   return out + "\n" + indent + "}";
 }
 
+std::string decisionMembers(const std::vector<std::pair<std::string, std::string>>& decisions) {
+  std::string out = "{";
+  for (size_t k = 0; k < decisions.size(); ++k)
+    out += std::string(k ? ", " : "") + jsonString(decisions[k].first) + ": " + jsonString(decisions[k].second);
+  return out + "}";
+}
+
 std::string jsonStrings(const std::vector<std::string>& lines) {
   std::string out = "[";
   for (size_t k = 0; k < lines.size(); ++k) out += std::string(k ? ", " : "") + jsonString(lines[k]);
@@ -193,6 +200,7 @@ std::string RunReport::summaryJson(int exitStatus, const std::string& error) con
   out << "{\n  \"tool\": " << jsonString(toolName_) << ",\n  \"version\": " << jsonString(VS_VERSION)
       << ",\n  \"config_file\": " << (config_.configPath().empty() ? "null" : jsonString(config_.configPath()))
       << ",\n  \"config\": " << configMembers(config_, "  ") << ",\n  \"plan\": " << jsonStrings(plan_)
+      << ",\n  \"decisions\": " << decisionMembers(decisions_)
       << ",\n  \"warnings\": " << jsonStrings(warnings_) << ",\n  \"frames\": [";
   for (size_t f = 0; f < frames_.size(); ++f) {
     out << (f ? ",\n    {" : "\n    {");

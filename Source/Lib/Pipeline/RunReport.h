@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <functional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "Common/Config.h"
@@ -45,6 +46,8 @@ public:
   // Prints the start of the run to `log` (nullptr: silent): tool and version, the effective
   // configuration, the cameras, the scene's warnings and the plan; keeps warnings and plan.
   void begin(const Scene& scene, const std::vector<std::string>& plan, std::FILE* log);
+  // The plan's decisions as key/value pairs, written as the summary's "decisions" object.
+  void recordDecisions(std::vector<std::pair<std::string, std::string>> decisions) { decisions_ = std::move(decisions); }
   // Creates ReportFile (when set) with its header, after the outputs are open. Throws InputError.
   void startFrames(std::FILE* log);
   // One frame: a line on `log`, a CSV row, a JSON entry.
@@ -66,6 +69,7 @@ private:
   std::FILE* csv_ = nullptr;
   bool hasChroma_ = true;
   std::vector<std::string> plan_, warnings_;
+  std::vector<std::pair<std::string, std::string>> decisions_;
   std::vector<FrameRecord> frames_;
 };
 

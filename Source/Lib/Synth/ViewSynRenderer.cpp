@@ -40,6 +40,7 @@ public:
     return true;
   }
   std::vector<std::string> plan() const override { return plan_.lines(); }
+  std::vector<std::pair<std::string, std::string>> decisions() const override { return plan_.fields(); }
 
 private:
   const Scene& scene_;
