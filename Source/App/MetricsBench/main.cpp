@@ -94,7 +94,7 @@ struct ReferenceRun {
 };
 
 ReferenceRun runReference(const BenchOptions& options, const std::string& ref, const std::string& test,
-                          int threads) {
+                          int threads, const std::string& metrics, bool erp) {
   ReferenceRun run;
   const vs::FrameFormat& f = options.format;
   const char* cf = f.chroma == vs::ChromaFormat::Yuv444 ? "444" : "420";
@@ -102,7 +102,7 @@ ReferenceRun runReference(const BenchOptions& options, const std::string& ref, c
   const std::string command = "'" + options.referenceBinary + "' -i0 '" + ref + "' -i1 '" + test + "' -ps " +
                               std::to_string(f.width) + "x" + std::to_string(f.height) + " -bd " +
                               std::to_string(f.bitDepth) + " -cf " + cf +
-                              " -ml \"PSNR, WSPSNR, IVPSNR, SSIM, MSSSIM\" -erp -nf 1 -v 3 -nth " +
+                              " -ml \"" + metrics + "\"" + (erp ? " -erp" : "") + " -nf 1 -v 3 -nth " +
                               std::to_string(threads) + " > " + out + " 2>&1";
   if (std::system(command.c_str()) != 0) return run;
   FILE* file = std::fopen(out.c_str(), "r");
@@ -172,8 +172,17 @@ int run(const BenchOptions& options) {
   ReferenceRun single, multi;
   const bool withReference = !options.referenceBinary.empty();
   if (withReference) {
-    single = runReference(options, refPath, testPath, 0);
-    multi = runReference(options, refPath, testPath, -2);
+    // WS-PSNR needs -erp, which also weights the reference's IV-PSNR rows: two runs.
+    const std::string metrics = "PSNR, IVPSNR, SSIM, MSSSIM";
+    single = runReference(options, refPath, testPath, 0, metrics, false);
+    multi = runReference(options, refPath, testPath, -2, metrics, false);
+    ReferenceRun single2 = runReference(options, refPath, testPath, 0, "WSPSNR", true);
+    ReferenceRun multi2 = runReference(options, refPath, testPath, -2, "WSPSNR", true);
+    single.ok = single.ok && single2.ok;
+    multi.ok = multi.ok && multi2.ok;
+    single.ms["WSPSNR"] = single2.ms["WSPSNR"];
+    multi.ms["WSPSNR"] = multi2.ms["WSPSNR"];
+    single.values["WSPSNR"] = single2.values["WSPSNR"];
     if (!single.ok || !multi.ok)
       throw vs::InputError(options.referenceBinary + ": the reference software did not run (see "
                            "/tmp/MetricsBench_reference.txt)");

@@ -33,94 +33,141 @@ struct PlaneScore {
   double count = 0;  // evaluated centres
 };
 
-// Sum of SSIM (withLuminance) or of contrast-structure over the centres 5 <= x < W-5, 5 <= y < H-5,
-// by a separable filter in double; per-row sums combined in row order.
-PlaneScore planeScore(const Plane& a, const Plane& b, int bitDepth, const Window& window, bool withLuminance,
-                      int threads) {
+// One row of the horizontal pass: the five moments (a, b, aa, bb, ab) of centred samples filtered
+// with g over Taps samples; output i covers input i .. i + Taps - 1. Free functions with restrict
+// pointers so that the compiler vectorises over i.
+template <int Taps>
+void filterHorizontal(const float* __restrict ca, const float* __restrict cb, int n, const float* __restrict g,
+                      float* __restrict oa, float* __restrict ob, float* __restrict oaa, float* __restrict obb,
+                      float* __restrict oab) {
+  for (int i = 0; i < n; ++i) {
+    float sa = 0, sb = 0, saa = 0, sbb = 0, sab = 0;
+#pragma GCC unroll 11
+    for (int k = 0; k < Taps; ++k) {
+      const float va = ca[i + k], vb = cb[i + k];
+      sa += g[k] * va;
+      sb += g[k] * vb;
+      saa += g[k] * (va * va);
+      sbb += g[k] * (vb * vb);
+      sab += g[k] * (va * vb);
+    }
+    oa[i] = sa;
+    ob[i] = sb;
+    oaa[i] = saa;
+    obb[i] = sbb;
+    oab[i] = sab;
+  }
+}
+
+struct IndexConstants {
+  float c1, c2;      // (0.01 L)^2, (0.03 L)^2
+  float centreS;     // c S: the mean of the centring offset through the window
+  float linear;      // c (1 - S)
+  float constant;    // c^2 S (1 - S)
+};
+
+// The vertical pass and the index per centre: in[m * Taps + k] is moment m of the k-th input row.
+template <int Taps, bool WithLuminance>
+void filterVertical(const float* const* in, int n, const float* __restrict g, const IndexConstants& k0,
+                    float* __restrict out) {
+  const float c1 = k0.c1, c2 = k0.c2, linear = k0.linear, constant = k0.constant, centreS = k0.centreS;
+  for (int i = 0; i < n; ++i) {
+    float ma = 0, mb = 0, qaa = 0, qbb = 0, qab = 0;
+#pragma GCC unroll 11
+    for (int k = 0; k < Taps; ++k) {
+      ma += g[k] * in[k][i];
+      mb += g[k] * in[Taps + k][i];
+      qaa += g[k] * in[2 * Taps + k][i];
+      qbb += g[k] * in[3 * Taps + k][i];
+      qab += g[k] * in[4 * Taps + k][i];
+    }
+    const float varA = qaa - ma * ma + 2.0f * linear * ma + constant;
+    const float varB = qbb - mb * mb + 2.0f * linear * mb + constant;
+    const float cov = qab - ma * mb + linear * (ma + mb) + constant;
+    const float csNum = 2.0f * cov + c2, csDen = varA + varB + c2;
+    if constexpr (WithLuminance) {
+      const float meanA = ma + centreS, meanB = mb + centreS;
+      out[i] = ((2.0f * meanA * meanB + c1) * csNum) / ((meanA * meanA + meanB * meanB + c1) * csDen);
+    } else {
+      out[i] = csNum / csDen;
+    }
+  }
+}
+
+// Sum of SSIM (withLuminance) or of contrast-structure over the centres 5 <= x < W-5, 5 <= y < H-5.
+// A separable filter in float on samples centred on mid-grey (c = 2^(bitDepth-1)), so that no moment
+// is much larger than the variances it yields; the uncentred moments of the formula follow exactly:
+// with S = sum of the window's weights (1 for Wang, about 0.998 for Qmiv's 10x10),
+//   mean = m + c S,  E[a b] - mean_a mean_b = q_ab - m_a m_b + c (m_a + m_b)(1 - S) + c^2 S (1 - S).
+// Per-row sums in double, combined in row order.
+template <int Taps>
+PlaneScore planeScoreTaps(const Plane& a, const Plane& b, int bitDepth, const Window& window, bool withLuminance,
+                          int threads) {
   PlaneScore score;
   const int width = a.width, height = a.height;
-  const int n = width - 2 * kRadius;   // centres per row
+  const int n = width - 2 * kRadius;  // centres per row
   const int rows = height - 2 * kRadius;
   if (n <= 0 || rows <= 0) return score;
   const double peak = double((1 << bitDepth) - 1);
-  const double c1 = (0.01 * peak) * (0.01 * peak);
-  const double c2 = (0.03 * peak) * (0.03 * peak);
-  const int taps = window.taps;
+  const float c1 = float((0.01 * peak) * (0.01 * peak));
+  const float c2 = float((0.03 * peak) * (0.03 * peak));
+  const float centre = float(1 << (bitDepth - 1));
+  float g[Taps];
+  double sumWeights1D = 0;
+  for (int k = 0; k < Taps; ++k) {
+    g[k] = float(window.g[k]);
+    sumWeights1D += double(g[k]);
+  }
+  const double s = sumWeights1D * sumWeights1D;
+  IndexConstants constants;
+  constants.c1 = c1;
+  constants.c2 = c2;
+  constants.centreS = float(double(centre) * s);
+  constants.linear = float(double(centre) * (1.0 - s));
+  constants.constant = float(double(centre) * double(centre) * s * (1.0 - s));
   std::vector<double> rowSum(size_t(rows), 0.0);
   parallelRows(rows, threads, [&](int r0, int r1) {
-    // ring[t][m]: horizontally filtered moment m (a, b, aa, bb, ab) of input row (y - 5 + t) for the
-    // output row y being computed, kept for `taps` rows.
-    std::vector<double> ring(size_t(taps) * 5 * size_t(n));
-    std::vector<double> moment(5 * size_t(width));
-    auto slot = [&](int inputRow, int m) { return ring.data() + (size_t(inputRow % taps) * 5 + size_t(m)) * size_t(n); };
+    // ring[t][m]: horizontally filtered moment m (a, b, aa, bb, ab) of input row (row % Taps).
+    const size_t stride = size_t(n + 16);
+    std::vector<float> ring(static_cast<size_t>(Taps) * 5 * stride);
+    std::vector<float> centred(2 * size_t(width) + 32);
+    auto slot = [&](int inputRow, int m) { return ring.data() + (size_t(inputRow % Taps) * 5 + size_t(m)) * stride; };
     auto filterRow = [&](int inputRow) {
       const uint16_t* pa = a.row(inputRow);
       const uint16_t* pb = b.row(inputRow);
-      double* va = moment.data();
-      double* vb = va + width;
-      double* vaa = vb + width;
-      double* vbb = vaa + width;
-      double* vab = vbb + width;
+      float* __restrict ca = centred.data();
+      float* __restrict cb = ca + width;
       for (int x = 0; x < width; ++x) {
-        const double sa = pa[x], sb = pb[x];
-        va[x] = sa;
-        vb[x] = sb;
-        vaa[x] = sa * sa;
-        vbb[x] = sb * sb;
-        vab[x] = sa * sb;
+        ca[x] = float(pa[x]) - centre;
+        cb[x] = float(pb[x]) - centre;
       }
-      for (int m = 0; m < 5; ++m) {
-        double* __restrict out = slot(inputRow, m);
-        const double* __restrict in = moment.data() + size_t(m) * size_t(width);
-        std::fill(out, out + n, 0.0);
-        for (int k = 0; k < taps; ++k) {
-          const double g = window.g[k];
-          for (int i = 0; i < n; ++i) out[i] += g * in[i + k];
-        }
-      }
+      filterHorizontal<Taps>(ca, cb, n, g, slot(inputRow, 0), slot(inputRow, 1), slot(inputRow, 2), slot(inputRow, 3),
+                             slot(inputRow, 4));
     };
-    std::vector<double> v(5 * size_t(n));
-    for (int r = r0; r < r0 + taps - 1; ++r) filterRow(r);
+    std::vector<float> pixel(static_cast<size_t>(n));
+    for (int r = r0; r < r0 + Taps - 1; ++r) filterRow(r);
     for (int r = r0; r < r1; ++r) {
-      filterRow(r + taps - 1);
-      std::fill(v.begin(), v.end(), 0.0);
-      for (int k = 0; k < taps; ++k) {
-        const double g = window.g[k];
-        for (int m = 0; m < 5; ++m) {
-          const double* __restrict in = slot(r + k, m);
-          double* __restrict out = v.data() + size_t(m) * size_t(n);
-          for (int i = 0; i < n; ++i) out[i] += g * in[i];
-        }
-      }
-      const double* ma = v.data();
-      const double* mb = ma + n;
-      const double* maa = mb + n;
-      const double* mbb = maa + n;
-      const double* mab = mbb + n;
+      filterRow(r + Taps - 1);
+      const float* in[5 * Taps];
+      for (int m = 0; m < 5; ++m)
+        for (int k = 0; k < Taps; ++k) in[m * Taps + k] = slot(r + k, m);
+      float* out = pixel.data();
+      if (withLuminance) filterVertical<Taps, true>(in, n, g, constants, out);
+      else filterVertical<Taps, false>(in, n, g, constants, out);
       double sum = 0;
-      if (withLuminance) {
-        for (int i = 0; i < n; ++i) {
-          const double varA = maa[i] - ma[i] * ma[i];
-          const double varB = mbb[i] - mb[i] * mb[i];
-          const double cov = mab[i] - ma[i] * mb[i];
-          const double l = (2 * ma[i] * mb[i] + c1) / (ma[i] * ma[i] + mb[i] * mb[i] + c1);
-          const double cs = (2 * cov + c2) / (varA + varB + c2);
-          sum += l * cs;
-        }
-      } else {
-        for (int i = 0; i < n; ++i) {
-          const double varA = maa[i] - ma[i] * ma[i];
-          const double varB = mbb[i] - mb[i] * mb[i];
-          const double cov = mab[i] - ma[i] * mb[i];
-          sum += (2 * cov + c2) / (varA + varB + c2);
-        }
-      }
+      for (int i = 0; i < n; ++i) sum += double(out[i]);
       rowSum[size_t(r)] = sum;
     }
   });
-  for (double s : rowSum) score.sum += s;
+  for (double v : rowSum) score.sum += v;
   score.count = double(n) * double(rows);
   return score;
+}
+
+PlaneScore planeScore(const Plane& a, const Plane& b, int bitDepth, const Window& window, bool withLuminance,
+                      int threads) {
+  if (window.taps == 10) return planeScoreTaps<10>(a, b, bitDepth, window, withLuminance, threads);
+  return planeScoreTaps<11>(a, b, bitDepth, window, withLuminance, threads);
 }
 
 // The index of one plane at one scale under the convention's averaging rule.
