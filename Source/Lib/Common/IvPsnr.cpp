@@ -224,9 +224,20 @@ IvPsnrResult ivPsnr(const Frame& refIn, const Frame& testIn, const IvPsnrOptions
   run(ref, paddedTest, offsetRefToTest, ssd[0]);
   run(test, paddedRef, offsetTestToRef, ssd[1]);
 
+  // A direction matched exactly in every plane scores +inf. Otherwise an exactly matched plane counts
+  // as an SSD of 1, as in the reference software, so that an exact chroma plane does not turn a luma
+  // error into +inf.
+  const double ceiling = psnrFromSsd(1.0, area, format.bitDepth);
   for (int d = 0; d < 2; ++d) {
-    for (int p = 0; p < planes; ++p) result.planePsnr[d][p] = psnrFromSsd(double(ssd[d][p]), area, format.bitDepth);
-    result.direction[d] = weightedPlanes(result.planePsnr[d], result.hasChroma, options.averageWeights);
+    bool exact = true;
+    double capped[3] = {0, 0, 0};
+    for (int p = 0; p < planes; ++p) {
+      result.planePsnr[d][p] = psnrFromSsd(double(ssd[d][p]), area, format.bitDepth);
+      exact = exact && (ssd[d][p] == 0 || options.averageWeights[p] == 0);
+      capped[p] = ssd[d][p] == 0 ? ceiling : result.planePsnr[d][p];
+    }
+    result.direction[d] = exact ? std::numeric_limits<double>::infinity()
+                                : weightedPlanes(capped, result.hasChroma, options.averageWeights);
   }
   result.ivpsnr = std::min(result.direction[0], result.direction[1]);
   return result;

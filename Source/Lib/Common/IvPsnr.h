@@ -27,7 +27,10 @@ struct IvPsnrOptions {
 
 struct IvPsnrResult {
   double ivpsnr = 0;               // dB: min(direction[0], direction[1]); +inf when both match exactly
-  double direction[2] = {0, 0};    // [0]: reference samples matched in the test picture, [1]: the reverse
+  double direction[2] = {0, 0};    // [0]: reference samples matched in the test picture, [1]: the reverse;
+                                   // (w0 Y + w1 U + w2 V) / (w0 + w1 + w2) of the plane PSNRs, an exact
+                                   // plane counting as an SSD of 1 (10 log10(W H peak^2)) unless every
+                                   // plane is exact, then +inf
   double planePsnr[2][3] = {};     // per direction and plane; +inf for a plane matched exactly
   int colourOffset[3] = {0, 0, 0};  // the correction: mean(test - reference), rounded, clipped
   bool hasChroma = true;
