@@ -14,6 +14,7 @@
 #include "Common/Error.h"
 #include "Common/Frame.h"
 #include "Common/IvPsnr.h"
+#include "Common/Json.h"
 #include "Common/Metrics.h"
 #include "Common/Ssim.h"
 #include "Common/Yuv.h"
@@ -265,7 +266,7 @@ ParsedArguments parseArguments(int argc, char** argv) {
     }
   }
   const std::string range = "1.." + std::to_string(kMaxSide);
-  if (positional.size() == 3) {
+  if (positional.size() == 3 && positional[2].find('x') != std::string::npos) {
     options.referencePath = positional[0];
     options.testPath = positional[1];
     if (!parseSize(positional[2], options.format.width, options.format.height))
@@ -341,27 +342,15 @@ std::string formatValue(const Column& column, double value) {
   return column.decibel ? vs::formatPsnr(value) : vs::formatPsnr(value, 6);
 }
 
-// JSON and CSV number: shortest round-trip-safe text; JSON has no inf or NaN, so they are null there.
+// CSV: shortest text that reads back to the same double, inf and nan as words. JSON: the project's
+// numbers (Infinity for identical planes, as Python's json reads it), null for an undefined value.
 std::string exactNumber(double value, bool json) {
-  if (!std::isfinite(value)) return json ? "null" : (std::isnan(value) ? "nan" : (value > 0 ? "inf" : "-inf"));
+  if (std::isnan(value)) return json ? "null" : "nan";
+  if (json) return vs::jsonNumber(value);
+  if (std::isinf(value)) return value > 0 ? "inf" : "-inf";
   char text[64];
   std::snprintf(text, sizeof text, "%.17g", value);
   return text;
-}
-
-std::string jsonString(const std::string& text) {
-  std::string out = "\"";
-  for (char c : text) {
-    if (c == '"' || c == '\\') out += '\\';
-    if (static_cast<unsigned char>(c) < 0x20) {
-      char escaped[8];
-      std::snprintf(escaped, sizeof escaped, "\\u%04x", c);
-      out += escaped;
-      continue;
-    }
-    out += c;
-  }
-  return out + "\"";
 }
 
 std::vector<Column> makeColumns(const PsnrOptions& options, bool hasChroma) {
@@ -435,19 +424,19 @@ void writeReports(const PsnrOptions& options, const std::vector<Column>& columns
     std::ofstream json(options.jsonPath, std::ios::trunc);
     if (!json) throw vs::InputError(options.jsonPath + ": cannot create the JSON file");
     const vs::FrameFormat& f = options.format;
-    json << "{\n  \"reference\": " << jsonString(options.referencePath) << ",\n  \"test\": "
-         << jsonString(options.testPath) << ",\n  \"width\": " << f.width << ", \"height\": " << f.height
+    json << "{\n  \"reference\": " << vs::jsonString(options.referencePath) << ",\n  \"test\": "
+         << vs::jsonString(options.testPath) << ",\n  \"width\": " << f.width << ", \"height\": " << f.height
          << ", \"bitDepth\": " << f.bitDepth << ", \"chroma\": \"" << vs::chromaFormatName(f.chroma) << "\",\n"
-         << "  \"note\": \"null stands for inf (identical planes) or nan\",\n  \"frames\": [\n";
+         << "  \"frames\": [\n";
     for (size_t r = 0; r < rows.size(); ++r) {
       json << "    {\"frame\": " << frameIndices[r];
       for (size_t c = 0; c < columns.size(); ++c)
-        json << ", " << jsonString(columns[c].key) << ": " << exactNumber(rows[r][c], true);
+        json << ", " << vs::jsonString(columns[c].key) << ": " << exactNumber(rows[r][c], true);
       json << "}" << (r + 1 < rows.size() ? "," : "") << "\n";
     }
     json << "  ],\n  \"mean\": {";
     for (size_t c = 0; c < columns.size(); ++c)
-      json << (c ? ", " : "") << jsonString(columns[c].key) << ": " << exactNumber(columns[c].mean(frames), true);
+      json << (c ? ", " : "") << vs::jsonString(columns[c].key) << ": " << exactNumber(columns[c].mean(frames), true);
     json << "}\n}\n";
     if (!json.flush()) throw vs::InputError(options.jsonPath + ": write failed");
   }
