@@ -15,6 +15,7 @@
 #include "Common/Error.h"
 #include "Common/Memory.h"
 #include "Common/Metrics.h"
+#include "Common/QualityReport.h"
 #include "Common/Depth.h"
 #include "Common/Yuv.h"
 #include "Synth/Parallel.h"
@@ -142,11 +143,15 @@ RunSummary runSequence(const std::string& toolName, const Config& config, const 
     depthWriter = std::make_unique<YuvWriter>(s.virtualDepthPath, virtualDepthFormat, notDepth);
     virtualDepthFrame.fill(0);
   }
+  // Metrics besides PSNR (QualityMetrics), with their CSV columns after the times.
+  QualityReport quality(s.referenceViewPath.empty() ? std::vector<std::string>{} : s.qualityMetrics,
+                        s.textureFormat.chroma != ChromaFormat::Yuv400);
   std::FILE* report = nullptr;
   if (!s.reportPath.empty()) {
     report = std::fopen(s.reportPath.c_str(), "w");
     if (!report) throw InputError(s.reportPath + ": cannot create the report file");
-    std::fprintf(report, "frame,psnr_y,psnr_u,psnr_v,psnr_yuv,read_s,depth_warp_s,texture_warp_s,blend_s,hole_fill_s,write_s,total_s\n");
+    std::fprintf(report, "frame,psnr_y,psnr_u,psnr_v,psnr_yuv,read_s,depth_warp_s,texture_warp_s,blend_s,hole_fill_s,write_s,total_s%s\n",
+                 quality.csvHeader().c_str());
   }
   struct ReportCloser {
     std::FILE* f;
@@ -245,14 +250,19 @@ RunSummary runSequence(const std::string& toolName, const Config& config, const 
       psnr = framePsnr(truthFrame, output);
       accumulator.add(psnr);
       say("  PSNR Y %s U %s V %s dB", formatPsnr(psnr.y).c_str(), formatPsnr(psnr.u).c_str(), formatPsnr(psnr.v).c_str());
+      if (!quality.empty()) {
+        quality.score(truthFrame, output);
+        say("%s", quality.logText().c_str());
+      }
     }
     say("\n");
     if (log) std::fflush(log);
     if (report)
-      std::fprintf(report, "%lld,%s,%s,%s,%s,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f\n", (long long)frameIndex,
+      std::fprintf(report, "%lld,%s,%s,%s,%s,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f%s\n", (long long)frameIndex,
                    truth ? formatPsnr(psnr.y).c_str() : "", truth ? formatPsnr(psnr.u).c_str() : "",
                    truth ? formatPsnr(psnr.v).c_str() : "", truth ? formatPsnr(psnr.yuv).c_str() : "", times.read,
-                   times.depthWarp, times.textureWarp, times.blend, times.holeFill, times.write, times.total());
+                   times.depthWarp, times.textureWarp, times.blend, times.holeFill, times.write, times.total(),
+                   truth ? quality.csvCells().c_str() : "");
   } catch (const InputError& e) {
     // Say what is on disk: the writers keep whole frames only.
     std::string written = std::to_string(writer.framesWritten()) + " whole frames were written to " + s.outputPath;
@@ -274,6 +284,7 @@ RunSummary runSequence(const std::string& toolName, const Config& config, const 
                 accumulator.hasChroma() ? formatPsnr(accumulator.u().frameMean).c_str() : "-",
                 accumulator.hasChroma() ? formatPsnr(accumulator.v().frameMean).c_str() : "-",
                 formatPsnr(accumulator.yuv().frameMean).c_str());
+    if (!quality.empty()) say("mean %s\n", quality.meanText().c_str());
   }
   if (available < s.frameCount)
     throw InputError(shortest + " holds only " + std::to_string(available) + " frames from StartFrame " +
