@@ -7,7 +7,7 @@ every metric per file and the largest absolute difference per metric (doc/metric
 
 usage: scripts/compare_metrics.py --reference /path/to/IVPSNR [--bin Bin] [--data ../shared/data]
                                   [--work /tmp/compare_metrics] [--scenes Art,Books] [--no-demo]
-                                  [--markdown FILE]
+                                  [--meshrender] [--markdown FILE]
 Exit code 0 when every difference is within the issue's tolerance (0.01 dB for PSNR, WS-PSNR and
 IV-PSNR, 1e-4 for SSIM and MS-SSIM), 1 otherwise, 2 on bad arguments or a tool failure."""
 import argparse
@@ -73,6 +73,8 @@ def main():
     parser.add_argument("--work", default="/tmp/compare_metrics")
     parser.add_argument("--scenes", default="", help="comma-separated scene names (default: all)")
     parser.add_argument("--no-demo", action="store_true", help="leave the SceneGen demo out")
+    parser.add_argument("--meshrender", action="store_true",
+                        help="also render view 3 with Bin/MeshRender and compare it (about 1 s a scene)")
     parser.add_argument("--markdown", default="", help="also write the table as markdown to this file")
     args = parser.parse_args()
     os.makedirs(args.work, exist_ok=True)
@@ -93,6 +95,11 @@ def main():
         run([os.path.join(args.bin, "ViewSyn"), os.path.join(folder, "synth_view3_general.cfg"),
              "OutputVirtualViewImageName=" + ours])
         pairs.append((scene + " ViewSyn general", truth, ours, width, height))
+        if args.meshrender:
+            mesh = os.path.join(args.work, scene + "_view3_general_mesh.yuv")
+            run([os.path.join(args.bin, "MeshRender"), os.path.join(folder, "synth_view3_general.cfg"),
+                 "OutputVirtualViewImageName=" + mesh])
+            pairs.append((scene + " MeshRender general", truth, mesh, width, height))
         for mode in ("general", "1d"):
             pairs.append((scene + " VSRS " + mode, truth, os.path.join(outputs, "%s_view3_%s.yuv" % (scene, mode)),
                           width, height))

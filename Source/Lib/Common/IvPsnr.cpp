@@ -154,24 +154,6 @@ void matchPictureWeights(const PaddedPlane* from, const PaddedPlane* to, const i
 
 }  // namespace
 
-Frame toLumaResolution(const Frame& frame) {
-  if (frame.format.chroma != ChromaFormat::Yuv420) return frame;
-  FrameFormat format = frame.format;
-  format.chroma = ChromaFormat::Yuv444;
-  Frame full(format);
-  full.planes[0] = frame.planes[0];
-  for (int p = 1; p < 3; ++p) {
-    const Plane& half = frame.planes[p];
-    Plane& out = full.planes[p];
-    for (int y = 0; y < format.height; ++y) {
-      const uint16_t* src = half.row(y / 2);
-      uint16_t* dst = out.row(y);
-      for (int x = 0; x < format.width; ++x) dst[x] = src[x / 2];
-    }
-  }
-  return full;
-}
-
 double weightedPlanes(const double value[3], bool hasChroma, const int weights[3]) {
   if (!hasChroma) return value[0];
   const int* w = weights ? weights : kDefaultWeights;

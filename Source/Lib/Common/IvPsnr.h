@@ -2,8 +2,8 @@
 // IV-PSNR and WS-PSNR as the MPEG-I reference software (IV-PSNR 7.1, jstankowski/ivpsnr) defines them;
 // doc/metrics.md gives the definitions, the options and the measured agreement.
 //
-// Both work on the picture at luma resolution: 4:2:0 chroma is repeated over its 2x2 luma samples
-// (cropped at an odd width or height) before anything is compared, as the reference software does.
+// Both work on the picture at luma resolution: 4:2:0 chroma counts as repeated over its 2x2 luma
+// samples (cropped at an odd width or height), as the reference software reads it.
 // 4:0:0 has the luma plane only. Bit depth 8 to 16.
 #include <cstdint>
 #include <string>
@@ -11,10 +11,6 @@
 #include "Common/Frame.h"
 
 namespace vs {
-
-// A frame with every plane at luma size: 4:2:0 chroma repeated over 2x2 samples; 4:4:4 and 4:0:0
-// frames are returned as they are.
-Frame toLumaResolution(const Frame& frame);
 
 struct IvPsnrOptions {
   int searchRange = 2;                         // candidates within +-searchRange samples: a 5x5 window

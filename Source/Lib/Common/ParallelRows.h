@@ -2,6 +2,7 @@
 // Rows split into one contiguous stripe per thread, on std::thread (vscommon does not link OpenCV).
 // Callers keep results per row and combine them in row order, so no result depends on the thread count.
 #include <algorithm>
+#include <cstdint>
 #include <thread>
 #include <vector>
 
