@@ -1,16 +1,24 @@
-// QualityReport: the QualityMetrics key's names, the CSV columns, and values equal to the metric
-// functions' (themselves checked against plain definitions in IvPsnrTest and SsimTest).
+// QualityReport and the QualityMetrics key: names, CSV columns, values equal to the metric functions'
+// (themselves checked against plain definitions in IvPsnrTest and SsimTest), and a real ViewSyn run.
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 #include <string>
 #include <vector>
 
 #include <gtest/gtest.h>
 
+#include "Common/Config.h"
+#include "Common/Error.h"
 #include "Common/Frame.h"
 #include "Common/IvPsnr.h"
 #include "Common/Metrics.h"
+#include "Common/Options.h"
 #include "Common/QualityReport.h"
 #include "Common/Ssim.h"
+#include "Common/Yuv.h"
+#include "Synth/Run.h"
+#include "TestPaths.h"
 
 TEST(QualityReport, NamesUnknownMetrics) {
   std::string error;
@@ -50,3 +58,48 @@ TEST(QualityReport, ColumnsAndValues) {
   vs::QualityReport luma({"wspsnr"}, false);
   EXPECT_EQ(luma.csvHeader(), ",wspsnr_y");
 }
+
+namespace vs {
+namespace {
+
+// ViewSyn on Art view 3 with QualityMetrics writes the metrics' columns to the report CSV, with the
+// values the library functions give for its output against the truth.
+TEST(QualityReport, ViewSynReportCarriesTheChosenMetrics) {
+  const std::filesystem::path data = test::dataDir();
+  VS_REQUIRE_DIR(data / "middlebury2005");
+  const std::filesystem::path scene = data / "middlebury2005" / "Art";
+  const std::filesystem::path scratch = test::scratchDir("quality_metrics_key");
+  const std::string out = (scratch / "out.yuv").string(), csv = (scratch / "report.csv").string();
+  const std::string truthPath = (scene / "view3.yuv").string();
+  const Config config = Config::load(viewSynOptionTable(), (scene / "synth_view3_general.cfg").string(),
+                                     {"OutputVirtualViewImageName=" + out, "ReferenceVirtualViewImageName=" + truthPath,
+                                      "QualityMetrics=ivpsnr,msssim", "ReportFile=" + csv});
+  runViewSyn(config, nullptr);
+  std::ifstream file(csv);
+  std::string header, row;
+  std::getline(file, header);
+  std::getline(file, row);
+  EXPECT_NE(header.find("total_s,ivpsnr,msssim_y,msssim_u,msssim_v,msssim_yuv"), std::string::npos) << header;
+  FrameFormat format;
+  format.width = 688;
+  format.height = 554;
+  Frame truth, output;
+  YuvReader(truthPath, format).read(0, truth);
+  YuvReader(out, format).read(0, output);
+  const std::string expected = "," + formatPsnr(ivPsnr(truth, output).ivpsnr, 4) + "," +
+                               formatPsnr(msSsim(truth, output).plane[0], 6);
+  EXPECT_NE(row.find(expected), std::string::npos) << row << " lacks " << expected;
+
+  // Without a reference view the key is a configuration error naming both keys.
+  try {
+    const Config bad = Config::load(viewSynOptionTable(), (scene / "synth_view3_general.cfg").string(),
+                                    {"OutputVirtualViewImageName=" + out, "QualityMetrics=ssim"});
+    runViewSyn(bad, nullptr);
+    ADD_FAILURE() << "QualityMetrics without a reference view was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("ReferenceVirtualViewImageName"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace vs

@@ -192,6 +192,8 @@ SynthesisSettings readSynthesisSettings(const Config& config) {
   s.qualityMetrics = config.getList("QualityMetrics");
   std::string metricError;
   if (!QualityReport::validate(s.qualityMetrics, metricError)) problems.add(where + ": QualityMetrics: " + metricError);
+  else if (!QualityReport(s.qualityMetrics, true).empty() && s.referenceViewPath.empty())
+    problems.add(where + ": QualityMetrics scores against ReferenceVirtualViewImageName, which is not set");
   s.virtualDepthPath = config.getPath("OutputVirtualDepthMapName");
   s.virtualDepthRange.bitDepth = s.depthFormat.bitDepth;
   if (config.isSet("VirtualNearestDepthValue") != config.isSet("VirtualFarthestDepthValue"))
