@@ -80,11 +80,12 @@ const OptionHelp kOptions[] = {
 
 void printUsage() {
   std::printf(
-      "YuvPsnr %s: PSNR of a test YUV file against a reference, per frame and averaged.\n\n"
+      "YuvPsnr %s: PSNR (and on request IV-PSNR, WS-PSNR, SSIM, MS-SSIM) of a test YUV file against a\n"
+      "reference, per frame and averaged.\n\n"
       "usage: YuvPsnr REF.yuv TEST.yuv WIDTH HEIGHT [options]\n"
       "       YuvPsnr REF.yuv TEST.yuv WIDTHxHEIGHT [options]\n\n"
       "  REF.yuv, TEST.yuv  planar YUV files of the same format, no header\n"
-      "  WIDTH, HEIGHT      luma size in pixels, 1..%d\n\n"
+      "  WIDTH, HEIGHT      luma size in pixels, 1..%d (or WIDTHxHEIGHT as one argument)\n\n"
       "options (also --name=value):\n",
       VS_VERSION, kMaxSide);
   for (const OptionHelp& option : kOptions) {
