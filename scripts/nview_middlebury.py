@@ -5,8 +5,8 @@ Only views 1 and 5 come with depth; the depth of views 2 and 4 is synthesized fi
 views 1 and 5 (OutputVirtualDepthMapName). Prints a Markdown table (ours, 2 views; ours, 4 views;
 difference). Usage: scripts/nview_middlebury.py [DATA_DIR] [WORK_DIR]
 """
+import json
 import os
-import re
 import subprocess
 import sys
 
@@ -14,11 +14,14 @@ ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 VIEWSYN = os.path.join(ROOT, "Bin", "ViewSyn")
 
 
-def psnr_y(output):
-    match = re.search(r"mean PSNR: Y ([0-9.]+|inf)", output)
-    if not match:
-        raise RuntimeError("no PSNR in ViewSyn output:\n" + output)
-    return float(match.group(1))
+def psnr_y(args, cwd, summary):
+    """Runs ViewSyn with a JSON summary (SummaryFile, doc/report.md) and returns its mean PSNR-Y."""
+    run(args + ["SummaryFile=" + summary], cwd)
+    with open(summary) as f:
+        value = json.load(f)["mean"]["psnr_y"]
+    if value is None:
+        raise RuntimeError("no PSNR in %s (no reference view?)" % summary)
+    return float(value)
 
 
 def run(args, cwd):
@@ -46,8 +49,8 @@ def main():
             d = os.path.join(folder, scene)
             out = os.path.join(work, scene)
             os.makedirs(out, exist_ok=True)
-            two = psnr_y(run(["synth_view3_general.cfg", "OutputVirtualViewImageName=" + os.path.join(out, "two.yuv"),
-                              "ReferenceVirtualViewImageName=view3.yuv"], d))
+            two = psnr_y(["synth_view3_general.cfg", "OutputVirtualViewImageName=" + os.path.join(out, "two.yuv"),
+                          "ReferenceVirtualViewImageName=view3.yuv"], d, os.path.join(out, "two.json"))
             for v in (2, 4):
                 run(["synth_view%d_general.cfg" % v, "OutputVirtualViewImageName=" + os.path.join(out, "view%d_synth.yuv" % v),
                      "OutputVirtualDepthMapName=" + os.path.join(out, "depth%d.yuv" % v)], d)
@@ -66,7 +69,7 @@ def main():
                 f.write("ReferenceNearestDepthValues %s\n" % ",".join([znear] * 4))
                 f.write("ReferenceFarthestDepthValues %s\n" % ",".join([zfar] * 4))
                 f.write("OutputVirtualViewImageName four.yuv\nReferenceVirtualViewImageName %s\n" % os.path.join(d, "view3.yuv"))
-            four = psnr_y(run([config], out))
+            four = psnr_y([config], out, os.path.join(out, "four.json"))
             rows.append((scene, two, four))
             print("%-12s %.2f %.2f" % (scene, two, four), file=sys.stderr)
     print("| scene | views 1, 5 | views 1, 2, 4, 5 | gain |")

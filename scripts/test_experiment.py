@@ -9,6 +9,7 @@ twice (one scene group split into 1-frame jobs, one not) plus 1D runs, and check
   - the joined output of a run split into frame ranges is byte-identical to a direct single run;
   - a 1D run with TemporalImprovementOption 1 is not split, and one with 0 is split and verified;
   - resuming runs nothing and leaves the CSV as it was; deleting one row re-runs exactly that run;
+  - a misspelt sweep key or a bad value is refused by --list before anything runs;
   - the report, its plot and its crop are written.
 Exits 77 (CTest SKIP_RETURN_CODE) when python3-matplotlib or python3-numpy is missing.
 """
@@ -56,19 +57,18 @@ def read_csv(path):
 
 
 def direct_run(folder, cfg, settings, output, start=None, count=None):
-    """Bin/ViewSyn on the config with the settings; returns the printed mean PSNR (Y, U, V, YUV)."""
+    """Bin/ViewSyn on the config with the settings; returns the mean PSNR (Y, U, V, YUV) of its JSON
+    summary, with the 4 decimals the tool prints."""
     cmd = [str(BIN / "ViewSyn"), cfg] + ["%s=%s" % kv for kv in sorted(settings.items())]
-    cmd += ["OutputVirtualViewImageName=%s" % output, "Threads=1"]
+    summary = Path(str(output) + ".summary.json")
+    cmd += ["OutputVirtualViewImageName=%s" % output, "SummaryFile=%s" % summary, "Threads=1"]
     if start is not None:
         cmd += ["StartFrame=%d" % start, "TotalNumberOfFrames=%d" % count]
     proc = subprocess.run(cmd, cwd=str(folder), capture_output=True, text=True)
     if proc.returncode != 0:
         raise RuntimeError("%s failed:\n%s" % (" ".join(cmd), proc.stdout[-2000:] + proc.stderr))
-    for line in proc.stdout.splitlines():
-        if line.startswith("mean PSNR: "):
-            f = line.split()
-            return f[3], f[5], f[7], f[9]
-    return None
+    mean = json.loads(summary.read_text())["mean"]
+    return tuple("inf" if mean[k] == "inf" else "%.4f" % mean[k] for k in ("psnr_y", "psnr_u", "psnr_v", "psnr_yuv"))
 
 
 def make_partly_static(src, dst, width, height, frames):
@@ -236,6 +236,20 @@ def test(root):
     r = again[("static_half", "SynthesisMode=1 TemporalImprovementOption=0")]
     check((r["psnr_y"], r["psnr_u"], r["psnr_v"]) == (r0["psnr_y"], r0["psnr_u"], r0["psnr_v"]),
           "the re-run gives the same PSNR")
+
+    # A misspelt sweep key (and a bad value) stops --list before anything runs, with the tool's hint.
+    bad = dict(experiment, methods=[dict(experiment["methods"][0], sweep={"Precison": [1, 4]}),
+                                    dict(experiment["methods"][1], settings={"SynthesisMode": 7})]
+               + experiment["methods"][2:])
+    bad_path = root / "bad.json"
+    bad_path.write_text(json.dumps(bad, indent=1))
+    bad_work = root / "bad_work"
+    proc = run_runner(bad_path, bad_work, ["--list"])
+    check(proc.returncode == 1 and "unknown key 'Precison' (did you mean 'Precision'?)" in proc.stderr
+          and "SynthesisMode" in proc.stderr and "7" in proc.stderr,
+          "--list refuses a misspelt sweep key and a bad value, naming both")
+    check(not (bad_work / "runs").exists() and not (bad_work / "results.csv").exists(),
+          "nothing ran for the refused experiment")
 
     print("%d check(s) failed" % len(failures) if failures else "all checks passed")
     return 1 if failures else 0

@@ -13,7 +13,7 @@
 
 #include "Common/Config.h"
 #include "Common/Options.h"
-#include "Synth/Run.h"
+#include "Synth/ViewSynRenderer.h"
 #include "TestPaths.h"
 
 namespace vs {

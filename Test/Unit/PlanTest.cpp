@@ -6,7 +6,7 @@
 #include "Common/Metrics.h"
 #include "Common/Options.h"
 #include "Synth/Plan.h"
-#include "Synth/Run.h"
+#include "Synth/ViewSynRenderer.h"
 #include "SynthTestScene.h"
 #include "TestPaths.h"
 

@@ -12,12 +12,13 @@
 #include "Common/Error.h"
 #include "Common/Frame.h"
 #include "Common/IvPsnr.h"
+#include "Common/Json.h"
 #include "Common/Metrics.h"
 #include "Common/Options.h"
 #include "Common/QualityReport.h"
 #include "Common/Ssim.h"
 #include "Common/Yuv.h"
-#include "Synth/Run.h"
+#include "Synth/ViewSynRenderer.h"
 #include "TestPaths.h"
 
 TEST(QualityReport, NamesUnknownMetrics) {
@@ -73,7 +74,8 @@ TEST(QualityReport, ViewSynReportCarriesTheChosenMetrics) {
   const std::string truthPath = (scene / "view3.yuv").string();
   const Config config = Config::load(viewSynOptionTable(), (scene / "synth_view3_general.cfg").string(),
                                      {"OutputVirtualViewImageName=" + out, "ReferenceVirtualViewImageName=" + truthPath,
-                                      "QualityMetrics=ivpsnr,msssim", "ReportFile=" + csv});
+                                      "QualityMetrics=ivpsnr,msssim", "ReportFile=" + csv,
+                                      "SummaryFile=" + (scratch / "summary.json").string()});
   runViewSyn(config, nullptr);
   std::ifstream file(csv);
   std::string header, row;
@@ -89,6 +91,12 @@ TEST(QualityReport, ViewSynReportCarriesTheChosenMetrics) {
   const std::string expected = "," + formatPsnr(ivPsnr(truth, output).ivpsnr, 4) + "," +
                                formatPsnr(msSsim(truth, output).plane[0], 6);
   EXPECT_NE(row.find(expected), std::string::npos) << row << " lacks " << expected;
+  // The JSON summary carries the same, at full precision.
+  std::ifstream jsonFile(scratch / "summary.json");
+  const std::string text((std::istreambuf_iterator<char>(jsonFile)), std::istreambuf_iterator<char>());
+  const JsonValue summary = parseJson(text, "summary.json");
+  EXPECT_DOUBLE_EQ(summary.find("frames")->items[0].find("ivpsnr")->number, ivPsnr(truth, output).ivpsnr);
+  EXPECT_DOUBLE_EQ(summary.find("mean")->find("msssim_yuv")->number, msSsim(truth, output).yuv);
 
   // Without a reference view the key is a configuration error naming both keys.
   try {

@@ -1,237 +1,48 @@
 // SynthBench: seconds per frame of every ViewSyn stage, median of N runs, on the SceneGen demo at
-// three sizes and on the real Middlebury configs, with 1 and 2 threads. Prints seconds per frame,
-// seconds per megapixel and frames per second, and the wall clock of the whole ViewSyn process on the
-// same job (what VSRS's figures are). See --help.
-#include <fcntl.h>
-#include <spawn.h>
-#include <sys/wait.h>
-
-#include <algorithm>
-#include <chrono>
-#include <cstdio>
-#include <filesystem>
-#include <iostream>
-#include <sstream>
-#include <map>
+// three sizes and on the real Middlebury configs, with 1 and 2 threads; and the wall clock of the
+// whole ViewSyn process on the same job (what VSRS's figures are). See --help and doc/speed.md.
+#include <cstdlib>
 #include <string>
-#include <vector>
 
-#include "Common/Config.h"
-#include "Common/Error.h"
-#include "Common/Memory.h"
-#include "Common/Options.h"
-#include "Scene/SceneGen.h"
-#include "Synth/Run.h"
-
-extern char** environ;  // the environment the whole-process runs inherit (POSIX)
-
-namespace {
-
-namespace fs = std::filesystem;
-
-const char* kUsage =
-    "SynthBench %s: times ViewSyn's stages (read, depth warp, texture warp, blend, hole fill, write) on\n"
-    "one frame, whole pipeline with file I/O, median of N runs, for each case and thread count; then\n"
-    "the same job as a whole ViewSyn process (start-up and first touch of its memory included, as in\n"
-    "VSRS's figures), median of N runs.\n\n"
-    "Usage: SynthBench [--runs N] [--threads 1,2] [--work DIR] [--data DIR] [--no-demo] [--no-data]\n"
-    "                  [--all-scenes] [--no-process] [CONFIG.cfg ...]\n\n"
-    "  --runs N        runs per case (default 5)\n"
-    "  --threads LIST  thread counts (default 1,2)\n"
-    "  --work DIR      folder for generated scenes and outputs (default out/bench)\n"
-    "  --data DIR      real data (default $VS_DATA_DIR or ../shared/data): Middlebury configs are timed\n"
-    "  --no-demo       skip the SceneGen demo at 640x480, 1024x768 and 1920x1080\n"
-    "  --no-data       skip the real data\n"
-    "  --all-scenes    every Middlebury 2005/2006 scene (default: Art, Books, Aloe)\n"
-    "  --no-process    skip the whole-process runs (columns proc s/MP and proc fps)\n"
-    "  CONFIG.cfg      further ViewSyn configs to time\n";
-
-struct Case {
-  std::string name;
-  std::string config;
-  std::vector<std::string> overrides;
-};
-
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
-}
-
-// Wall-clock seconds of one run of `exe` with `args`, its output discarded; throws when it fails.
-double processSeconds(const fs::path& exe, const std::vector<std::string>& args) {
-  std::vector<std::string> words = {exe.string()};
-  words.insert(words.end(), args.begin(), args.end());
-  std::vector<char*> argv;
-  for (std::string& word : words) argv.push_back(word.data());
-  argv.push_back(nullptr);
-  posix_spawn_file_actions_t actions;
-  posix_spawn_file_actions_init(&actions);
-  posix_spawn_file_actions_addopen(&actions, 1, "/dev/null", O_WRONLY, 0);
-  posix_spawn_file_actions_addopen(&actions, 2, "/dev/null", O_WRONLY, 0);
-  const auto start = std::chrono::steady_clock::now();
-  pid_t child = 0;
-  const int spawned = posix_spawn(&child, argv[0], &actions, nullptr, argv.data(), environ);
-  posix_spawn_file_actions_destroy(&actions);
-  int status = 0;
-  if (spawned != 0 || waitpid(child, &status, 0) != child || !WIFEXITED(status) || WEXITSTATUS(status) != 0)
-    throw vs::InputError(exe.string() + " failed on " + (args.empty() ? std::string() : args[0]) +
-                         " (run it by hand to see why)");
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
-
-std::string demoConfig(const fs::path& work, int width, int height) {
-  const fs::path folder = work / ("demo_" + std::to_string(width) + "x" + std::to_string(height));
-  const fs::path config = folder / "viewsyn_cam1.cfg";
-  if (fs::exists(config)) return config.string();
-  const vs::Config sceneConfig =
-      vs::Config::fromText(vs::sceneGenOptionTable(), "", "SynthBench", ".",
-                           {"Scene=demo", "SourceWidth=" + std::to_string(width), "SourceHeight=" + std::to_string(height),
-                            "TotalNumberOfFrames=1", "OutputFolder=" + folder.string()});
-  std::ostringstream quiet;
-  vs::generateScene(vs::readSceneGenSettings(sceneConfig), quiet);
-  return config.string();
-}
-
-}  // namespace
+#include "Bench.h"
+#include "Common/CommandLine.h"
 
 int main(int argc, char** argv) {
-  vs::keepFreedMemoryForReuse();  // as ViewSyn does (Common/CommandLine.cpp)
-  std::vector<std::string> args(argv + 1, argv + argc);
-  int runs = 5;
-  std::vector<int> threadCounts = {1, 2};
-  fs::path work = "out/bench";
-  const char* env = std::getenv("VS_DATA_DIR");
-  fs::path data = env && *env ? fs::path(env) : fs::path("../shared/data");
-  bool demo = true, real = true, allScenes = false, process = true;
-  std::vector<Case> cases;
-  for (size_t i = 0; i < args.size(); ++i) {
-    const std::string& a = args[i];
-    auto next = [&]() -> std::string {
-      if (i + 1 >= args.size()) {
-        std::fprintf(stderr, "SynthBench: %s needs a value\n", a.c_str());
-        std::exit(2);
-      }
-      return args[++i];
-    };
-    if (a == "--help" || a == "-h") {
-      std::printf(kUsage, VS_VERSION);
-      return 0;
-    } else if (a == "--runs") {
-      runs = std::max(1, std::atoi(next().c_str()));
-    } else if (a == "--threads") {
-      threadCounts.clear();
-      for (const std::string& t : vs::splitList(next())) threadCounts.push_back(std::max(1, std::atoi(t.c_str())));
-    } else if (a == "--work") {
-      work = next();
-    } else if (a == "--data") {
-      data = next();
-    } else if (a == "--no-demo") {
-      demo = false;
-    } else if (a == "--no-data") {
-      real = false;
-    } else if (a == "--all-scenes") {
-      allScenes = true;
-    } else if (a == "--no-process") {
-      process = false;
-    } else if (a.rfind("--", 0) == 0) {
-      std::fprintf(stderr, "SynthBench: unknown option '%s' (see --help)\n", a.c_str());
-      return 2;
-    } else {
-      cases.push_back({fs::path(a).stem().string(), a, {}});
-    }
-  }
-  try {
-    fs::create_directories(work);
-    if (demo)
-      for (const auto& [w, h] : std::vector<std::pair<int, int>>{{640, 480}, {1024, 768}, {1920, 1080}}) {
-        const std::string config = demoConfig(work, w, h);
-        cases.push_back({"demo " + std::to_string(w) + "x" + std::to_string(h) + " general", config, {"SynthesisMode=0"}});
-        cases.push_back({"demo " + std::to_string(w) + "x" + std::to_string(h) + " 1D", config, {"SynthesisMode=1"}});
-      }
-    if (real && fs::is_directory(data)) {
-      for (const char* set : {"middlebury2005", "middlebury2006"}) {
-        if (!fs::is_directory(data / set)) continue;
-        std::vector<fs::path> scenes;
-        for (const auto& entry : fs::directory_iterator(data / set)) scenes.push_back(entry.path());
-        std::sort(scenes.begin(), scenes.end());
-        for (const fs::path& scene : scenes) {
-          const std::string name = scene.filename().string();
-          if (!allScenes && name != "Art" && name != "Books" && name != "Aloe") continue;
-          cases.push_back({name + " general", (scene / "synth_view3_general.cfg").string(), {}});
-          // The same settings on the 1D path: the paths' speeds compared (issue: 1D vs general).
-          cases.push_back({name + " general as 1D", (scene / "synth_view3_general.cfg").string(), {"SynthesisMode=1"}});
-          cases.push_back({name + " 1D config", (scene / "synth_view3_1d.cfg").string(), {}});
-        }
-      }
-    } else if (real) {
-      std::fprintf(stderr, "SynthBench: %s is absent: real data skipped\n", data.string().c_str());
-    }
-
-    // ViewSyn beside this executable, for the whole-process runs.
-    const fs::path viewSyn = fs::read_symlink("/proc/self/exe").parent_path() / "ViewSyn";
-    if (process && !fs::exists(viewSyn)) {
-      std::fprintf(stderr, "SynthBench: no %s: whole-process runs skipped\n", viewSyn.string().c_str());
-      process = false;
-    }
-    std::printf("%-28s %3s %8s %8s %8s %8s %8s %8s %9s %9s %7s %10s %8s\n", "case", "thr", "read", "d.warp", "t.warp",
-                "blend", "holes", "write", "s/frame", "s/MP", "fps", "proc s/MP", "proc fps");
-    const vs::OptionTable table = vs::viewSynOptionTable();
-    std::map<std::string, double> medians;  // "case|threads" -> median s/frame, for the ratios below
-    for (const Case& c : cases)
-      for (int threads : threadCounts) {
-        std::vector<std::string> overrides = c.overrides;
-        overrides.push_back("Threads=" + std::to_string(threads));
-        overrides.push_back("TotalNumberOfFrames=1");
-        overrides.push_back("OutputVirtualViewImageName=" + (work / "bench_out.yuv").string());
-        const vs::Config config = vs::Config::load(table, c.config, overrides);
-        std::vector<double> stage[7];
-        double megapixels = 0;
-        for (int r = 0; r < runs; ++r) {
-          const vs::RunSummary summary = vs::runViewSyn(config, nullptr);
-          const vs::StageTimes& t = summary.times;
-          const double values[7] = {t.read, t.depthWarp, t.textureWarp, t.blend, t.holeFill, t.write, t.total()};
-          for (int k = 0; k < 7; ++k) stage[k].push_back(values[k]);
-          megapixels = double(config.getInt("SourceWidth")) * double(config.getInt("SourceHeight")) / 1e6;
-        }
-        const double total = median(stage[6]);
-        medians[c.name + "|" + std::to_string(threads)] = total;
-        medians[c.name + "|warp|" + std::to_string(threads)] = median(stage[1]) + median(stage[2]);
-        std::printf("%-28s %3d %8.4f %8.4f %8.4f %8.4f %8.4f %8.4f %9.4f %9.4f %7.1f", c.name.c_str(), threads,
-                    median(stage[0]), median(stage[1]), median(stage[2]), median(stage[3]), median(stage[4]),
-                    median(stage[5]), total, total / megapixels, 1.0 / total);
-        if (process) {
-          // The same job as its own process: start-up, first touch of every buffer and exit included.
-          std::vector<std::string> args = {c.config};
-          args.insert(args.end(), overrides.begin(), overrides.end());
-          std::vector<double> seconds;
-          for (int r = 0; r < runs; ++r) seconds.push_back(processSeconds(viewSyn, args));
-          const double wall = median(seconds);
-          std::printf(" %10.4f %8.1f", wall / megapixels, 1.0 / wall);
-        }
-        std::printf("\n");
-        std::fflush(stdout);
-      }
-    // The 1D path against the general path on the same settings and data: whole frame, and the two
-    // warp stages alone (blending and hole filling are shared).
-    bool header = false;
-    for (const Case& c : cases) {
-      const std::string suffix = " general as 1D";
-      if (c.name.size() <= suffix.size() || c.name.compare(c.name.size() - suffix.size(), suffix.size(), suffix) != 0)
-        continue;
-      const std::string general = c.name.substr(0, c.name.size() - suffix.size()) + " general";
-      for (int threads : threadCounts) {
-        const std::string t = std::to_string(threads);
-        if (!medians.count(general + "|" + t)) continue;
-        if (!header) std::printf("\n%-28s %3s %14s %14s\n", "general / 1D path", "thr", "whole frame", "warp stages");
-        header = true;
-        std::printf("%-28s %3d %13.2fx %13.2fx\n", general.c_str(), threads,
-                    medians[general + "|" + t] / medians[c.name + "|" + t],
-                    medians[general + "|warp|" + t] / medians[c.name + "|warp|" + t]);
-      }
-    }
-    return 0;
-  } catch (const vs::InputError& e) {
-    std::fprintf(stderr, "SynthBench: error: %s\n", e.what());
-    return 1;
-  }
+  vs::CommandLineTool tool;
+  tool.name = "SynthBench";
+  tool.description =
+      "times ViewSyn's stages (read, depth warp, texture warp, blend, hole fill, write) on\n"
+      "one frame, whole pipeline with file I/O, median of N runs, for each case and thread count; then\n"
+      "the same job as a whole ViewSyn process (start-up and first touch of its memory included, as in\n"
+      "VSRS's figures), median of N runs.";
+  tool.synopsis = {"[options] [CONFIG.cfg ...]   CONFIG.cfg: further ViewSyn configs to time"};
+  tool.options = {
+      {"--runs", {"N"}, "runs per case (default 5)", vs::integerValues(1, 1000)},
+      {"--threads", {"LIST"}, "thread counts, e.g. 1,2 (default 1,2)", vs::integerListValue(1, 256)},
+      {"--work", {"DIR"}, "folder for generated scenes and outputs (default: a new temporary folder in $TMPDIR,\n"
+                          "                            removed afterwards)"},
+      {"--data", {"DIR"}, "real data (default $VS_DATA_DIR or ../shared/data): Middlebury configs are timed"},
+      {"--no-demo", {}, "skip the SceneGen demo at 640x480, 1024x768 and 1920x1080"},
+      {"--no-data", {}, "skip the real data"},
+      {"--all-scenes", {}, "every Middlebury 2005/2006 scene (default: Art, Books, Aloe)"},
+      {"--no-process", {}, "skip the whole-process runs (columns proc s/MP and proc fps)"},
+  };
+  tool.notes = "Exit codes: 0 done, 1 a folder or run failed (the message says which), 2 bad usage.";
+  tool.runsWithoutArguments = true;
+  tool.run = [](const vs::CommandLine& line) {
+    vs::BenchSettings settings;
+    settings.runs = int(line.integer("--runs", settings.runs));
+    settings.threadCounts.clear();
+    for (const int64_t threads : line.integerList("--threads", {1, 2})) settings.threadCounts.push_back(int(threads));
+    settings.work = line.text("--work");
+    const char* env = std::getenv("VS_DATA_DIR");
+    settings.data = line.text("--data", env && *env ? env : "../shared/data");
+    settings.demo = !line.has("--no-demo");
+    settings.real = !line.has("--no-data");
+    settings.allScenes = line.has("--all-scenes");
+    settings.process = !line.has("--no-process");
+    settings.configs = line.positional;
+    return vs::runBench(settings);
+  };
+  return vs::runCommandLine(argc, argv, tool);
 }

@@ -1,6 +1,8 @@
 #include "Common/CommandLine.h"
 
+#include <cctype>
 #include <exception>
+#include <filesystem>
 #include <new>
 
 #include "Common/Error.h"
@@ -8,45 +10,176 @@
 
 namespace vs {
 
-int runCommandLine(int argc, char** argv, const CommandLineTool& tool) {
-  keepFreedMemoryForReuse();
-  std::vector<std::string> args(argv + 1, argv + argc);
-  if (args.empty()) {
-    tool.printUsage(stderr);
-    return 2;
+ValueCheck integerValues(int64_t minValue, int64_t maxValue) {
+  return [=](const std::vector<std::string>& values) -> std::string {
+    for (const std::string& value : values) {
+      int64_t v = 0;
+      if (!parseInt(value, v) || v < minValue || v > maxValue)
+        return "expected an integer in [" + std::to_string(minValue) + ", " + std::to_string(maxValue) + "], got '" +
+               value + "'";
+    }
+    return "";
+  };
+}
+
+ValueCheck integerListValue(int64_t minValue, int64_t maxValue) {
+  const ValueCheck each = integerValues(minValue, maxValue);
+  return [=](const std::vector<std::string>& values) -> std::string {
+    for (const std::string& value : values) {
+      const std::string problem = each(splitList(value));
+      if (!problem.empty()) return problem + " in the list '" + value + "'";
+    }
+    return "";
+  };
+}
+
+ValueCheck realValues(bool lastMayBeInfinite) {
+  return [=](const std::vector<std::string>& values) -> std::string {
+    for (size_t k = 0; k < values.size(); ++k) {
+      double v = 0;
+      const bool infinityAllowed = lastMayBeInfinite && k + 1 == values.size();
+      if (!parseDouble(values[k], v, infinityAllowed))
+        return std::string("expected a number") + (infinityAllowed ? " or inf" : "") + ", got '" + values[k] + "'";
+    }
+    return "";
+  };
+}
+
+ValueCheck md5Value() {
+  return [](const std::vector<std::string>& values) -> std::string {
+    for (const std::string& value : values) {
+      bool hex = value.size() == 32;
+      for (const char c : value) hex = hex && std::isxdigit(static_cast<unsigned char>(c));
+      if (!hex) return "expected an MD5 digest (32 hexadecimal digits), got '" + value + "'";
+    }
+    return "";
+  };
+}
+
+std::string CommandLine::text(const std::string& option, const std::string& fallback) const {
+  const auto found = options.find(option);
+  return found == options.end() || found->second.empty() ? fallback : found->second[0];
+}
+
+int64_t CommandLine::integer(const std::string& option, int64_t fallback) const {
+  int64_t value = fallback;
+  if (has(option)) VS_CHECK_MSG(parseInt(text(option), value), "option values are checked when parsed");
+  return value;
+}
+
+std::vector<int64_t> CommandLine::integerList(const std::string& option, const std::vector<int64_t>& fallback) const {
+  if (!has(option)) return fallback;
+  std::vector<int64_t> values;
+  for (const std::string& item : splitList(text(option))) {
+    int64_t value = 0;
+    VS_CHECK_MSG(parseInt(item, value), "option values are checked when parsed");
+    values.push_back(value);
   }
-  if (args[0] == "--help" || args[0] == "-h") {
-    tool.printUsage(stdout);
-    return 0;
+  return values;
+}
+
+std::vector<std::string> parseCommandLine(const std::vector<std::string>& args, const CommandLineTool& tool,
+                                          CommandLine& parsed) {
+  std::vector<std::string> problems;
+  auto find = [&](const std::string& name) -> const CommandOption* {
+    for (const CommandOption& option : tool.options)
+      if (option.name == name) return &option;
+    return nullptr;
+  };
+  for (size_t i = 0; i < args.size(); ++i) {
+    const std::string& arg = args[i];
+    if (arg.size() <= 2 || arg.compare(0, 2, "--") != 0) {
+      parsed.positional.push_back(arg);
+      continue;
+    }
+    const CommandOption* option = find(arg);
+    if (!option) {
+      problems.push_back("unknown option '" + arg + "'");
+      continue;
+    }
+    if (option->action) {
+      if (i != 0) problems.push_back(arg + " must come first");
+      parsed.action = arg;
+    }
+    std::vector<std::string> values;
+    while (values.size() < option->valueNames.size() && i + 1 < args.size() && !find(args[i + 1]))
+      values.push_back(args[++i]);
+    std::string valueNames;
+    for (const std::string& name : option->valueNames) valueNames += " " + name;
+    if (values.size() < option->valueNames.size()) {
+      problems.push_back(arg + " needs" + valueNames);
+      continue;
+    }
+    const std::string problem = option->check ? option->check(values) : "";
+    if (!problem.empty()) problems.push_back(arg + valueNames + ": " + problem);
+    else parsed.options[arg] = values;
   }
-  if (args[0] == "--help-markdown" && tool.table) {
-    std::fputs(tool.table->markdownTable().c_str(), stdout);
-    return 0;
+  if (tool.checkPositional) {
+    const std::string problem = tool.checkPositional(parsed);
+    if (!problem.empty()) problems.push_back(problem);
   }
-  bool check = false;
-  if (tool.hasCheck && args[0] == "--check") {
-    check = true;
-    args.erase(args.begin());
-    if (args.empty()) {
-      std::fprintf(stderr, "%s: --check needs a config file\n", tool.name.c_str());
-      return 2;
+  return problems;
+}
+
+std::string usageText(const CommandLineTool& tool) {
+  std::string text = tool.name + " " + VS_VERSION + ": " + tool.description + "\n\nUsage:\n";
+  for (const std::string& line : tool.synopsis) text += "  " + tool.name + " " + line + "\n";
+  text += "  " + tool.name + " --help" + (tool.keys ? " | --help-markdown" : "") + "\n";
+  if (!tool.options.empty()) {
+    text += "\nOptions:\n";
+    for (const CommandOption& option : tool.options) {
+      std::string left = "  " + option.name;
+      for (const std::string& name : option.valueNames) left += " " + name;
+      left.resize(std::max<size_t>(left.size() + 2, 28), ' ');
+      text += left + option.help + "\n";
     }
   }
-  if (args[0].rfind("--", 0) == 0) {
-    std::fprintf(stderr, "%s: unknown option '%s' (see %s --help)\n", tool.name.c_str(), args[0].c_str(),
-                 tool.name.c_str());
+  if (!tool.notes.empty()) text += "\n" + tool.notes + (tool.notes.back() == '\n' ? "" : "\n");
+  if (tool.keys) text += tool.keysHeading + "\n" + tool.keys->helpText();
+  return text;
+}
+
+int runCommandLine(const std::vector<std::string>& args, const CommandLineTool& tool) {
+  const char* name = tool.name.c_str();
+  if (args.empty() && !tool.runsWithoutArguments) {
+    std::fputs(usageText(tool).c_str(), stderr);
     return 2;
   }
+  for (const std::string& arg : args)
+    if (arg == "--help" || arg == "-h") {
+      std::fputs(usageText(tool).c_str(), stdout);
+      return 0;
+    }
+  if (tool.keys && args.size() == 1 && args[0] == "--help-markdown") {
+    std::fputs(tool.keys->markdownTable().c_str(), stdout);
+    return 0;
+  }
+  CommandLine parsed;
+  const std::vector<std::string> problems = parseCommandLine(args, tool, parsed);
+  if (!problems.empty()) {
+    for (const std::string& problem : problems) std::fprintf(stderr, "%s: %s\n", name, problem.c_str());
+    std::fprintf(stderr, "%s: %zu problem%s on the command line (see %s --help)\n", name, problems.size(),
+                 problems.size() == 1 ? "" : "s", name);
+    return 2;
+  }
+  // The one catch: whatever a library throws ends as a message and exit code 1, never as an abort.
   try {
-    return tool.run(args, check);
+    return tool.run(parsed);
   } catch (const InputError& e) {
-    std::fprintf(stderr, "%s: error: %s\n", tool.name.c_str(), e.what());
+    std::fprintf(stderr, "%s: error: %s\n", name, e.what());
   } catch (const std::bad_alloc&) {
-    std::fprintf(stderr, "%s: error: out of memory\n", tool.name.c_str());
+    std::fprintf(stderr, "%s: error: out of memory\n", name);
+  } catch (const std::filesystem::filesystem_error& e) {
+    std::fprintf(stderr, "%s: error: %s\n", name, e.what());
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "%s: error: %s\n", tool.name.c_str(), e.what());
+    std::fprintf(stderr, "%s: error: %s\n", name, e.what());
   }
   return 1;
+}
+
+int runCommandLine(int argc, char** argv, const CommandLineTool& tool) {
+  keepFreedMemoryForReuse();
+  return runCommandLine(std::vector<std::string>(argv + 1, argv + argc), tool);
 }
 
 void printConfigCheck(const std::string& toolName, const std::string& configPath, const Config& config,

@@ -239,6 +239,56 @@ std::string OptionTable::markdownTable() const {
   return out.str();
 }
 
+namespace {
+
+// `text` as comment lines of at most 100 columns, broken between words.
+void writeWrappedComment(std::ostream& out, const std::string& text) {
+  std::istringstream words(text);
+  std::string word, line = "#";
+  while (words >> word) {
+    if (line.size() > 1 && line.size() + 1 + word.size() > 100) {
+      out << line << "\n";
+      line = "#";
+    }
+    line += " " + word;
+  }
+  out << line << "\n";
+}
+
+}  // namespace
+
+std::string OptionTable::configTemplate() const {
+  std::ostringstream out;
+  const std::string rule(99, '-');
+  out << "# " << toolName_ << ": every key, with its meaning, values and default.\n";
+  writeWrappedComment(out, "Generated from " + toolName_ +
+                               "'s option table; do not edit (scripts/update_manual.sh writes it, "
+                               "Test/Unit/ConfigTemplateTest.cpp keeps it equal to the table). Copy it to start a "
+                               "config: the keys set below hold their defaults; lines starting with #Key are keys "
+                               "without a default (remove the # and give a value). Syntax: `Key value # comment`; "
+                               "the last setting of a key wins; `Key=Value` arguments after the file override it; "
+                               "file names are relative to the folder of the file that names them.");
+  std::string section;
+  for (const OptionSpec& spec : options_) {
+    if (spec.section != section) {
+      section = spec.section;
+      out << "\n#" << rule << "\n# " << section << "\n#" << rule << "\n";
+    }
+    out << "\n";
+    writeWrappedComment(out, spec.help + ".");
+    std::string facts = "Values: " + typeDescription(spec) + ".";
+    if (spec.required && spec.defaultValue.empty()) facts += " Required.";
+    if (!spec.vsrsDefault.empty() && spec.vsrsDefault != "-") facts += " VSRS 4.2 default: " + spec.vsrsDefault + ".";
+    writeWrappedComment(out, facts);
+    std::string line = spec.defaultValue.empty() ? "#" + spec.key : spec.key;
+    line.resize(std::max<size_t>(line.size() + 1, 33), ' ');
+    line += spec.defaultValue;
+    while (line.back() == ' ') line.pop_back();  // no invisible trailing blanks
+    out << line << "\n";
+  }
+  return out.str();
+}
+
 // ---------------------------------------------------------------------------------------------------
 // Config
 
@@ -469,15 +519,16 @@ void Config::requireKeys(ProblemList& problems, const std::vector<std::string>& 
                    key + "' (" + spec(key).help + ")");
 }
 
+std::string Config::effectiveValue(const std::string& key) const {
+  return !isSet(key) && spec(key).defaultValue.empty() ? "(not set)" : raw(key);
+}
+
 std::string Config::effectiveText() const {
   std::ostringstream out;
   for (const OptionSpec& s : table_.options()) {
     char line[64];
     std::snprintf(line, sizeof line, "%-32s ", s.key.c_str());
-    out << line;
-    if (!isSet(s.key) && s.defaultValue.empty()) out << "(not set)";
-    else out << raw(s.key);
-    out << "\n";
+    out << line << effectiveValue(s.key) << "\n";
   }
   return out.str();
 }

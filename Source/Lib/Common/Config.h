@@ -62,6 +62,10 @@ public:
   // The same as a Markdown table per section (| key | values | default | VSRS 4.2 | meaning |), for
   // the user manual; a test keeps doc/ equal to it.
   std::string markdownTable() const;
+  // A config file of every key, each under comment lines with its meaning, values and default: keys
+  // with a default are set to it, the others are commented out (`#Key`). The files in cfg/ are this
+  // text; a test keeps them equal (regenerate with scripts/update_manual.sh).
+  std::string configTemplate() const;
 
 private:
   std::string toolName_;
@@ -105,6 +109,9 @@ public:
   // `extraKeys` (keys required in the chosen mode).
   void requireKeys(ProblemList& problems, const std::vector<std::string>& extraKeys = {}) const;
 
+  // The value effectiveText() shows for `key`: raw(key), or "(not set)" for an unset key without a
+  // default. The JSON summary and --print-config write the same text.
+  std::string effectiveValue(const std::string& key) const;
   // Every key with its effective value, VSRS style ("Key   value"), one a line.
   std::string effectiveText() const;
 

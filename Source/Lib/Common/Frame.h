@@ -74,4 +74,10 @@ struct Frame {
   bool operator==(const Frame& other) const;
 };
 
+// One reference view's frame: texture and depth levels (the luma of the depth file).
+struct ReferenceFrame {
+  const Frame* texture = nullptr;
+  const Plane* depth = nullptr;
+};
+
 }  // namespace vs

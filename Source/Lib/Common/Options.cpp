@@ -102,7 +102,7 @@ void addSynthesisOptions(OptionTable& table) {
                         "Optional ground-truth sequence of the virtual camera: PSNR is reported against it per frame"),
              textOption("QualityMetrics", OptionType::TextList, false, "-",
                         "Metrics against ReferenceVirtualViewImageName besides PSNR, comma-separated: ivpsnr, "
-                        "wspsnr, ssim, msssim (doc/metrics.md); per frame in the log and the report CSV"),
+                        "wspsnr, ssim, msssim (doc/metrics.md); per frame and as means in the log, ReportFile and SummaryFile"),
          });
   addAll(table, "Reference views (1 to 16, instead of Left and Right)",
          {
@@ -170,6 +170,9 @@ void addSynthesisOptions(OptionTable& table) {
              intOption("Threads", 0, 0, 256, "-", "Worker threads; 0: all cores"),
              textOption("ReportFile", OptionType::Path, false, "-",
                         "Optional machine-readable report (CSV: one row per frame with PSNR and per-stage seconds)"),
+             textOption("SummaryFile", OptionType::Path, false, "-",
+                        "Optional JSON summary of the run: tool, effective config, plan, frames, means, exit "
+                        "status and error (written also when the run fails; doc/report.md)"),
          });
 }
 

@@ -88,6 +88,22 @@ std::string QualityReport::logText() const {
   return text;
 }
 
+double QualityReport::mean(const std::vector<double>& values, bool decibel) {
+  double sum = 0;
+  long long counted = 0;
+  for (double v : values) {
+    if (decibel && std::isinf(v)) continue;
+    sum += v;
+    ++counted;
+  }
+  if (counted == 0) return decibel && !values.empty() ? INFINITY : NAN;
+  return sum / double(counted);
+}
+
+std::string QualityReport::format(size_t column, double value) const {
+  return formatPsnr(value, decibel_[column] ? 4 : 6);
+}
+
 std::string QualityReport::meanText() const {
   std::string text;
   for (size_t i = 0; i < keys_.size(); ++i) {

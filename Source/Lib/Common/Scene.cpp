@@ -10,10 +10,6 @@
 
 namespace vs {
 
-namespace {
-
-constexpr int64_t kMaxPixels = int64_t(1) << 26;  // 64 Mpixel: larger frames are refused before allocating
-
 bool samePath(const std::string& a, const std::string& b) {
   std::error_code ec;
   if (std::filesystem::exists(a, ec) && std::filesystem::exists(b, ec)) return std::filesystem::equivalent(a, b, ec);
@@ -25,6 +21,10 @@ bool samePath(const std::string& a, const std::string& b) {
   if (ecA || ecB) return std::filesystem::path(a).lexically_normal() == std::filesystem::path(b).lexically_normal();
   return canonicalA == canonicalB;
 }
+
+namespace {
+
+constexpr int64_t kMaxPixels = int64_t(1) << 26;  // 64 Mpixel: larger frames are refused before allocating
 
 void checkDepthRange(const DepthRange& range, int depthType, const std::string& prefix, const std::string& where,
                      ProblemList& problems) {
@@ -232,26 +232,30 @@ SynthesisSettings readSynthesisSettings(const Config& config) {
   s.oneD.cleanNoise = config.getInt("CleanNoiseOption") != 0;
   s.threads = int(config.getInt("Threads"));
   s.reportPath = config.getPath("ReportFile");
+  s.summaryPath = config.getPath("SummaryFile");
 
   if (!s.outputPath.empty())
     for (const std::string& input : s.inputPaths())
       if (!input.empty() && samePath(input, s.outputPath))
         problems.add(where + ": OutputVirtualViewImageName '" + s.outputPath + "' is also an input (" + input +
                      "); refusing to overwrite it");
-  // The report is created with fopen("w") once the output is open: as an input it would be truncated,
-  // as the output it would overwrite the first frame.
-  if (!s.reportPath.empty()) {
+  // The reports are written once the output is open (the summary also after a failure): as an input
+  // they would be truncated, as an output they would overwrite its frames.
+  for (const auto& [key, path] : {std::pair<const char*, const std::string&>{"ReportFile", s.reportPath},
+                                  std::pair<const char*, const std::string&>{"SummaryFile", s.summaryPath}}) {
+    if (path.empty()) continue;
     for (const std::string& input : s.inputPaths())
-      if (!input.empty() && samePath(input, s.reportPath))
-        problems.add(where + ": ReportFile '" + s.reportPath + "' is also an input (" + input +
-                     "); refusing to overwrite it");
-    if (!s.outputPath.empty() && samePath(s.outputPath, s.reportPath))
-      problems.add(where + ": ReportFile '" + s.reportPath +
+      if (!input.empty() && samePath(input, path))
+        problems.add(where + ": " + key + " '" + path + "' is also an input (" + input + "); refusing to overwrite it");
+    if (!s.outputPath.empty() && samePath(s.outputPath, path))
+      problems.add(where + ": " + key + " '" + path +
                    "' is the output sequence (OutputVirtualViewImageName); give the report a file of its own");
-    if (!s.virtualDepthPath.empty() && samePath(s.virtualDepthPath, s.reportPath))
-      problems.add(where + ": ReportFile '" + s.reportPath +
+    if (!s.virtualDepthPath.empty() && samePath(s.virtualDepthPath, path))
+      problems.add(where + ": " + key + " '" + path +
                    "' is the output depth sequence (OutputVirtualDepthMapName); give the report a file of its own");
   }
+  if (!s.reportPath.empty() && !s.summaryPath.empty() && samePath(s.reportPath, s.summaryPath))
+    problems.add(where + ": ReportFile and SummaryFile are the same file '" + s.reportPath + "'");
   if (!s.virtualDepthPath.empty())
     for (const std::string& input : s.inputPaths())
       if (!input.empty() && samePath(input, s.virtualDepthPath))

@@ -71,6 +71,7 @@ struct SynthesisSettings {
   OneDOptions oneD;
   int threads = 0;                           // 0 all cores
   std::string reportPath;                    // CSV report; empty: none
+  std::string summaryPath;                   // JSON summary (SummaryFile); empty: none
 
   // Every file the run reads; the output must be none of them.
   std::vector<std::string> inputPaths() const;
@@ -89,6 +90,10 @@ struct Scene {
 // Settings plus cameras from the camera file; throws InputError (missing cameras list the names the
 // file has). Opens no YUV file.
 Scene loadScene(const Config& config);
+
+// True when the two names are the same file (existing files: the same inode; else the same canonical
+// name). Outputs use it to refuse overwriting an input.
+bool samePath(const std::string& a, const std::string& b);
 
 // Human-readable summary of the three cameras (name, K, R, centre), for --check and the log.
 std::string describeCameras(const Scene& scene);

@@ -7,7 +7,8 @@
 #include "Common/Error.h"
 #include "Mesh/MeshPly.h"
 #include "Synth/Colour.h"
-#include "Synth/Run.h"
+#include "Pipeline/FrameLoop.h"
+#include "Synth/Parallel.h"
 
 namespace vs {
 
@@ -191,10 +192,14 @@ void MeshSynthesizer::synthesize(const std::vector<ReferenceFrame>& references, 
 }
 
 int runMeshRender(const Config& config) {
-  const Scene scene = loadScene(config);
-  const MeshSettings settings = readMeshSettings(config);
-  MeshFrameRenderer renderer(scene, settings);
-  runSequence("MeshRender", config, scene, renderer);
+  RunReport report("MeshRender", config);
+  runReported(report, [&] {
+    const Scene scene = loadScene(config);
+    const MeshSettings settings = readMeshSettings(config);
+    MeshFrameRenderer renderer(scene, settings);
+    setWorkerThreads(scene.settings.threads);
+    return runSequence("MeshRender", scene, renderer, report);
+  });
   return 0;
 }
 

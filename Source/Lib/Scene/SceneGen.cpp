@@ -17,6 +17,7 @@
 #include "Common/Error.h"
 #include "Common/Yuv.h"
 #include "Scene/Rig.h"
+#include "Scene/SceneFile.h"
 #include "Scene/Scenes.h"
 
 namespace vs {
@@ -143,12 +144,13 @@ std::string settingsText(const SceneGenSettings& s) {
     out << std::left << std::setw(24) << key << " " << value << "\n";
   };
   line("Scene", s.scene);
+  if (!s.sceneFile.empty()) line("SceneFile", s.sceneFile);
   line("SourceWidth", std::to_string(s.width));
   line("SourceHeight", std::to_string(s.height));
   line("TotalNumberOfFrames", std::to_string(s.frames));
   line("MotionScale", exactNumberText(s.motionScale));
-  line("BackgroundDepth", exactNumberText(s.backgroundDepth));
-  if (s.scene == "sphere") {
+  if (s.sceneFile.empty()) line("BackgroundDepth", exactNumberText(s.backgroundDepth));
+  if (s.scene == "sphere" && s.sceneFile.empty()) {
     line("SphereRadius", exactNumberText(s.sphereRadius));
     line("SphereDepth", exactNumberText(s.sphereDepth));
   }
@@ -211,6 +213,9 @@ OptionTable sceneGenOptionTable() {
       table, "Scene",
       {
           choice("Scene", builtInSceneNames(), "demo", "Built-in scene to render (see the scene list above)"),
+          option("SceneFile", OptionType::Path, "", 0, 0,
+                 "Scene file to render instead of a built-in scene (cfg/scenes/*.scene: settings and objects, "
+                 "doc/scenegen.md); its settings are the preset that the keys here override"),
           option("SourceWidth", OptionType::Int, kFromScene, 16, kMaxSize,
                  "Width of every view in luma samples; even (4:2:0)"),
           option("SourceHeight", OptionType::Int, kFromScene, 16, kMaxSize,
@@ -302,7 +307,21 @@ std::string sceneListText() {
 SceneGenSettings readSceneGenSettings(const Config& config) {
   const std::string where = config.configPath().empty() ? std::string("configuration") : config.configPath();
   ProblemList problems;
-  SceneGenSettings s = scenePreset(config.getString("Scene"));
+  SceneGenSettings s;
+  if (config.isSet("SceneFile")) {
+    const SceneFile file = readSceneFile(config.getPath("SceneFile"));
+    s = file.preset;
+    s.sceneFile = config.getPath("SceneFile");
+    s.description = file.description;
+    s.objects = file.objects;
+    if (config.isSet("Scene")) problems.add("Scene and SceneFile are both set; give one of them");
+    for (const char* key : {"BackgroundDepth", "SphereRadius", "SphereDepth"})
+      if (config.isSet(key))
+        problems.add(std::string(key) + " applies to the built-in scenes only; with SceneFile, change the objects "
+                     "in the scene file");
+  } else {
+    s = scenePreset(config.getString("Scene"));
+  }
   const int presetWidth = s.width;
   auto setInt = [&](const char* key, int& target) {
     if (config.isSet(key)) target = int(config.getInt(key));
@@ -536,7 +555,8 @@ int runSceneGen(const Config& config) {
   std::ostream& log = std::cout;
   log << "SceneGen " << VS_VERSION << (config.configPath().empty() ? std::string() : " " + config.configPath())
       << "\n\n"
-      << settingsText(settings) << "\nscene " << settings.scene << ": " << sceneDescription(settings.scene) << "\n";
+      << settingsText(settings) << "\nscene " << settings.scene << ": "
+      << (settings.sceneFile.empty() ? sceneDescription(settings.scene) : settings.description) << "\n";
   const std::vector<Primitive> primitives = buildScene(settings);
   for (const Primitive& p : primitives)
     log << "  " << std::left << std::setw(9) << p.name << " " << shapeName(p.shape)

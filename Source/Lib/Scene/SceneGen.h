@@ -22,7 +22,10 @@ const char* rigTypeName(RigType rig);
 
 // Every setting of a run. Keys left unset take the chosen scene's value (scenePreset in Scenes.h).
 struct SceneGenSettings {
-  std::string scene = "demo";  // built-in scene name
+  std::string scene = "demo";  // built-in scene name, or the scene file's name without extension
+  std::string sceneFile;       // the scene file it came from; empty: a built-in scene
+  std::string description;     // a scene file's Description line
+  std::vector<Primitive> objects;  // a scene file's objects; empty: the built-in scene's (buildScene)
   int width = 1024;            // luma samples; even (4:2:0)
   int height = 768;
   int frames = 10;

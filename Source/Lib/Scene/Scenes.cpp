@@ -250,6 +250,7 @@ SceneGenSettings scenePreset(const std::string& name) {
 }
 
 std::vector<Primitive> buildScene(const SceneGenSettings& s) {
+  if (!s.objects.empty()) return s.objects;  // a scene file's
   if (s.scene == "demo" || s.scene == "tiny") return demoObjects(s);
   if (s.scene == "arc") return arcObjects(s);
   if (s.scene == "plane") {

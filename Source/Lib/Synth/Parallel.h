@@ -13,6 +13,10 @@
 
 namespace vs {
 
+// Sets the pool's threads from the Threads key (0: every core), once per run before the first frame.
+// The output does not depend on it.
+inline void setWorkerThreads(int threads) { cv::setNumThreads(threads > 0 ? threads : cv::getNumberOfCPUs()); }
+
 // Calls body(begin, end) on disjoint sub-ranges of [0, count); `stripes` as cv::parallel_for_'s
 // nstripes (-1: as many as the pool likes).
 template <class Body>

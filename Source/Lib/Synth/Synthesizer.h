@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "Common/Frame.h"
+#include "Common/Timing.h"
 #include "Common/Scene.h"
 #include "Synth/HoleFill.h"
 #include "Synth/Interpolation.h"
@@ -23,31 +24,6 @@
 #include "Synth/Warp.h"
 
 namespace vs {
-
-struct StageTimes {
-  double read = 0, depthWarp = 0, textureWarp = 0, blend = 0, holeFill = 0, write = 0;
-  double total() const { return read + depthWarp + textureWarp + blend + holeFill + write; }
-  StageTimes& operator+=(const StageTimes& o) {
-    read += o.read;
-    depthWarp += o.depthWarp;
-    textureWarp += o.textureWarp;
-    blend += o.blend;
-    holeFill += o.holeFill;
-    write += o.write;
-    return *this;
-  }
-};
-
-// Wall-clock seconds since `start`, for StageTimes.
-inline double secondsSince(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
-
-// One reference view's frame: texture and depth levels (the luma of the depth file).
-struct ReferenceFrame {
-  const Frame* texture = nullptr;
-  const Plane* depth = nullptr;
-};
 
 // Statistics of the last frame, for the log and tests.
 struct FrameStats {

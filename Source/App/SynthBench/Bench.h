@@ -1,0 +1,23 @@
+#pragma once
+// SynthBench's benchmark, apart from its command line (main.cpp).
+#include <string>
+#include <vector>
+
+namespace vs {
+
+struct BenchSettings {
+  int runs = 5;                        // runs per case; the median is printed
+  std::vector<int> threadCounts = {1, 2};
+  std::string work;                    // generated scenes and outputs; empty: a temporary folder, removed afterwards
+  std::string data;                    // real data (Middlebury configs)
+  bool demo = true;                    // the SceneGen demo at three sizes
+  bool real = true;                    // the real data
+  bool allScenes = false;              // every Middlebury scene, not only Art, Books, Aloe
+  bool process = true;                 // also time whole ViewSyn processes
+  std::vector<std::string> configs;    // further ViewSyn configs
+};
+
+// Prints the table of medians on stdout; throws InputError (a folder that cannot be made, a failed run).
+int runBench(const BenchSettings& settings);
+
+}  // namespace vs

@@ -1,0 +1,29 @@
+#pragma once
+// What the frame loop (Pipeline/FrameLoop.h) asks of a renderer: the pipeline owns this interface and
+// knows no renderer; ViewSyn's (Synth/ViewSynRenderer.h) and MeshRender's (Mesh/MeshSynthesizer.h)
+// adapters implement it, and the apps wire one into the loop (../shared/DESIGN.md, "Layout").
+#include <string>
+#include <vector>
+
+#include "Common/Depth.h"
+#include "Common/Frame.h"
+#include "Common/Timing.h"
+
+namespace vs {
+
+class FrameRenderer {
+public:
+  virtual ~FrameRenderer() = default;
+  // Renders the virtual view of one frame; adds its stage times to `times`.
+  virtual void render(const std::vector<ReferenceFrame>& references, Frame& output, StageTimes& times) = 0;
+  // Lines describing what this renderer will do (the plan), printed before the first frame.
+  virtual std::vector<std::string> plan() const = 0;
+  // The last rendered frame's depth as levels of `range` (OutputVirtualDepthMapName); false when the
+  // renderer cannot provide it.
+  virtual bool virtualDepth(const std::vector<ReferenceFrame>& /*references*/, const DepthRange& /*range*/,
+                            Plane& /*levels*/) {
+    return false;
+  }
+};
+
+}  // namespace vs

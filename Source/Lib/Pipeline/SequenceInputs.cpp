@@ -1,0 +1,107 @@
+#include "Pipeline/SequenceInputs.h"
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <exception>
+#include <functional>
+#include <thread>
+
+#include "Common/Error.h"
+#include "Common/Timing.h"
+
+namespace vs {
+
+SequenceInputs::SequenceInputs(const SynthesisSettings& settings) : settings_(settings) {
+  const SynthesisSettings& s = settings;
+  for (const ReferenceView& view : s.references) {
+    textures_.push_back(std::make_unique<YuvReader>(view.texturePath, s.textureFormat));
+    depths_.push_back(std::make_unique<YuvReader>(view.depthPath, view.depthFormat));
+  }
+  if (!s.referenceViewPath.empty()) truth_ = std::make_unique<YuvReader>(s.referenceViewPath, s.textureFormat);
+  available_ = s.frameCount;
+  auto limit = [&](const YuvReader& reader) {
+    const int64_t count = reader.frameCount();
+    if (s.startFrame >= count)
+      throw InputError(reader.path() + ": StartFrame " + std::to_string(s.startFrame) + " is beyond the end of the file (" +
+                       std::to_string(count) + " whole frames of " + std::to_string(reader.format().frameBytes()) + " bytes)");
+    if (count - s.startFrame < available_) {
+      available_ = count - s.startFrame;
+      shortest_ = reader.path();
+    }
+  };
+  for (size_t k = 0; k < textures_.size(); ++k) {
+    limit(*textures_[k]);
+    limit(*depths_[k]);
+  }
+  if (truth_) limit(*truth_);
+  for (Slot& slot : slots_) {
+    slot.textures.resize(textures_.size());
+    slot.depths.resize(depths_.size());
+  }
+  // The first frame is read when the loop asks for it, on the calling thread and beside it; each next
+  // one on a thread of its own while the frame before is rendered.
+  if (available_ > 0)
+    nextRead_ = std::async(std::launch::deferred, [this] { read(settings_.startFrame, slots_[0], true); });
+}
+
+SequenceInputs::~SequenceInputs() {
+  if (nextRead_.valid()) nextRead_.wait();
+}
+
+std::string SequenceInputs::shortfall() const {
+  return shortest_ + " holds only " + std::to_string(available_) + " frames from StartFrame " +
+         std::to_string(settings_.startFrame) + ", but TotalNumberOfFrames is " + std::to_string(settings_.frameCount);
+}
+
+// The files of one frame: each view's texture and depth (every view its own readers and buffers), then
+// the ground truth. sideBySide: the views (and the truth) are read on up to Threads threads, for the
+// first frame, which nothing else overlaps; a failure is reported as the first file in that order
+// would be read alone.
+void SequenceInputs::read(int64_t frameIndex, Slot& slot, bool sideBySide) {
+  const auto start = std::chrono::steady_clock::now();
+  const size_t jobs = textures_.size() + (truth_ ? 1 : 0);
+  auto readJob = [&](size_t j) {
+    if (j == textures_.size()) return truth_->read(frameIndex, slot.truth);
+    textures_[j]->read(frameIndex, slot.textures[j]);
+    depths_[j]->readLuma(frameIndex, slot.depths[j]);
+  };
+  const size_t cores = settings_.threads > 0 ? size_t(settings_.threads) : size_t(std::thread::hardware_concurrency());
+  const size_t workers = sideBySide ? std::min(jobs, std::max<size_t>(1, cores)) : 1;
+  if (workers > 1) {
+    std::vector<std::exception_ptr> failed(jobs);
+    std::atomic<size_t> nextJob{0};
+    auto work = [&] {
+      for (size_t j = nextJob++; j < jobs; j = nextJob++) try {
+          readJob(j);
+        } catch (...) {
+          failed[j] = std::current_exception();
+        }
+    };
+    std::vector<std::thread> threads;
+    for (size_t w = 1; w < workers; ++w) threads.emplace_back(work);
+    work();
+    for (std::thread& thread : threads) thread.join();
+    for (const std::exception_ptr& failure : failed)
+      if (failure) std::rethrow_exception(failure);
+  } else {
+    for (size_t j = 0; j < jobs; ++j) readJob(j);
+  }
+  slot.seconds = secondsSince(start);
+}
+
+SequenceInputs::FrameInputs SequenceInputs::next(double& readSeconds) {
+  const int64_t f = nextFrame_++;
+  const auto start = std::chrono::steady_clock::now();
+  nextRead_.get();  // rethrows a read error
+  Slot& current = slots_[f % 2];
+  readSeconds = std::max(secondsSince(start), f == 0 ? current.seconds : 0.0);
+  if (f + 1 < available_)
+    nextRead_ = std::async(std::launch::async, [this, f] { read(settings_.startFrame + f + 1, slots_[(f + 1) % 2], false); });
+  FrameInputs inputs;
+  for (size_t k = 0; k < textures_.size(); ++k) inputs.references.push_back({&current.textures[k], &current.depths[k]});
+  if (truth_) inputs.truth = &current.truth;
+  return inputs;
+}
+
+}  // namespace vs

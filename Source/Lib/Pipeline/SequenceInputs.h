@@ -1,0 +1,60 @@
+#pragma once
+// The input sequences of a run: every reference view's texture and depth file and the ground truth of
+// the virtual view. Opens them all, finds how many frames all of them hold from StartFrame on, and
+// reads each next frame on a thread of its own while the current one is rendered.
+#include <cstdint>
+#include <future>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "Common/Frame.h"
+#include "Common/Scene.h"
+#include "Common/Yuv.h"
+
+namespace vs {
+
+class SequenceInputs {
+public:
+  // Opens every input; throws InputError for a file that cannot be opened or that ends before
+  // StartFrame.
+  explicit SequenceInputs(const SynthesisSettings& settings);
+  // Waits for a read still running (after an error), before the buffers it fills go away.
+  ~SequenceInputs();
+  SequenceInputs(const SequenceInputs&) = delete;
+  SequenceInputs& operator=(const SequenceInputs&) = delete;
+
+  // Frames every input holds from StartFrame on, at most TotalNumberOfFrames.
+  int64_t available() const { return available_; }
+  // When available() < TotalNumberOfFrames: which file is short and by how much.
+  std::string shortfall() const;
+
+  struct FrameInputs {
+    std::vector<ReferenceFrame> references;  // one per reference view, in the settings' order
+    const Frame* truth = nullptr;            // the reference view's frame; nullptr without one
+  };
+  // The next frame's inputs (rethrows its read error) and starts reading the one after. `readSeconds`:
+  // what the first frame's read took, or for later frames the wait for their read (the read itself
+  // overlapped the rendering of the frame before).
+  FrameInputs next(double& readSeconds);
+
+private:
+  struct Slot {
+    std::vector<Frame> textures;
+    std::vector<Plane> depths;
+    Frame truth;
+    double seconds = 0;
+  };
+  void read(int64_t frameIndex, Slot& slot, bool sideBySide);
+
+  const SynthesisSettings& settings_;
+  std::vector<std::unique_ptr<YuvReader>> textures_, depths_;
+  std::unique_ptr<YuvReader> truth_;
+  int64_t available_ = 0;
+  std::string shortest_;
+  Slot slots_[2];
+  int64_t nextFrame_ = 0;  // 0-based from StartFrame
+  std::future<void> nextRead_;
+};
+
+}  // namespace vs

@@ -1,0 +1,38 @@
+#include "Pipeline/SequenceOutputs.h"
+
+#include "Common/Error.h"
+
+namespace vs {
+
+SequenceOutputs::SequenceOutputs(const SynthesisSettings& settings) : settings_(settings) {
+  const SynthesisSettings& s = settings;
+  const std::vector<std::string> inputs = s.inputPaths();
+  FrameFormat depthFormat = s.depthFormat;
+  depthFormat.bitDepth = s.virtualDepthRange.bitDepth;
+  std::vector<std::string> notDepth = inputs;
+  notDepth.push_back(s.outputPath);
+  YuvWriter::checkOutput(s.outputPath, s.textureFormat, inputs);
+  if (!s.virtualDepthPath.empty()) YuvWriter::checkOutput(s.virtualDepthPath, depthFormat, notDepth);
+  writer_ = std::make_unique<YuvWriter>(s.outputPath, s.textureFormat, inputs);
+  virtualDepth_.reset(depthFormat);
+  if (!s.virtualDepthPath.empty()) {
+    depthWriter_ = std::make_unique<YuvWriter>(s.virtualDepthPath, depthFormat, notDepth);
+    virtualDepth_.fill(0);
+  }
+}
+
+void SequenceOutputs::append(const Frame& output, const std::function<bool(Plane& levels)>& virtualDepth,
+                             const std::string& toolName) {
+  writer_->append(output);
+  if (!depthWriter_) return;
+  if (!virtualDepth(virtualDepth_.planes[0])) throw InputError(toolName + " cannot write OutputVirtualDepthMapName");
+  depthWriter_->append(virtualDepth_);
+}
+
+std::string SequenceOutputs::written() const {
+  std::string text = std::to_string(writer_->framesWritten()) + " whole frames were written to " + settings_.outputPath;
+  if (depthWriter_) text += ", " + std::to_string(depthWriter_->framesWritten()) + " to " + settings_.virtualDepthPath;
+  return text;
+}
+
+}  // namespace vs

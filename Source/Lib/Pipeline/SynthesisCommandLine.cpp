@@ -1,0 +1,70 @@
+#include "Pipeline/SynthesisCommandLine.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cstdio>
+
+#include "Common/Md5.h"
+#include "Pipeline/RunReport.h"
+
+namespace vs {
+
+CommandLineTool synthesisCommandLine(const SynthesisTool& tool) {
+  CommandLineTool front;
+  front.name = tool.name;
+  front.description = tool.description;
+  front.keys = tool.keys;
+  front.synopsis = {
+      "FILE.cfg [Key=Value ...] [--verify MD5]\n"
+      "      synthesize every frame; Key=Value overrides the file",
+      "--check FILE.cfg [Key=Value ...]\n      " + tool.checkHelp,
+      "--print-config FILE.cfg [Key=Value ...]\n"
+      "      print the effective configuration and the scene as JSON (doc/report.md); open no YUV file",
+  };
+  front.options = {
+      {"--check", {}, "check the configuration instead of running (see above)", nullptr, true},
+      {"--print-config", {}, "print configuration and scene as JSON instead of running", nullptr, true},
+      {"--verify", {"MD5"}, "after the run, the output file's MD5 must be MD5 (else exit 1)", md5Value(), false},
+  };
+  front.notes = "Exit codes: 0 success, 1 bad input (the message says which file, line or key) or a --verify\n"
+                "mismatch, 2 bad usage.\nThe manual: " + tool.manual + ".";
+  front.checkPositional = [](const CommandLine& line) -> std::string {
+    if (line.positional.empty())
+      return line.action.empty() ? "expected a config file FILE.cfg" : line.action + " needs a config file";
+    if (!line.action.empty() && line.has("--verify")) return "--verify checks a run's output, not " + line.action;
+    return "";
+  };
+  front.run = [tool](const CommandLine& line) {
+    const std::vector<std::string> overrides(line.positional.begin() + 1, line.positional.end());
+    const Config config = Config::load(*tool.keys, line.positional[0], overrides);
+    if (!line.action.empty()) {
+      const Scene scene = loadScene(config);
+      if (tool.validate) tool.validate(config, scene);
+      if (line.action == "--print-config") {
+        std::fputs(configJson(tool.name, config, scene).c_str(), stdout);
+        return 0;
+      }
+      printConfigCheck(tool.name, line.positional[0], config, scene);
+      if (tool.describe) tool.describe(stdout);
+      std::printf("configuration OK\n");
+      return 0;
+    }
+    tool.run(config);
+    if (!line.has("--verify")) return 0;
+    // As dav1d's --verify: the digest of the whole output file, compared without regard to case.
+    const std::string output = config.getPath("OutputVirtualViewImageName");
+    const std::string actual = md5OfFile(output);
+    std::string expected = line.text("--verify");
+    std::transform(expected.begin(), expected.end(), expected.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+    if (actual != expected) {
+      std::fprintf(stderr, "%s: error: --verify: %s has MD5 %s, expected %s\n", tool.name.c_str(), output.c_str(),
+                   actual.c_str(), expected.c_str());
+      return 1;
+    }
+    std::printf("verified: %s has MD5 %s\n", output.c_str(), actual.c_str());
+    return 0;
+  };
+  return front;
+}
+
+}  // namespace vs

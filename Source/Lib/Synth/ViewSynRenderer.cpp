@@ -1,0 +1,76 @@
+#include "Synth/ViewSynRenderer.h"
+
+#include <cstdio>
+#include <memory>
+
+#include "Common/Depth.h"
+#include "Pipeline/FrameLoop.h"
+#include "Synth/Parallel.h"
+#include "Synth/Plan.h"
+#include "Synth/Synthesizer.h"
+
+namespace vs {
+
+namespace {
+
+// ViewSyn's middle box: what the plan decided, a copy or the synthesizer on the chosen path.
+class ViewSynRenderer : public FrameRenderer {
+public:
+  explicit ViewSynRenderer(const Scene& scene) : scene_(scene), plan_(makePlan(scene)) {
+    if (plan_.copyOf < 0) synthesizer_ = std::make_unique<Synthesizer>(scene, plan_.mode);
+  }
+  void render(const std::vector<ReferenceFrame>& references, Frame& output, StageTimes& times) override {
+    if (plan_.copyOf >= 0) {
+      output = *references[size_t(plan_.copyOf)].texture;
+      return;
+    }
+    synthesizer_->synthesize(references, output, times);
+  }
+  bool virtualDepth(const std::vector<ReferenceFrame>& references, const DepthRange& range, Plane& levels) override {
+    if (synthesizer_) {
+      synthesizer_->virtualDepth(range, levels);
+      return true;
+    }
+    // A copy: the reference's depth, re-expressed in the virtual range (same camera, same depth).
+    const ReferenceView& view = scene_.settings.references[size_t(plan_.copyOf)];
+    const Plane& depth = *references[size_t(plan_.copyOf)].depth;
+    levels.resize(depth.width, depth.height);
+    for (size_t i = 0; i < depth.samples.size(); ++i)
+      levels.samples[i] = uint16_t(zToLevelRounded(levelToZ(depth.samples[i], view.depthRange), range));
+    return true;
+  }
+  std::vector<std::string> plan() const override {
+    std::vector<std::string> lines = plan_.lines;
+    if (!synthesizer_) return lines;
+    const SynthesisSettings& s = scene_.settings;
+    std::string weights = "blend weights:";
+    for (size_t k = 0; k < s.references.size(); ++k) {
+      char item[64];
+      std::snprintf(item, sizeof item, " %s %.4f", s.references[k].label.c_str(), synthesizer_->blendWeights()[k]);
+      weights += item;
+    }
+    lines.push_back(weights + (s.viewBlending ? " (ViewBlending 1: the heavier view where views agree)" : ""));
+    lines.push_back("texture: Precision " + std::to_string(s.precision) + ", Filter " + std::to_string(s.filter) +
+                    (s.colorSpace ? ", processed in RGB" : ", processed in YUV"));
+    return lines;
+  }
+
+private:
+  const Scene& scene_;
+  Plan plan_;
+  std::unique_ptr<Synthesizer> synthesizer_;
+};
+
+}  // namespace
+
+RunSummary runViewSyn(const Config& config, std::FILE* log) {
+  RunReport report("ViewSyn", config);
+  return runReported(report, [&] {
+    const Scene scene = loadScene(config);
+    ViewSynRenderer renderer(scene);
+    setWorkerThreads(scene.settings.threads);
+    return runSequence("ViewSyn", scene, renderer, report, log);
+  });
+}
+
+}  // namespace vs
