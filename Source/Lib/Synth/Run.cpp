@@ -13,6 +13,8 @@
 #include <opencv2/core/utility.hpp>
 
 #include "Common/Error.h"
+#include "Common/InputCheck.h"
+#include "Common/SafeOutput.h"
 #include "Common/Memory.h"
 #include "Common/Metrics.h"
 #include "Common/Depth.h"
@@ -49,6 +51,9 @@ public:
     for (size_t i = 0; i < depth.samples.size(); ++i)
       levels.samples[i] = uint16_t(zToLevelRounded(levelToZ(depth.samples[i], view.depthRange), range));
     return true;
+  }
+  int64_t uncoveredSamples() const override {
+    return synthesizer_ && plan_.mode == SynthesisMode::General ? int64_t(synthesizer_->lastStats().holesAfterBlend) : -1;
   }
   std::vector<std::string> plan() const override {
     std::vector<std::string> lines = plan_.lines;
@@ -97,7 +102,12 @@ RunSummary runSequence(const std::string& toolName, const Config& config, const 
   // Threads 0: every core. The output does not depend on it (Synth/Parallel.h).
   cv::setNumThreads(s.threads > 0 ? s.threads : cv::getNumberOfCPUs());
   say("%s %s\n\n%s\n%s", toolName.c_str(), VS_VERSION, config.effectiveText().c_str(), describeCameras(scene).c_str());
-  for (const std::string& warning : scene.warnings) say("warning: %s\n", warning.c_str());
+  // Every input by content and size, every output by name, before anything is created.
+  RunSummary summary;
+  summary.warnings = scene.warnings;
+  for (const std::string& warning : checkInputs(scene)) summary.warnings.push_back(warning);
+  checkOutputs(scene, renderer.extraOutputs());
+  for (const std::string& warning : summary.warnings) say("warning: %s\n", warning.c_str());
   say("\nplan:\n");
   for (const std::string& line : renderer.plan()) say("  %s\n", line.c_str());
 
@@ -133,27 +143,22 @@ RunSummary runSequence(const std::string& toolName, const Config& config, const 
   virtualDepthFormat.bitDepth = s.virtualDepthRange.bitDepth;
   std::vector<std::string> notDepth = inputs;
   notDepth.push_back(s.outputPath);
-  YuvWriter::checkOutput(s.outputPath, s.textureFormat, inputs);
-  if (!s.virtualDepthPath.empty()) YuvWriter::checkOutput(s.virtualDepthPath, virtualDepthFormat, notDepth);
-  YuvWriter writer(s.outputPath, s.textureFormat, inputs);
+  YuvWriter::checkOutput(s.outputPath, s.textureFormat, inputs, "OutputVirtualViewImageName");
+  if (!s.virtualDepthPath.empty())
+    YuvWriter::checkOutput(s.virtualDepthPath, virtualDepthFormat, notDepth, "OutputVirtualDepthMapName");
+  // Each output is a temporary file until the run ends well (SafeOutput.h).
+  YuvWriter writer(s.outputPath, s.textureFormat, inputs, "OutputVirtualViewImageName");
   std::unique_ptr<YuvWriter> depthWriter;
   Frame virtualDepthFrame(virtualDepthFormat);
   if (!s.virtualDepthPath.empty()) {
-    depthWriter = std::make_unique<YuvWriter>(s.virtualDepthPath, virtualDepthFormat, notDepth);
+    depthWriter = std::make_unique<YuvWriter>(s.virtualDepthPath, virtualDepthFormat, notDepth, "OutputVirtualDepthMapName");
     virtualDepthFrame.fill(0);
   }
-  std::FILE* report = nullptr;
+  std::unique_ptr<SafeOutputFile> report;
   if (!s.reportPath.empty()) {
-    report = std::fopen(s.reportPath.c_str(), "w");
-    if (!report) throw InputError(s.reportPath + ": cannot create the report file");
-    std::fprintf(report, "frame,psnr_y,psnr_u,psnr_v,psnr_yuv,read_s,depth_warp_s,texture_warp_s,blend_s,hole_fill_s,write_s,total_s\n");
+    report = std::make_unique<SafeOutputFile>(s.reportPath, inputs, "ReportFile");
+    report->write("frame,psnr_y,psnr_u,psnr_v,psnr_yuv,read_s,depth_warp_s,texture_warp_s,blend_s,hole_fill_s,write_s,total_s\n");
   }
-  struct ReportCloser {
-    std::FILE* f;
-    ~ReportCloser() {
-      if (f) std::fclose(f);
-    }
-  } closer{report};
 
   // Two sets of input buffers: while one frame is synthesized, the next one is read on another
   // thread (reading is file I/O and unpacking; the synthesis keeps the cores busy).
@@ -213,7 +218,7 @@ RunSummary runSequence(const std::string& toolName, const Config& config, const 
   } waiter{nextRead};
   Frame output;
   PsnrAccumulator accumulator(s.textureFormat.bitDepth, s.textureFormat.chroma != ChromaFormat::Yuv400);
-  RunSummary summary;
+  int64_t leastCovered = -1, leastCoveredFrame = 0;  // samples warped from any view, in the worst frame
   say("\n");
   for (int64_t f = 0; f < available; ++f) try {
     const int64_t frameIndex = s.startFrame + f;
@@ -229,6 +234,14 @@ RunSummary runSequence(const std::string& toolName, const Config& config, const 
     for (size_t k = 0; k < textures.size(); ++k) references[k] = ReferenceFrame{&current.textures[k], &current.depths[k]};
     const Frame& truthFrame = current.truth;
     renderer.render(references, output, times);
+    const int64_t uncovered = renderer.uncoveredSamples();
+    if (uncovered >= 0) {
+      const int64_t covered = int64_t(output.planes[0].samples.size()) - uncovered;
+      if (leastCovered < 0 || covered < leastCovered) {
+        leastCovered = covered;
+        leastCoveredFrame = frameIndex;
+      }
+    }
     start = std::chrono::steady_clock::now();
     writer.append(output);
     if (depthWriter) {
@@ -248,18 +261,39 @@ RunSummary runSequence(const std::string& toolName, const Config& config, const 
     }
     say("\n");
     if (log) std::fflush(log);
-    if (report)
-      std::fprintf(report, "%lld,%s,%s,%s,%s,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f\n", (long long)frameIndex,
-                   truth ? formatPsnr(psnr.y).c_str() : "", truth ? formatPsnr(psnr.u).c_str() : "",
-                   truth ? formatPsnr(psnr.v).c_str() : "", truth ? formatPsnr(psnr.yuv).c_str() : "", times.read,
-                   times.depthWarp, times.textureWarp, times.blend, times.holeFill, times.write, times.total());
+    if (report) {
+      char line[512];
+      std::snprintf(line, sizeof line, "%lld,%s,%s,%s,%s,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f\n", (long long)frameIndex,
+                    truth ? formatPsnr(psnr.y).c_str() : "", truth ? formatPsnr(psnr.u).c_str() : "",
+                    truth ? formatPsnr(psnr.v).c_str() : "", truth ? formatPsnr(psnr.yuv).c_str() : "", times.read,
+                    times.depthWarp, times.textureWarp, times.blend, times.holeFill, times.write, times.total());
+      report->write(line);
+    }
   } catch (const InputError& e) {
-    // Say what is on disk: the writers keep whole frames only.
-    std::string written = std::to_string(writer.framesWritten()) + " whole frames were written to " + s.outputPath;
-    if (depthWriter)
-      written += ", " + std::to_string(depthWriter->framesWritten()) + " to " + s.virtualDepthPath;
-    throw InputError(std::string(e.what()) + " (frame " + std::to_string(s.startFrame + f) + "; " + written + ")");
+    // Nothing is on disk yet: every output is a temporary file, removed as the writers go away.
+    throw InputError(std::string(e.what()) + " (frame " + std::to_string(s.startFrame + f) +
+                     "; no output file was created or replaced)");
   }
+
+  // A virtual camera that sees (almost) nothing gives plain hole-filled frames: say so.
+  if (leastCovered >= 0) {
+    const double share = double(leastCovered) / double(size_t(s.textureFormat.width) * size_t(s.textureFormat.height));
+    if (share < 0.01) {
+      char line[512];
+      std::snprintf(line, sizeof line,
+                    "virtual view: only %.2f %% of the samples of frame %lld were warped from any reference view; the "
+                    "rest is hole filling (is the virtual camera '%s' turned away from the scene, or far from it?)",
+                    100.0 * share, (long long)leastCoveredFrame, s.virtualCameraName.c_str());
+      summary.warnings.push_back(line);
+      say("warning: %s\n", line);
+    }
+  }
+  // The run ended well (or the inputs ran out, which the message below says): every output is
+  // renamed into place, whole.
+  writer.commit();
+  if (depthWriter) depthWriter->commit();
+  if (report) report->commit();
+  renderer.commitOutputs();
 
   const double frames = double(summary.framesWritten);
   say("\n%lld frames written to %s\n", (long long)summary.framesWritten, s.outputPath.c_str());

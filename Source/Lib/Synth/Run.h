@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "Common/Config.h"
+#include "Common/InputCheck.h"
 #include "Common/Scene.h"
 #include "Synth/Synthesizer.h"
 
@@ -25,12 +26,20 @@ public:
                             Plane& /*levels*/) {
     return false;
   }
+  // Luma samples of the last rendered frame that no reference view covered (filled as holes); -1:
+  // unknown. The run warns when a frame has less than 1 % covered.
+  virtual int64_t uncoveredSamples() const { return -1; }
+  // Files the renderer writes itself (MeshRender's PLY), checked with the run's outputs before frame 0.
+  virtual std::vector<NamedOutput> extraOutputs() const { return {}; }
+  // Renames the renderer's own files into place; called once the run has ended well.
+  virtual void commitOutputs() {}
 };
 
 struct RunSummary {
   int64_t framesWritten = 0;
   double meanPsnrY = 0, meanPsnrU = 0, meanPsnrV = 0;  // frame means; 0 without a reference view
   StageTimes times;                                      // sums over all frames
+  std::vector<std::string> warnings;                     // camera file, inputs and run, one line each
 };
 
 // Runs the whole sequence. Throws InputError for bad input; when the inputs hold fewer frames than
