@@ -6,6 +6,7 @@
 #include "Common/CommandLine.h"
 #include "Common/Config.h"
 #include "Common/Error.h"
+#include "Common/InputCheck.h"
 #include "Common/Options.h"
 #include "Common/Scene.h"
 #include "Synth/Run.h"
@@ -17,8 +18,9 @@ void printUsage(std::FILE* out, const vs::OptionTable& table) {
       "ViewSyn %s: synthesizes a virtual camera view from two reference views with depth (VSRS 4.x configs).\n\n"
       "Usage:\n"
       "  ViewSyn FILE.cfg [Key=Value ...]          synthesize every frame; Key=Value overrides the file\n"
-      "  ViewSyn --check FILE.cfg [Key=Value ...]  check the config and camera file, print the effective\n"
-      "                                            configuration and the cameras, open no YUV file\n"
+      "  ViewSyn --check FILE.cfg [Key=Value ...]  check the config, the camera file and every input file\n"
+      "                                            (type, format, size), print the effective configuration\n"
+      "                                            and the cameras; write nothing\n"
       "  ViewSyn --help                            this text\n"
       "  ViewSyn --help-markdown                   the keys as Markdown tables (the manual's source)\n\n"
       "Exit codes: 0 success, 1 bad input (the message says which file, line or key), 2 bad usage.\n"
@@ -40,8 +42,11 @@ int main(int argc, char** argv) {
     const std::vector<std::string> overrides(args.begin() + 1, args.end());
     const vs::Config config = vs::Config::load(table, args[0], overrides);
     if (check) {
-      vs::printConfigCheck("ViewSyn", args[0], config, vs::loadScene(config));
-      std::printf("configuration OK\n");
+      const vs::Scene scene = vs::loadScene(config);
+      vs::printConfigCheck("ViewSyn", args[0], config, scene);
+      for (const std::string& warning : vs::checkInputs(scene)) std::printf("warning: %s\n", warning.c_str());
+      vs::checkOutputs(scene);
+      std::printf("input files OK\nconfiguration OK\n");
       return 0;
     }
     vs::runViewSyn(config);

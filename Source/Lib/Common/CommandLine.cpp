@@ -1,5 +1,7 @@
 #include "Common/CommandLine.h"
 
+#include <cerrno>
+#include <cstring>
 #include <exception>
 #include <new>
 
@@ -38,7 +40,15 @@ int runCommandLine(int argc, char** argv, const CommandLineTool& tool) {
     return 2;
   }
   try {
-    return tool.run(args, check);
+    const int code = tool.run(args, check);
+    // What the tool printed must have reached stdout (a full disk, a closed pipe, /dev/full).
+    if (std::fflush(stdout) != 0 || std::ferror(stdout)) {
+      const int error = errno;
+      std::fprintf(stderr, "%s: error: cannot write the standard output: %s\n", tool.name.c_str(),
+                   error ? std::strerror(error) : "write error");
+      return 1;
+    }
+    return code;
   } catch (const InputError& e) {
     std::fprintf(stderr, "%s: error: %s\n", tool.name.c_str(), e.what());
   } catch (const std::bad_alloc&) {
