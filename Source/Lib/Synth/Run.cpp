@@ -53,7 +53,7 @@ public:
     return true;
   }
   int64_t uncoveredSamples() const override {
-    return synthesizer_ && plan_.mode == SynthesisMode::General ? int64_t(synthesizer_->lastStats().holesAfterBlend) : -1;
+    return synthesizer_ ? int64_t(synthesizer_->lastStats().holesAfterBlend) : -1;
   }
   std::vector<std::string> plan() const override {
     std::vector<std::string> lines = plan_.lines;
