@@ -218,6 +218,18 @@ std::string wholeFrameSizes(uint64_t fileBytes, const FrameFormat& format, int c
       items.push_back(std::string(dimension == 0 ? "width " : "height ") + std::to_string(found[i].first) + " (" +
                       plural(found[i].second) + ")");
   }
+  // The same size with another chroma format or sample size (one byte: 8-bit; two: 9- to 16-bit).
+  for (ChromaFormat chroma : {ChromaFormat::Yuv420, ChromaFormat::Yuv400, ChromaFormat::Yuv444})
+    for (int bitDepth : {8, 16}) {
+      FrameFormat f = format;
+      f.chroma = chroma;
+      f.bitDepth = bitDepth;
+      if (chroma == format.chroma && f.bytesPerSample() == format.bytesPerSample()) continue;
+      if (fileBytes % f.frameBytes() != 0) continue;
+      std::string item = chroma == format.chroma ? "" : std::string(chromaFormatName(chroma)) + " ";
+      item += bitDepth == 8 ? "8-bit" : "9- to 16-bit";
+      items.push_back(item + " samples (" + plural(fileBytes / f.frameBytes()) + ")");
+    }
   static const int kCommon[][2] = {{3840, 2160}, {2048, 1088}, {1920, 1088}, {1920, 1080}, {1280, 720},
                                    {1024, 768},  {720, 576},   {640, 480},   {352, 288}};
   for (const auto& size : kCommon) {

@@ -63,9 +63,10 @@ std::vector<std::string> checkInputs(const Scene& scene) {
         if (!reader.y4m()) {
           const std::string sizes = wholeFrameSizes(reader.fileBytes(), input.format);
           message += sizes.empty() ? "; no nearby size divides the file" : "; sizes that divide the file: " + sizes;
-          message += "; check SourceWidth, SourceHeight, " + std::string(input.chromaKey) + " and " + input.bitDepthKey +
-                     " (to use the first frames of a longer file, cut it: head -c " +
-                     std::to_string(uint64_t(reader.frameCount()) * frameBytes) + " FILE > FIRST.yuv)";
+          message += "; check SourceWidth, SourceHeight, " + std::string(input.chromaKey) + " and " + input.bitDepthKey;
+          if (reader.frameCount() > 0)
+            message += " (to use the first frames of a file with extra bytes at its end, copy them: head -c " +
+                       std::to_string(uint64_t(reader.frameCount()) * frameBytes) + " FILE > FIRST.yuv)";
         } else {
           message += " (a cut Y4M file?)";
         }

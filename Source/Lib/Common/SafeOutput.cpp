@@ -100,6 +100,14 @@ void SafeOutputFile::checkPath(const std::string& path, const std::vector<std::s
     if (!input.empty() && sameFile(path, input))
       throw InputError(named(role, path) + ": output file is the same file as input '" + input +
                        "'; refusing to overwrite an input");
+  // Names the file system would refuse at the end of the run (rename) are refused now.
+  const std::string fileName = fs::path(path).filename().string();
+  if (fileName.size() > 255)
+    throw InputError(named(role, path.substr(0, 60) + "...") + ": the file name is " + std::to_string(fileName.size()) +
+                     " bytes long; at most 255 expected");
+  if (path.size() >= 4096)
+    throw InputError(named(role, path.substr(0, 60) + "...") + ": the path is " + std::to_string(path.size()) +
+                     " bytes long; at most 4095 expected");
   std::error_code ec;
   const fs::path absolutePath = fs::absolute(path, ec);
   if (ec) throw InputError(named(role, path) + ": cannot resolve the output path: " + ec.message());
@@ -172,6 +180,7 @@ void SafeOutputFile::write(const void* data, size_t bytes) {
     if (written < 0 && errno == EINTR) continue;
     if (written <= 0) {
       const int error = written < 0 ? errno : ENOSPC;
+      lastError_ = error;
       throw InputError(named(role_, path_) + ": writing failed after " + std::to_string(bytesWritten_ + (bytes - left)) +
                        " bytes: " + osReason(error));
     }

@@ -45,6 +45,10 @@ public:
   // Where the bytes go until commit(): the temporary file, or path() for a device or FIFO.
   const std::string& writingPath() const { return temporaryPath_.empty() ? path_ : temporaryPath_; }
   uint64_t bytesWritten() const { return bytesWritten_; }
+  // The OS error of the last failed write (0: none), for callers that word their own message.
+  int lastError() const { return lastError_; }
+  // False for a device or FIFO written in place.
+  bool replacesOnCommit() const { return !temporaryPath_.empty() || committed_; }
 
   // Writes every byte (retrying short writes); throws InputError with the OS reason on failure.
   void write(const void* data, size_t bytes);
@@ -63,6 +67,7 @@ private:
   int fd_ = -1;
   int slot_ = -1;  // in the signal handler's list of temporary files
   uint64_t bytesWritten_ = 0;
+  int lastError_ = 0;
   bool committed_ = false;
 };
 

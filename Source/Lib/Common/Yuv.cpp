@@ -240,8 +240,10 @@ void YuvWriter::append(const Frame& frame) {
     file_->write(buffer_.data(), buffer_.size());
   } catch (const InputError& e) {
     failed_ = true;
-    throw InputError(path_ + ": writing frame " + std::to_string(framesWritten_) + " failed (" + e.what() +
-                     "); the file is not replaced");
+    if (!file_->lastError()) throw;
+    throw InputError(path_ + ": writing frame " + std::to_string(framesWritten_) + " failed: " +
+                     osReason(file_->lastError()) +
+                     (file_->replacesOnCommit() ? "; the file is not created or replaced" : ""));
   }
   ++framesWritten_;
 }
