@@ -9,6 +9,7 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -957,6 +958,120 @@ TEST(BadInputCatalogue, ConfigWithByteOrderMarkIsRead) {
       test::runTool("ViewSyn", "--check " + test::quoted(scene.configPath().string()), root, scene.dir);
   EXPECT_EQ(result.exitCode, 0) << result.err;
   EXPECT_NE(result.out.find("configuration OK"), std::string::npos) << result.out;
+}
+
+// ---- Issue 24: outputs, formats and tools beyond one refused run -----------------------------------
+
+// No file in `dir` is a temporary output (".NAME.vs-PID-N").
+void expectNoTemporaryFile(const fs::path& dir) {
+  for (const auto& entry : fs::directory_iterator(dir))
+    EXPECT_EQ(entry.path().filename().string().find(".vs-"), std::string::npos) << entry.path() << " was left behind";
+}
+
+// Two runs writing one output at the same time: each writes its own temporary file and the later
+// rename wins, so the output is always one run's whole output (doc/formats-yuv.md, "Safe outputs").
+TEST(CatalogueSafeOutput, TwoRunsOnOneOutputNeverMix) {
+  const fs::path root = test::scratchDir("safe_two_runs");
+  TinyScene scene(root / "scene");
+  scene.width = 320;
+  scene.height = 240;
+  scene.frames = 12;
+  scene.writeAll();
+  const std::string config = test::quoted(scene.configPath().string());
+  // Two different results: all frames, and the same run at Precision 1.
+  const fs::path a = root / "a.yuv", b = root / "b.yuv";
+  ASSERT_EQ(test::runTool("ViewSyn", config + " OutputVirtualViewImageName=" + test::quoted(a.string()), root).exitCode, 0);
+  ASSERT_EQ(test::runTool("ViewSyn", config + " Precision=1 Filter=0 OutputVirtualViewImageName=" + test::quoted(b.string()), root).exitCode, 0);
+  const std::string resultA = readFile(a), resultB = readFile(b);
+  ASSERT_NE(resultA, resultB);
+  const fs::path shared = root / "shared.yuv";
+  const std::string bin = test::quoted((test::binDir() / "ViewSyn").string());
+  for (int round = 0; round < 4; ++round) {
+    const std::string both = bin + " " + config + " OutputVirtualViewImageName=" + test::quoted(shared.string()) +
+                             " >/dev/null & " + bin + " " + config + " Precision=1 Filter=0 OutputVirtualViewImageName=" +
+                             test::quoted(shared.string()) + " >/dev/null & wait";
+    ASSERT_EQ(std::system(("bash -c " + test::quoted(both)).c_str()), 0);
+    const std::string result = readFile(shared);
+    EXPECT_TRUE(result == resultA || result == resultB) << "round " << round << ": a mixed file of " << result.size()
+                                                        << " bytes";
+  }
+  expectNoTemporaryFile(root);
+}
+
+// SIGTERM at any moment of a run: the output is the previous file or the whole new one, never a cut
+// frame, and the temporary file is removed (only SIGKILL can leave one).
+TEST(CatalogueSafeOutput, TerminatedRunLeavesTheOutputWholeOrAsItWas) {
+  const fs::path root = test::scratchDir("safe_sigterm");
+  TinyScene scene(root / "scene");
+  scene.width = 640;
+  scene.height = 480;
+  scene.frames = 30;
+  scene.writeAll();
+  const std::string config = test::quoted(scene.configPath().string());
+  const fs::path whole = root / "whole.yuv";
+  ASSERT_EQ(test::runTool("ViewSyn", config + " OutputVirtualViewImageName=" + test::quoted(whole.string()), root).exitCode, 0);
+  const std::string complete = readFile(whole);
+  const std::string previous(1000, 'p');
+  int killed = 0;
+  for (const char* delay : {"0.05", "0.15", "0.3", "0.5", "0.8"}) {
+    writeFile(scene.outputPath(), previous);
+    const test::ToolResult result = test::runTool("ViewSyn", config, root, {}, std::string("timeout -s TERM ") + delay);
+    killed += result.exitCode == 124;
+    const std::string now = readFile(scene.outputPath());
+    EXPECT_TRUE(now == previous || now == complete) << "after " << delay << " s: " << now.size() << " bytes";
+    expectNoTemporaryFile(scene.dir);
+  }
+  EXPECT_GT(killed, 0) << "no run was long enough to be terminated";
+}
+
+// A Y4M texture is read natively: the result is the raw run's, byte for byte. An output named .y4m
+// is written as Y4M: its header, then the same frames each after "FRAME\n".
+TEST(CatalogueY4m, ReadNativelyAndWrittenByName) {
+  const fs::path root = test::scratchDir("y4m_native");
+  TinyScene scene(root / "scene");
+  scene.writeAll();
+  const std::string config = test::quoted(scene.configPath().string());
+  ASSERT_EQ(test::runTool("ViewSyn", config, root).exitCode, 0);
+  const std::string raw = readFile(scene.outputPath());
+  const size_t frameBytes = size_t(scene.textureFormat().frameBytes());
+  writeY4m(scene.path("left.y4m"), "YUV4MPEG2 W32 H16 F30000:1001 It A1:1 C420mpeg2 XYSCSS=420MPEG2\n",
+           readFile(scene.path("left.yuv")), frameBytes);
+  writeY4m(scene.path("right_depth.y4m"), "YUV4MPEG2 W32 H16 C420jpeg\n", readFile(scene.path("right_depth.yuv")),
+           frameBytes);
+  const fs::path fromY4m = root / "from_y4m.yuv";
+  const test::ToolResult y4mRun = test::runTool(
+      "ViewSyn", config + " LeftViewImageName=left.y4m RightDepthMapName=right_depth.y4m OutputVirtualViewImageName=" +
+                     test::quoted(fromY4m.string()),
+      root, scene.dir);
+  ASSERT_EQ(y4mRun.exitCode, 0) << y4mRun.err;
+  EXPECT_TRUE(readFile(fromY4m) == raw);
+
+  const fs::path y4mOut = root / "virtual.y4m";
+  ASSERT_EQ(test::runTool("ViewSyn", config + " OutputVirtualViewImageName=" + test::quoted(y4mOut.string()), root).exitCode, 0);
+  const std::string header = "YUV4MPEG2 W32 H16 F25:1 Ip A1:1 C420jpeg\n";
+  std::string expected = header;
+  for (size_t at = 0; at < raw.size(); at += frameBytes) expected += "FRAME\n" + raw.substr(at, frameBytes);
+  EXPECT_TRUE(readFile(y4mOut) == expected);
+}
+
+// YuvPsnr: a FIFO is refused without waiting for a writer; numbers that cannot reach stdout are exit 1.
+TEST(CatalogueYuvPsnr, FifoRefusedAndStdoutErrorsAreExit1) {
+  const fs::path root = test::scratchDir("yuvpsnr_trust");
+  TinyScene scene(root / "scene");
+  scene.writeAll();
+  const std::string left = test::quoted(scene.path("left.yuv").string());
+  ASSERT_EQ(mkfifo(scene.path("pipe.yuv").c_str(), 0600), 0);
+  const test::ToolResult fifo =
+      test::runTool("YuvPsnr", left + " " + test::quoted(scene.path("pipe.yuv").string()) + " 32 16", root, {}, "timeout 10");
+  EXPECT_EQ(fifo.exitCode, 1) << fifo.err;
+  EXPECT_NE(fifo.err.find("pipe.yuv: cannot open: is a FIFO"), std::string::npos) << fifo.err;
+  if (fs::exists("/dev/full")) {
+    const test::ToolResult full = test::runTool("YuvPsnr", left + " " + left + " 32 16 >/dev/full", root);
+    EXPECT_EQ(full.exitCode, 1);
+    EXPECT_NE(full.err.find("cannot write the standard output: No space left on device"), std::string::npos) << full.err;
+  }
+  const test::ToolResult ok = test::runTool("YuvPsnr", left + " " + left + " 32 16", root);
+  EXPECT_EQ(ok.exitCode, 0) << ok.err;
 }
 
 }  // namespace
