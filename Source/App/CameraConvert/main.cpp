@@ -8,6 +8,7 @@
 #include "Common/CameraJson.h"
 #include "Common/Config.h"
 #include "Common/Error.h"
+#include "Common/SafeOutput.h"
 
 namespace {
 
@@ -92,6 +93,8 @@ int main(int argc, char** argv) {
     return 2;
   }
   try {
+    if (vs::sameFile(a.input, a.output))
+      throw vs::InputError(a.output + ": the output is the input file '" + a.input + "'; refusing to overwrite an input");
     const vs::CameraFile file = vs::readCameraFile(a.input);
     std::vector<vs::CameraInfo> info;
     for (const vs::Camera& camera : file.cameras()) {
