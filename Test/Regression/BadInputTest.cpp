@@ -1074,5 +1074,26 @@ TEST(CatalogueYuvPsnr, FifoRefusedAndStdoutErrorsAreExit1) {
   EXPECT_EQ(ok.exitCode, 0) << ok.err;
 }
 
+// CameraConvert: the output may not be its input, by any name (here a hard link); a camera file is
+// written through a temporary file like every other output.
+TEST(CatalogueTools, CameraConvertRefusesItsInputAsOutput) {
+  const fs::path root = test::scratchDir("cameraconvert_trust");
+  TinyScene scene(root / "scene");
+  scene.writeAll();
+  fs::create_hard_link(scene.path("cameras.txt"), scene.path("alias.txt"));
+  const std::string before = readFile(scene.path("cameras.txt"));
+  const test::ToolResult result =
+      test::runTool("CameraConvert", test::quoted(scene.path("cameras.txt").string()) + " " +
+                                         test::quoted(scene.path("alias.txt").string()), root);
+  EXPECT_EQ(result.exitCode, 1) << result.err;
+  EXPECT_NE(result.err.find("refusing to overwrite an input"), std::string::npos) << result.err;
+  EXPECT_EQ(readFile(scene.path("cameras.txt")), before);
+  const test::ToolResult json = test::runTool(
+      "CameraConvert",
+      test::quoted(scene.path("cameras.txt").string()) + " " + test::quoted(scene.path("cameras.json").string()), root);
+  EXPECT_EQ(json.exitCode, 0) << json.err;
+  expectNoTemporaryFile(scene.dir);
+}
+
 }  // namespace
 }  // namespace vs
