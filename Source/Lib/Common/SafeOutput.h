@@ -47,8 +47,6 @@ public:
   uint64_t bytesWritten() const { return bytesWritten_; }
   // The OS error of the last failed write (0: none), for callers that word their own message.
   int lastError() const { return lastError_; }
-  // False for a device or FIFO written in place.
-  bool replacesOnCommit() const { return !temporaryPath_.empty() || committed_; }
 
   // Writes every byte (retrying short writes); throws InputError with the OS reason on failure.
   void write(const void* data, size_t bytes);

@@ -241,9 +241,9 @@ void YuvWriter::append(const Frame& frame) {
   } catch (const InputError& e) {
     failed_ = true;
     if (!file_->lastError()) throw;
+    // The caller says what became of the outputs (the temporary file goes when the writer does).
     throw InputError(path_ + ": writing frame " + std::to_string(framesWritten_) + " failed: " +
-                     osReason(file_->lastError()) +
-                     (file_->replacesOnCommit() ? "; the file is not created or replaced" : ""));
+                     osReason(file_->lastError()));
   }
   ++framesWritten_;
 }
