@@ -32,7 +32,9 @@ uint32_t littleEndian32(const std::string& text, size_t at) {
 
 // ffmpeg's name of the raw pixel format that matches `format` (little-endian above 8 bits).
 std::string ffmpegPixelFormat(const FrameFormat& format) {
-  std::string base = format.chroma == ChromaFormat::Yuv400 ? "gray" : (format.chroma == ChromaFormat::Yuv444 ? "yuv444p" : "yuv420p");
+  const std::string base = format.chroma == ChromaFormat::Yuv400   ? "gray"
+                           : format.chroma == ChromaFormat::Yuv444 ? "yuv444p"
+                                                                   : "yuv420p";
   if (format.bitDepth <= 8) return base;
   return base + std::to_string(format.bitDepth) + "le";
 }
@@ -50,7 +52,8 @@ void requireRegularFile(const std::string& path, const std::string& role) {
   }
   const char* what = nullptr;
   if (S_ISDIR(info.st_mode)) what = "is a folder, not a file";
-  else if (S_ISFIFO(info.st_mode)) what = "is a FIFO (named pipe), not a regular file; sequences are read by frame offset";
+  else if (S_ISFIFO(info.st_mode))
+    what = "is a FIFO (named pipe), not a regular file; sequences are read by frame offset";
   else if (S_ISCHR(info.st_mode) || S_ISBLK(info.st_mode)) what = "is a device, not a regular file";
   else if (S_ISSOCK(info.st_mode)) what = "is a socket, not a regular file";
   else if (!S_ISREG(info.st_mode)) what = "is not a regular file";
@@ -73,7 +76,8 @@ ContainerSniff sniffContainer(const std::string& head, uint64_t fileBytes, const
   else if (has(0, "\xff\xd8\xff", 3)) sniff.description = "a JPEG image";
   else if (has(0, "GIF87a", 6) || has(0, "GIF89a", 6)) sniff.description = "a GIF image";
   else if (has(0, "II*\0", 4) || has(0, "MM\0*", 4)) sniff.description = "a TIFF image";
-  else if (has(0, "BM", 2) && head.size() >= 6 && littleEndian32(head, 2) == fileBytes) sniff.description = "a BMP image";
+  else if (has(0, "BM", 2) && head.size() >= 6 && littleEndian32(head, 2) == fileBytes)
+    sniff.description = "a BMP image";  // raw bytes may start with "BM"; the size field must match too
   else if (has(0, "RIFF", 4) && has(8, "WEBP", 4)) sniff.description = "a WebP image";
   else if (has(0, "v/1\x01", 4)) sniff.description = "an OpenEXR image";
   else if ((has(0, "P5", 2) || has(0, "P6", 2)) && head.size() > 2 && isSpace(head[2]))
@@ -137,7 +141,8 @@ Y4mHeader parseY4mHeader(const std::string& head, const std::string& path) {
         const long n = std::strtol(value.c_str(), &stop, 10);
         const long d = colon == std::string::npos ? 0 : std::strtol(value.c_str() + colon + 1, &stop, 10);
         if (colon == std::string::npos || n <= 0 || d <= 0)
-          throw InputError(path + ": Y4M stream header: frame rate '" + token + "': expected F<numerator>:<denominator>");
+          throw InputError(path + ": Y4M stream header: frame rate '" + token +
+                           "': expected F<numerator>:<denominator>");
         header.rateNumerator = int(std::min(n, 1L << 30));
         header.rateDenominator = int(std::min(d, 1L << 30));
         break;
@@ -146,7 +151,8 @@ Y4mHeader parseY4mHeader(const std::string& head, const std::string& path) {
     }
   }
   if (header.format.width == 0 || header.format.height == 0)
-    throw InputError(path + ": Y4M stream header has no " + std::string(header.format.width ? "H (height)" : "W (width)"));
+    throw InputError(path + ": Y4M stream header has no " +
+                     std::string(header.format.width ? "H (height)" : "W (width)"));
   // Chroma tag: 420 (any siting), 444, mono, each with an optional pN / N bit depth.
   std::string family = chromaTag, depth;
   for (const char* name : {"420jpeg", "420mpeg2", "420paldv", "420p", "420", "444p", "444", "mono"})
@@ -157,7 +163,8 @@ Y4mHeader parseY4mHeader(const std::string& head, const std::string& path) {
     }
   header.format.bitDepth = 8;
   if (family.rfind("420", 0) == 0) header.format.chroma = ChromaFormat::Yuv420;
-  else if (family.rfind("444", 0) == 0 && chromaTag.find("alpha") == std::string::npos) header.format.chroma = ChromaFormat::Yuv444;
+  else if (family.rfind("444", 0) == 0 && chromaTag.find("alpha") == std::string::npos)
+    header.format.chroma = ChromaFormat::Yuv444;
   else if (family == "mono") header.format.chroma = ChromaFormat::Yuv400;
   else
     throw InputError(path + ": Y4M chroma format C" + chromaTag +
@@ -167,7 +174,8 @@ Y4mHeader parseY4mHeader(const std::string& head, const std::string& path) {
     char* stop = nullptr;
     const long bits = std::strtol(depth.c_str(), &stop, 10);
     if (!numbered || *stop || bits < 8 || bits > 16)
-      throw InputError(path + ": Y4M chroma format C" + chromaTag + " is not read (8- to 16-bit 4:2:0, 4:4:4 and mono are)");
+      throw InputError(path + ": Y4M chroma format C" + chromaTag +
+                       " is not read (8- to 16-bit 4:2:0, 4:4:4 and mono are)");
     header.format.bitDepth = int(bits);
   } else if (family == "420p" || family == "444p") {
     throw InputError(path + ": Y4M chroma format C" + chromaTag + ": bit depth missing");
@@ -177,15 +185,18 @@ Y4mHeader parseY4mHeader(const std::string& head, const std::string& path) {
 
 std::string formatY4mHeader(const FrameFormat& format, int rateNumerator, int rateDenominator) {
   std::string chroma;
-  if (format.chroma == ChromaFormat::Yuv400) chroma = "mono" + (format.bitDepth > 8 ? std::to_string(format.bitDepth) : "");
-  else if (format.chroma == ChromaFormat::Yuv444) chroma = "444" + (format.bitDepth > 8 ? "p" + std::to_string(format.bitDepth) : "");
-  else chroma = format.bitDepth > 8 ? "420p" + std::to_string(format.bitDepth) : "420jpeg";
+  const std::string bits = std::to_string(format.bitDepth);
+  if (format.chroma == ChromaFormat::Yuv400) chroma = format.bitDepth > 8 ? "mono" + bits : "mono";
+  else if (format.chroma == ChromaFormat::Yuv444) chroma = format.bitDepth > 8 ? "444p" + bits : "444";
+  else chroma = format.bitDepth > 8 ? "420p" + bits : "420jpeg";
   return "YUV4MPEG2 W" + std::to_string(format.width) + " H" + std::to_string(format.height) + " F" +
          std::to_string(rateNumerator) + ":" + std::to_string(rateDenominator) + " Ip A1:1 C" + chroma + "\n";
 }
 
 std::string describeFormat(const FrameFormat& format) {
-  const char* chroma = format.chroma == ChromaFormat::Yuv400 ? "4:0:0" : (format.chroma == ChromaFormat::Yuv444 ? "4:4:4" : "4:2:0");
+  const char* chroma = format.chroma == ChromaFormat::Yuv400   ? "4:0:0"
+                       : format.chroma == ChromaFormat::Yuv444 ? "4:4:4"
+                                                               : "4:2:0";
   return std::to_string(format.width) + "x" + std::to_string(format.height) + " " + chroma + " " +
          std::to_string(format.bitDepth) + "-bit";
 }
@@ -233,7 +244,7 @@ std::string wholeFrameSizes(uint64_t fileBytes, const FrameFormat& format, int c
   static const int kCommon[][2] = {{3840, 2160}, {2048, 1088}, {1920, 1088}, {1920, 1080}, {1280, 720},
                                    {1024, 768},  {720, 576},   {640, 480},   {352, 288}};
   for (const auto& size : kCommon) {
-    if ((size[0] == format.width && size[1] == format.height) || size[0] == format.width || size[1] == format.height) continue;
+    if (size[0] == format.width || size[1] == format.height) continue;  // the searches above cover these
     if (const uint64_t n = frames(size[0], size[1]))
       items.push_back(std::to_string(size[0]) + "x" + std::to_string(size[1]) + " (" + plural(n) + ")");
   }

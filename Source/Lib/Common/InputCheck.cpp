@@ -11,7 +11,9 @@ namespace vs {
 
 namespace {
 
-std::string plural(uint64_t n, const char* one, const char* many) { return std::to_string(n) + " " + (n == 1 ? one : many); }
+std::string plural(uint64_t n, const char* one, const char* many) {
+  return std::to_string(n) + " " + (n == 1 ? one : many);
+}
 
 // One sequence input: the key that names it, what it is for the message, and its format keys.
 struct SequenceInput {

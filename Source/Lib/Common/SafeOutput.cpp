@@ -164,7 +164,8 @@ SafeOutputFile::SafeOutputFile(std::string path, const std::vector<std::string>&
   slot_ = registerTemporary(temporaryPath_);
   // The new file keeps the permissions of the one it replaces.
   struct stat previous {};
-  if (::stat(target_.c_str(), &previous) == 0 && S_ISREG(previous.st_mode)) (void)::fchmod(fd_, previous.st_mode & 07777);
+  if (::stat(target_.c_str(), &previous) == 0 && S_ISREG(previous.st_mode))
+    (void)::fchmod(fd_, previous.st_mode & 07777);
 }
 
 SafeOutputFile::~SafeOutputFile() {
