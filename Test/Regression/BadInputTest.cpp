@@ -734,6 +734,13 @@ std::vector<BadInputCase> catalogue() {
     limit.prefix = "timeout 60 bash -c 'ulimit -f 1; exec \"$0\" \"$@\"'";
     add(limit);
   }
+  {
+    BadInputCase stdoutFull{"StdoutToFullDisk", "the log on a full disk (stdout to /dev/full): exit 1 after the run",
+                            [](TinyScene&, std::vector<std::string>&) {}, 1,
+                            {"cannot write the standard output: No space left on device"}, 3};
+    stdoutFull.prefix = "timeout 60 bash -c 'exec \"$0\" \"$@\" >/dev/full'";
+    add(stdoutFull);
+  }
   add(withTool({"MeshPlyHardLinkToInput", "MeshRender: a PLY name that is a hard link to the left texture",
                 [](TinyScene& s, std::vector<std::string>&) {
                   fs::create_hard_link(s.path("left.yuv"), s.path("mesh_left.ply"));
