@@ -1059,6 +1059,10 @@ TEST(CatalogueY4m, ReadNativelyAndWrittenByName) {
   std::string expected = header;
   for (size_t at = 0; at < raw.size(); at += frameBytes) expected += "FRAME\n" + raw.substr(at, frameBytes);
   EXPECT_TRUE(readFile(y4mOut) == expected);
+  // With a Y4M texture, its frame rate is kept.
+  ASSERT_EQ(test::runTool("ViewSyn", config + " LeftViewImageName=left.y4m OutputVirtualViewImageName=" +
+                                         test::quoted(y4mOut.string()), root, scene.dir).exitCode, 0);
+  EXPECT_EQ(readFile(y4mOut).rfind("YUV4MPEG2 W32 H16 F30000:1001 Ip A1:1 C420jpeg\n", 0), 0u);
 }
 
 // YuvPsnr: a FIFO is refused without waiting for a writer; numbers that cannot reach stdout are exit 1.

@@ -206,14 +206,16 @@ void YuvWriter::checkOutput(const std::string& path, const FrameFormat& format, 
 }
 
 YuvWriter::YuvWriter(std::string path, const FrameFormat& format, const std::vector<std::string>& inputPaths,
-                     const std::string& role)
+                     const std::string& role, const Y4mHeader* rateFrom)
     : path_(std::move(path)), format_(format) {
   checkFormat(format_, path_);
   file_ = std::make_unique<SafeOutputFile>(path_, inputPaths, role);
   std::string extension = fs::path(path_).extension().string();
   std::transform(extension.begin(), extension.end(), extension.begin(), [](unsigned char c) { return char(std::tolower(c)); });
   y4m_ = extension == ".y4m";
-  if (y4m_) file_->write(formatY4mHeader(format_));
+  if (y4m_)
+    file_->write(rateFrom ? formatY4mHeader(format_, rateFrom->rateNumerator, rateFrom->rateDenominator)
+                          : formatY4mHeader(format_));
 }
 
 YuvWriter::~YuvWriter() = default;

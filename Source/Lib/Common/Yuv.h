@@ -75,9 +75,10 @@ public:
   // Creates the temporary file. Throws InputError, before creating anything, when `path` is the same
   // file as one of `inputPaths` (also through another spelling or a link), when its folder does not
   // exist or is not a folder, when `path` is a folder, when `format` is unusable, and (with the OS
-  // reason) when the file cannot be created. `role` (a key) starts the messages.
+  // reason) when the file cannot be created. `role` (a key) starts the messages. A Y4M output takes
+  // the frame rate of `rateFrom` (e.g. a Y4M input's header), else 25:1.
   YuvWriter(std::string path, const FrameFormat& format, const std::vector<std::string>& inputPaths = {},
-            const std::string& role = "");
+            const std::string& role = "", const Y4mHeader* rateFrom = nullptr);
   ~YuvWriter();
 
   // The constructor's checks alone, without creating the file: a run with several outputs checks them
