@@ -147,7 +147,9 @@ RunSummary runSequence(const std::string& toolName, const Config& config, const 
   if (!s.virtualDepthPath.empty())
     YuvWriter::checkOutput(s.virtualDepthPath, virtualDepthFormat, notDepth, "OutputVirtualDepthMapName");
   // Each output is a temporary file until the run ends well (SafeOutput.h).
-  YuvWriter writer(s.outputPath, s.textureFormat, inputs, "OutputVirtualViewImageName");
+  const Y4mHeader* rate = nullptr;  // a Y4M output keeps the frame rate of a Y4M texture
+  for (const auto& texture : textures) rate = rate ? rate : texture->y4m();
+  YuvWriter writer(s.outputPath, s.textureFormat, inputs, "OutputVirtualViewImageName", rate);
   std::unique_ptr<YuvWriter> depthWriter;
   Frame virtualDepthFrame(virtualDepthFormat);
   if (!s.virtualDepthPath.empty()) {
