@@ -95,6 +95,7 @@ TEST(RunReport, CsvAndJsonHoldTheSameFramesAndTheMeansAreFrameMeans) {
     report.begin(scene, {"plan line 1", "plan line 2"}, nullptr);
     report.startFrames(nullptr);
     for (const vs::FrameRecord& r : frames) report.addFrame(r, nullptr);
+    report.commit();
     summary = report.finish("out.yuv", nullptr);
     report.writeSummary(0, "");
   }

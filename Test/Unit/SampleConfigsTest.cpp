@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <sstream>
 
 #include "Common/CameraFile.h"
 #include "Common/Config.h"
@@ -87,8 +88,19 @@ TEST(SampleConfigs, EveryConfigPassesViewSynCheckWithItsCameraFile) {
       arguments += " DepthType=1";
     }
     const test::ToolResult result = test::runTool("ViewSyn", arguments, scratch);
-    EXPECT_EQ(result.exitCode, 0) << relative << "\n" << result.err;
-    EXPECT_NE(result.out.find("configuration OK"), std::string::npos) << relative;
+    // --check opens the sequences (issue 24), and the samples hold configs and camera files only: the
+    // config and cameras pass when the only problems left are sequences that cannot be opened.
+    if (result.exitCode == 0) {
+      EXPECT_NE(result.out.find("configuration OK"), std::string::npos) << relative;
+    } else {
+      EXPECT_EQ(result.exitCode, 1) << relative << "\n" << result.err;
+      std::istringstream lines(result.err);
+      std::string line;
+      std::getline(lines, line);
+      EXPECT_NE(line.find(": input files:"), std::string::npos) << relative << "\n" << result.err;
+      while (std::getline(lines, line))
+        EXPECT_NE(line.find(": cannot open: No such file or directory"), std::string::npos) << relative << ": " << line;
+    }
     // The effective configuration lists every key, and the three cameras are printed.
     const OptionTable table = viewSynOptionTable();
     for (const OptionSpec& spec : table.options())

@@ -534,6 +534,8 @@ SceneGenResult generateScene(const SceneGenSettings& s, std::ostream& log) {
     log << "frame " << frame << ": " << result.cameras.size() << " camera(s), "
         << formatFixed("%.3f", secondsSince(frameStart)) << " s\n";
   }
+  for (auto& writer : textureWriters) writer->commit();
+  for (auto& writer : depthWriters) writer->commit();
 
   // Configs: every camera with a neighbour on each side is a virtual camera once.
   for (size_t v = 1; v + 1 < result.cameras.size(); ++v) {

@@ -99,7 +99,10 @@ Plan makePlan(const Scene& scene) {
     plan.lines.push_back(plan.mode == SynthesisMode::Parallel1D ? "mode: 1D parallel (SynthesisMode 1)"
                                                                 : "mode: general 3D warping (SynthesisMode 0)");
   }
-  plan.lines.push_back(plan.blend ? "blend: two reference views" : "blend: off (one reference view: extrapolation)");
+  std::string views;  // every reference view by its label, not only "left" and "right"
+  for (const ReferenceView& view : s.references) views += (views.empty() ? "" : ", ") + view.label;
+  plan.lines.push_back(plan.blend ? "blend: " + std::to_string(s.references.size()) + " reference views (" + views + ")"
+                                  : "blend: off (one reference view: extrapolation)");
   plan.lines.push_back(plan.chroma ? "chroma: warped at its own sample positions" : "chroma: off (4:0:0)");
   plan.lines.push_back(std::string("holes: ") +
                        (!s.ivsrsInpaint ? "plain Telea inpainting, as VSRS (identical to OpenCV's)"
