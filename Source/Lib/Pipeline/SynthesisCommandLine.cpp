@@ -44,12 +44,11 @@ CommandLineTool synthesisCommandLine(const SynthesisTool& tool) {
         std::fputs(configJson(tool.name, config, scene).c_str(), stdout);
         return 0;
       }
-      // --check also opens every input (type, format, whole frames) and checks every output name, as
-      // the run does before frame 0; the warnings they give are printed after the cameras.
-      const std::vector<std::string> warnings = checkInputs(scene);
-      checkOutputs(scene, tool.extraOutputs ? tool.extraOutputs(config, scene) : std::vector<NamedOutput>{});
       printConfigCheck(tool.name, line.positional[0], config, scene);
-      for (const std::string& warning : warnings) std::printf("warning: %s\n", warning.c_str());
+      // --check also opens every input (type, format, whole frames) and checks every output name, as
+      // the run does before frame 0; after the printout, so that a refusal follows what was read.
+      for (const std::string& warning : checkInputs(scene)) std::printf("warning: %s\n", warning.c_str());
+      checkOutputs(scene, tool.extraOutputs ? tool.extraOutputs(config, scene) : std::vector<NamedOutput>{});
       std::printf("input files OK\n");
       if (tool.describe) tool.describe(stdout);
       std::printf("configuration OK\n");
