@@ -5,9 +5,11 @@
 //   - that every file the run made holds whole frames only (or, where the case says so, exactly n),
 //   - for the cases that ask for it, that the refusal is fast and allocates nothing big.
 #include <sys/stat.h>
+#include <sys/types.h>
 #include <unistd.h>
 
 #include <chrono>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -45,6 +47,11 @@ struct BadInputCase {
   bool needsNonRoot = false;              // permissions do not stop root
   double maxSeconds = 0;                  // > 0: the run must end within this many seconds
   long maxRssMiB = 0;                     // > 0: the run's peak resident memory must stay below this
+  // Issue 24's cases set these after construction (see `issue24` below).
+  std::string tool = "ViewSyn";           // the executable in Bin/
+  std::string prefix = "timeout 60";      // shell words before it (a time limit: a hang is a failure)
+  std::vector<std::string> outMessages = {};        // each must appear on stdout (warnings, the plan)
+  std::vector<std::string> absentOutMessages = {};  // none may appear on stdout
 };
 
 std::string readFile(const fs::path& path) {
@@ -57,6 +64,13 @@ std::string readFile(const fs::path& path) {
 void writeFile(const fs::path& path, const std::string& content) {
   std::ofstream out(path, std::ios::binary | std::ios::trunc);
   out << content;
+}
+
+// A Y4M file of `header` and the raw frames of `raw` (each `frameBytes` long), "FRAME\n" before each.
+void writeY4m(const fs::path& path, const std::string& header, const std::string& raw, size_t frameBytes) {
+  std::string content = header;
+  for (size_t at = 0; at + frameBytes <= raw.size(); at += frameBytes) content += "FRAME\n" + raw.substr(at, frameBytes);
+  writeFile(path, content);
 }
 
 // Size and FNV-1a hash of a file's bytes, read in chunks (inputs can be large and sparse).
@@ -253,7 +267,7 @@ std::vector<BadInputCase> catalogue() {
          s.set("SourceWidth", "16384");
          s.set("SourceHeight", "4096");
        },
-       1, {"left.yuv: StartFrame 0 is beyond the end of the file (0 whole frames of 100663296 bytes)"}, kNoOutput,
+       1, {"left.yuv: 2304 bytes is not a whole number of 16384x4096 4:2:0 8-bit frames (100663296 bytes a frame)"}, kNoOutput,
        false, 3.0, 200});
   add({"BillionFrames", "TotalNumberOfFrames 1e9 on 3-frame files: the 3 frames are written, quickly",
        setKey("TotalNumberOfFrames", "1000000000"), 1,
@@ -402,15 +416,19 @@ std::vector<BadInputCase> catalogue() {
        1, {"RightFarthestDepthValue = 0: 1/Z would be infinite"}, kNoOutput});
 
   // ---- Sequences ----------------------------------------------------------------------------------
-  add({"TruncatedTexture", "the left texture cut in the middle of frame 2: 2 frames are written",
+  // A file that is not a whole number of frames is refused before frame 0 (issue 24): a wrong size
+  // is the likely cause, and the message shows the sizes that would fit.
+  add({"TruncatedTexture", "the left texture cut in the middle of frame 2: refused before frame 0",
        [](TinyScene& s, std::vector<std::string>&) {
          truncateTo(s.path("left.yuv"), 2 * s.textureFormat().frameBytes() + 100);
        },
-       1, {"left.yuv holds only 2 frames from StartFrame 0, but TotalNumberOfFrames is 3; 2 whole frames were written to"},
-       2});
+       1, {"LeftViewImageName (texture of the Left view)", "left.yuv: 1636 bytes is not a whole number of 32x16 4:2:0 "
+           "8-bit frames (768 bytes a frame): 2 whole frames and 100 bytes over", "head -c 1536 FILE > FIRST.yuv"},
+       kNoOutput});
   add({"TextureShorterThanAFrame", "a texture shorter than one frame",
        [](TinyScene& s, std::vector<std::string>&) { truncateTo(s.path("right.yuv"), 100); }, 1,
-       {"right.yuv: StartFrame 0 is beyond the end of the file (0 whole frames of 768 bytes)"}, kNoOutput});
+       {"RightViewImageName (texture of the Right view)",
+        "right.yuv: 100 bytes is not a whole number of 32x16 4:2:0 8-bit frames (768 bytes a frame)"}, kNoOutput});
   add({"StartFrameBeyondEnd", "StartFrame 5 of 3 frames", setKey("StartFrame", "5"), 1,
        {"StartFrame 5 is beyond the end of the file (3 whole frames of 768 bytes)"}, kNoOutput});
   add({"StartFrameAtEnd", "StartFrame 3 of 3 frames", setKey("StartFrame", "3"), 1,
@@ -436,7 +454,7 @@ std::vector<BadInputCase> catalogue() {
          s.set("ReferenceVirtualViewImageName", "truth.yuv");
        },
        1, {"truth.yuv holds only 1 frames from StartFrame 0, but TotalNumberOfFrames is 3; 1 whole frames"}, 1});
-  add({"DepthSampleAboveMax", "a 10-bit depth file whose frame 1 holds the sample 4000: frame 0 is written",
+  add({"DepthSampleAboveMax", "a 10-bit depth file whose frame 1 holds the sample 4000: nothing is written",
        [](TinyScene& s, std::vector<std::string>&) {
          s.depthBitDepth = 10;
          s.writeAll();
@@ -447,12 +465,15 @@ std::vector<BadInputCase> catalogue() {
          file.write(sample, 2);
        },
        1,
-       {"left_depth.yuv: frame 1, plane Y: sample 4000 at (x 3, y 2) exceeds 1023, the maximum of 10-bit samples"}, 1});
-  // Every file of the first frame is wrong; they are read side by side, and the first in reading
-  // order (the left view's texture) is the one named.
-  add({"WrongBitDepth", "8-bit files read as 10-bit: samples above 1023",
+       {"left_depth.yuv: frame 1, plane Y: sample 4000 at (x 3, y 2) exceeds 1023, the maximum of 10-bit samples",
+        "(frame 1; no output file was created or replaced)"},
+       kNoOutput});
+  // 8-bit files read as 10-bit are twice too short a frame: the size check names both textures.
+  add({"WrongBitDepth", "8-bit files read as 10-bit: not a whole number of frames",
        setKey("TextureBitDepth", "10"), 1,
-       {"left.yuv: frame 0, plane Y: sample", "exceeds 1023, the maximum of 10-bit samples (wrong bit depth"}, 0});
+       {"left.yuv: 2304 bytes is not a whole number of 32x16 4:2:0 10-bit frames", "8-bit samples (3 frames)",
+        "right.yuv: 2304 bytes"},
+       kNoOutput});
 
   // ---- Output -------------------------------------------------------------------------------------
   add({"OutputIsInput", "the output is the left texture", setKey("OutputVirtualViewImageName", "left.yuv"), 1,
@@ -491,7 +512,7 @@ std::vector<BadInputCase> catalogue() {
        1, {"left.yuv' is not a folder"}, kNoOutput});
   add({"OutputFolderNotWritable", "the output folder cannot hold new files (/proc)",
        setKey("OutputVirtualViewImageName", "/proc/vs_virtual.yuv"), 1,
-       {"/proc/vs_virtual.yuv: cannot create the output file in folder '/proc'"}, kNoOutput});
+       {"/proc/vs_virtual.yuv': cannot create the output file in folder '/proc'"}, kNoOutput});
   add({"OutputFolderReadOnly", "a read-only output folder (skipped as root)",
        [](TinyScene& s, std::vector<std::string>&) {
          fs::create_directory(s.path("readonly"));
@@ -523,11 +544,260 @@ std::vector<BadInputCase> catalogue() {
        {"OutputVirtualDepthMapName", "is also an input"}, kNoOutput});
   add({"VirtualDepthDiskFull", "the virtual depth output's disk is full (/dev/full)",
        setKey("OutputVirtualDepthMapName", "/dev/full"), 1,
-       {"/dev/full: writing frame 0 failed", "(frame 0; 1 whole frames were written to", ", 0 to /dev/full)"}, 1});
+       {"/dev/full: writing frame 0 failed: No space left on device", "(frame 0; no output file was created or replaced)"},
+       kNoOutput});
   // Every output is checked before any is created: the view output is not even created here.
   add({"VirtualDepthFolderMissing", "the virtual depth output's folder does not exist",
        setKey("OutputVirtualDepthMapName", "no_such_folder/depth.yuv"), 1,
        {"output folder", "no_such_folder' does not exist"}, kNoOutput});
+  // ---- Issue 24: wrong input is never silent, no run damages a file --------------------------------
+  // Each case fails with the base executables (exit 0 with a wrong result, a damaged file, a crash or
+  // a hang); the report of issue 24 lists the behaviour before and after.
+  auto withTool = [](BadInputCase c, const std::string& tool) {
+    c.tool = tool;
+    return c;
+  };
+  auto onStdout = [](BadInputCase c, std::vector<std::string> present, std::vector<std::string> absent = {}) {
+    c.outMessages = std::move(present);
+    c.absentOutMessages = std::move(absent);
+    return c;
+  };
+  auto check = [](std::function<void(TinyScene&, std::vector<std::string>&)> build) {
+    return [build](TinyScene& s, std::vector<std::string>& a) {
+      build(s, a);
+      a.insert(a.begin(), "--check");
+    };
+  };
+  auto previousOutput = [](TinyScene& s) { writeFile(s.outputPath(), std::string(768, 'p')); };
+  // Silent wrong results.
+  add({"WrongWidth", "SourceWidth 30 on 32-wide files: refused, the width that fits named",
+       setKey("SourceWidth", "30"), 1,
+       {"LeftViewImageName (texture of the Left view)",
+        "left.yuv: 2304 bytes is not a whole number of 30x16 4:2:0 8-bit frames (720 bytes a frame)",
+        "sizes that divide the file: width 32 (3 frames)", "LeftDepthMapName (depth of the Left view)"},
+       kNoOutput});
+  add({"PartialFrameAtTheEnd", "a texture of 3 frames and 100 bytes, 2 frames asked for: refused",
+       [](TinyScene& s, std::vector<std::string>&) {
+         std::ofstream(s.path("left.yuv"), std::ios::binary | std::ios::app) << std::string(100, 'x');
+         s.set("TotalNumberOfFrames", "2");
+       },
+       1, {"left.yuv: 2404 bytes is not a whole number of 32x16 4:2:0 8-bit frames (768 bytes a frame): 3 whole frames "
+           "and 100 bytes over", "head -c 2304 FILE > FIRST.yuv"},
+       kNoOutput});
+  add({"Y4mWrongSize", "a Y4M texture whose header says 34x16: refused, both sizes named",
+       [](TinyScene& s, std::vector<std::string>&) {
+         writeY4m(s.path("left.y4m"), "YUV4MPEG2 W34 H16 F25:1 Ip A1:1 C420jpeg\n", readFile(s.path("left.yuv")), 768);
+         s.set("LeftViewImageName", "left.y4m");
+       },
+       1, {"LeftViewImageName (texture of the Left view)",
+           "left.y4m: the Y4M header says 34x16 4:2:0 8-bit, the configuration 32x16 4:2:0 8-bit"},
+       kNoOutput});
+  add({"PngTexture", "a PNG image named as texture: refused with what it is and an ffmpeg command",
+       [](TinyScene& s, std::vector<std::string>&) {
+         writeFile(s.path("left.png"), std::string("\x89PNG\r\n\x1a\n", 8) + std::string(2296, 'i'));
+         s.set("LeftViewImageName", "left.png");
+       },
+       1, {"left.png: the file is a PNG image, not a raw YUV or Y4M sequence; convert it: ffmpeg -i",
+           "-f rawvideo -pix_fmt yuv420p", "left.yuv'"},
+       kNoOutput});
+  add({"JpegDepth", "a JPEG named as depth map: refused",
+       [](TinyScene& s, std::vector<std::string>&) {
+         writeFile(s.path("depth.jpg"), std::string("\xff\xd8\xff\xe0", 4) + std::string(2300, 'j'));
+         s.set("RightDepthMapName", "depth.jpg");
+       },
+       1, {"RightDepthMapName (depth of the Right view)", "depth.jpg: the file is a JPEG image"}, kNoOutput});
+  add({"Mp4Texture", "an MP4 video named as texture: refused",
+       [](TinyScene& s, std::vector<std::string>&) {
+         writeFile(s.path("view.mp4"), std::string("\0\0\0\x20" "ftypisom", 12) + std::string(2292, 'm'));
+         s.set("RightViewImageName", "view.mp4");
+       },
+       1, {"view.mp4: the file is an MP4/MOV video", "ffmpeg -i"}, kNoOutput});
+  add({"CheckMissingTexture", "--check with a missing texture: opens the inputs, fails",
+       check(setKey("LeftViewImageName", "no_such.yuv")), 1, {"no_such.yuv: cannot open: No such file or directory"},
+       kNoOutput});
+  add({"CheckWrongWidth", "--check with SourceWidth 30 on 32-wide files", check(setKey("SourceWidth", "30")), 1,
+       {"is not a whole number of 30x16 4:2:0 8-bit frames", "width 32 (3 frames)"}, kNoOutput});
+  add({"CheckY4mWrongSize", "--check with a Y4M texture whose header disagrees",
+       check([](TinyScene& s, std::vector<std::string>&) {
+         writeY4m(s.path("left.y4m"), "YUV4MPEG2 W32 H18 C420jpeg\n", readFile(s.path("left.yuv")), 768);
+         s.set("LeftViewImageName", "left.y4m");
+       }),
+       1, {"the Y4M header says 32x18 4:2:0 8-bit, the configuration 32x16 4:2:0 8-bit"}, kNoOutput});
+  add(onStdout({"VirtualCameraTurnedAway", "a virtual camera looking away from the scene: a warning",
+                [](TinyScene& s, std::vector<std::string>&) {
+                  editCamera(s, "cam_virtual", [](std::vector<std::string>& t) {
+                    t[11] = "-1";
+                    t[21] = "-1";
+                  });
+                },
+                0, {}, 3},
+               {"warning: virtual view: only 0.00 % of the samples of frame 0 were warped from any reference view"}));
+  add(onStdout({"VirtualCameraFarAway", "a virtual camera 1e90 above the rig: a warning",
+                [](TinyScene& s, std::vector<std::string>&) {
+                  editCamera(s, "cam_virtual", [](std::vector<std::string>& t) { t[18] = "1e90"; });
+                },
+                0, {}, 3},
+               {"warning: virtual view: only 0.00 % of the samples"}));
+  add(onStdout({"DepthLevelZeroShare", "12.5 % of a depth map at level 0, MissingDepthLevel unset: a warning",
+                [](TinyScene& s, std::vector<std::string>&) {
+                  std::fstream file(s.path("left_depth.yuv"), std::ios::in | std::ios::out | std::ios::binary);
+                  file.write(std::string(64, '\0').data(), 64);  // the first two rows of frame 0
+                },
+                0, {}, 3},
+               {"left_depth.yuv: 12.5 % of the depth samples of frame 0 are at level 0",
+                "set MissingDepthLevel 0 (and MissingDepthFill 1)"}));
+  add(onStdout({"DepthLevelZeroDeclared", "the same with MissingDepthLevel 0: no warning",
+                [](TinyScene& s, std::vector<std::string>&) {
+                  std::fstream file(s.path("left_depth.yuv"), std::ios::in | std::ios::out | std::ios::binary);
+                  file.write(std::string(64, '\0').data(), 64);
+                  s.set("MissingDepthLevel", "0");
+                },
+                0, {}, 3},
+               {}, {"are at level 0"}));
+  add(onStdout({"RotationRounding", "a rotation off by 1e-6 (6 decimals): no warning",
+                [](TinyScene& s, std::vector<std::string>&) {
+                  editCamera(s, "cam_virtual", [](std::vector<std::string>& t) { t[12] = "0.000001"; });
+                },
+                0, {}, 3},
+               {}, {"R is a rotation only to within"}));
+  add(onStdout({"ThreeReferenceViews", "three reference views: the printout and the plan name all three",
+                [](TinyScene& s, std::vector<std::string>&) {
+                  std::string cameras = readFile(s.path("cameras.txt"));
+                  std::vector<Camera> list = s.cameras();
+                  Camera far = list[2];
+                  far.name = "cam_far";
+                  far.t.x = 8;
+                  writeCameraFile(s.path("cameras.txt").string(), {list[0], list[1], list[2], far});
+                  fs::copy_file(s.path("right.yuv"), s.path("far.yuv"));
+                  fs::copy_file(s.path("right_depth.yuv"), s.path("far_depth.yuv"));
+                  for (const char* key : {"LeftCameraName", "RightCameraName", "LeftViewImageName", "RightViewImageName",
+                                          "LeftDepthMapName", "RightDepthMapName", "LeftNearestDepthValue",
+                                          "LeftFarthestDepthValue", "RightNearestDepthValue", "RightFarthestDepthValue"})
+                    s.erase(key);
+                  s.set("ReferenceCameraNames", "cam_left,cam_right,cam_far");
+                  s.set("ReferenceViewImageNames", "left.yuv,right.yuv,far.yuv");
+                  s.set("ReferenceDepthMapNames", "left_depth.yuv,right_depth.yuv,far_depth.yuv");
+                  s.set("ReferenceNearestDepthValues", "50,50,50");
+                  s.set("ReferenceFarthestDepthValues", "120,120,120");
+                },
+                0, {}, 3},
+               {"reference 1 cam_left", "reference 3 cam_far", "blend: 3 reference views (Reference 1, Reference 2, "
+                "Reference 3)"},
+               {"two reference views"}));
+  // Files damaged.
+  add({"ReportIsConfig", "the report is the config file", setKey("ReportFile", "scene.cfg"), 1,
+       {"ReportFile", "is also an input"}, kNoOutput});
+  add({"OutputIsConfig", "the output is the config file", setKey("OutputVirtualViewImageName", "scene.cfg"), 1,
+       {"OutputVirtualViewImageName", "is also an input"}});
+  add({"VirtualDepthIsConfigByHardLink", "the depth output is a hard link to the config file",
+       [](TinyScene& s, std::vector<std::string>&) {
+         s.set("OutputVirtualDepthMapName", "config_link.yuv");
+         s.writeConfig();
+         fs::create_hard_link(s.configPath(), s.path("config_link.yuv"));
+       },
+       1, {"OutputVirtualDepthMapName", "is also an input"}, kNoOutput});
+  add({"RefusedRunKeepsPreviousOutput", "a report in a missing folder: the previous output keeps its bytes",
+       [previousOutput](TinyScene& s, std::vector<std::string>&) {
+         previousOutput(s);
+         s.set("ReportFile", "nodir/r.csv");
+       },
+       1, {"ReportFile '", "nodir' does not exist"}});
+  add({"ReportNameTooLong", "a report name of 300 characters: refused up front, the previous output kept",
+       [previousOutput](TinyScene& s, std::vector<std::string>&) {
+         previousOutput(s);
+         s.set("ReportFile", std::string(300, 'r') + ".csv");
+       },
+       1, {"the file name is 304 bytes long; at most 255 expected"}});
+  add({"DepthOutputNameTooLong", "a depth output name of 300 characters: refused up front, the previous output kept",
+       [previousOutput](TinyScene& s, std::vector<std::string>&) {
+         previousOutput(s);
+         s.set("OutputVirtualDepthMapName", std::string(300, 'd') + ".yuv");
+       },
+       1, {"OutputVirtualDepthMapName", "at most 255 expected"}});
+  add({"FailedRunKeepsPreviousOutput", "a bad depth sample in frame 1: the previous output keeps its bytes",
+       [previousOutput](TinyScene& s, std::vector<std::string>&) {
+         s.depthBitDepth = 10;
+         s.writeAll();
+         const uint64_t offset = s.depthFormat().frameBytes() + 10;
+         std::fstream file(s.path("right_depth.yuv"), std::ios::in | std::ios::out | std::ios::binary);
+         file.seekp(std::streamoff(offset));
+         file.write("\xff\xff", 2);
+         previousOutput(s);
+       },
+       1, {"right_depth.yuv: frame 1, plane Y", "no output file was created or replaced"}});
+  add({"ReportToFullDisk", "the report on a full disk (/dev/full): exit 1", setKey("ReportFile", "/dev/full"), 1,
+       {"ReportFile '/dev/full': writing failed after 0 bytes: No space left on device"}, kNoOutput});
+  {
+    BadInputCase limit{"FileSizeLimit", "ulimit -f 1: the write fails (EFBIG), nothing replaced, no partial frame",
+                       [previousOutput](TinyScene& s, std::vector<std::string>&) { previousOutput(s); }, 1,
+                       {"writing frame", "File too large", "no output file was created or replaced"}};
+    limit.prefix = "timeout 60 bash -c 'ulimit -f 1; exec \"$0\" \"$@\"'";
+    add(limit);
+  }
+  {
+    BadInputCase stdoutFull{"StdoutToFullDisk", "the log on a full disk (stdout to /dev/full): exit 1 after the run",
+                            [](TinyScene&, std::vector<std::string>&) {}, 1,
+                            {"cannot write the standard output: No space left on device"}, 3};
+    stdoutFull.prefix = "timeout 60 bash -c 'exec \"$0\" \"$@\" >/dev/full'";
+    add(stdoutFull);
+  }
+  add(withTool({"MeshPlyHardLinkToInput", "MeshRender: a PLY name that is a hard link to the left texture",
+                [](TinyScene& s, std::vector<std::string>&) {
+                  fs::create_hard_link(s.path("left.yuv"), s.path("mesh_left.ply"));
+                  s.set("MeshPlyOutput", "mesh.ply");
+                },
+                1, {"MeshPlyOutput (Left view) '", "mesh_left.ply': output file is the same file as input"}, kNoOutput},
+               "MeshRender"));
+  add(withTool({"MeshPlyFolderMissing", "MeshRender: PLY in a missing folder: refused, the previous output kept",
+                [previousOutput](TinyScene& s, std::vector<std::string>&) {
+                  previousOutput(s);
+                  s.set("MeshPlyOutput", "nodir/mesh.ply");
+                },
+                1, {"MeshPlyOutput (Left view)", "nodir' does not exist"}},
+               "MeshRender"));
+  add(withTool({"MeshCheckVirtualDepth", "MeshRender --check with OutputVirtualDepthMapName: refused",
+                check(setKey("OutputVirtualDepthMapName", "virtual_depth.yuv")), 1,
+                {"OutputVirtualDepthMapName", "MeshRender cannot write the virtual view's depth"}, kNoOutput},
+               "MeshRender"));
+  add(withTool({"MeshReportIsConfig", "MeshRender: the report is the config file", setKey("ReportFile", "scene.cfg"), 1,
+                {"ReportFile", "is also an input"}, kNoOutput},
+               "MeshRender"));
+  // Crashes and hangs.
+  add({"CameraCentreFar", "the left camera centre at x = 1e200: a clear error, no crash",
+       [](TinyScene& s, std::vector<std::string>&) {
+         editCamera(s, "cam_left", [](std::vector<std::string>& t) { t[14] = "1e200"; });
+       },
+       1, {"camera 'cam_left'", "t[0] (the camera centre) is 1e+200, expected a coordinate within +-1e100"}, kNoOutput});
+  add({"CameraCentreFarNegative", "the right camera centre at x = -1e308: a clear error",
+       [](TinyScene& s, std::vector<std::string>&) {
+         editCamera(s, "cam_right", [](std::vector<std::string>& t) { t[14] = "-1e308"; });
+       },
+       1, {"t[0] (the camera centre) is -1e+308"}, kNoOutput});
+  add({"CameraCentreFarButAllowed", "the left camera centre at x = 1e90: a defined result",
+       [](TinyScene& s, std::vector<std::string>&) {
+         editCamera(s, "cam_left", [](std::vector<std::string>& t) { t[14] = "1e90"; });
+       },
+       0, {}, 3});
+  {
+    BadInputCase fifo{"FifoTexture", "a FIFO named as texture: refused without opening it (no hang)",
+                      [](TinyScene& s, std::vector<std::string>&) {
+                        ASSERT_EQ(mkfifo(s.path("pipe.yuv").c_str(), 0600), 0);
+                        s.set("LeftViewImageName", "pipe.yuv");
+                      },
+                      1, {"pipe.yuv: cannot open: is a FIFO (named pipe), not a regular file"}, kNoOutput, false, 8.0};
+    fifo.prefix = "timeout 10";
+    add(fifo);
+    BadInputCase checkFifo = fifo;
+    checkFifo.name = "CheckFifoDepth";
+    checkFifo.description = "--check with a FIFO named as depth";
+    checkFifo.build = check([](TinyScene& s, std::vector<std::string>&) {
+      ASSERT_EQ(mkfifo(s.path("pipe.yuv").c_str(), 0600), 0);
+      s.set("RightDepthMapName", "pipe.yuv");
+    });
+    add(checkFifo);
+  }
+  add({"DeviceTexture", "a device named as texture (/dev/zero): refused", setKey("LeftViewImageName", "/dev/zero"), 1,
+       {"/dev/zero: cannot open: is a device, not a regular file"}, kNoOutput});
   return cases;
 }
 
@@ -553,19 +823,23 @@ TEST_P(BadInput, RefusedWithMessageAndNoDamage) {
   std::string command;
   for (const std::string& argument : arguments) command += (command.empty() ? "" : " ") + test::quoted(argument);
   const auto start = std::chrono::steady_clock::now();
-  const test::ToolResult result = test::runTool("ViewSyn", command, runDir, scene.dir);
+  const test::ToolResult result = test::runTool(c.tool, command, runDir, scene.dir, c.prefix);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   const std::map<std::string, Digest> after = snapshot(scene.dir);
 
   SCOPED_TRACE(c.description);
   EXPECT_EQ(result.exitCode, c.exitCode) << "stderr:\n" << result.err;
   if (c.exitCode == 1) {
-    EXPECT_EQ(result.err.rfind("ViewSyn: error: ", 0), 0u) << result.err;
+    EXPECT_EQ(result.err.rfind(c.tool + ": error: ", 0), 0u) << result.err;
   }
   // Without an argument the usage is the error message: on stderr (--help prints it on stdout).
   const std::string& shown = result.err;
   for (const std::string& message : c.messages)
     EXPECT_NE(shown.find(message), std::string::npos) << "expected: " << message << "\nstderr:\n" << result.err;
+  for (const std::string& message : c.outMessages)
+    EXPECT_NE(result.out.find(message), std::string::npos) << "expected on stdout: " << message << "\nstdout:\n" << result.out;
+  for (const std::string& message : c.absentOutMessages)
+    EXPECT_EQ(result.out.find(message), std::string::npos) << "not expected on stdout: " << message;
   // Said in a few lines, however much is wrong.
   EXPECT_LT(result.err.size(), 16384u);
 
@@ -582,7 +856,9 @@ TEST_P(BadInput, RefusedWithMessageAndNoDamage) {
   // Every file the run made is a sequence of whole frames (a report, if any, is text).
   const uint64_t frameBytes = scene.textureFormat().frameBytes();
   for (const auto& [path, content] : after) {
-    if (before.count(path) || fs::path(path).extension() == ".csv") continue;
+    // No temporary output file is left behind (SafeOutput.h names them ".NAME.vs-PID-N").
+    EXPECT_EQ(fs::path(path).filename().string().find(".vs-"), std::string::npos) << path << " was left behind";
+    if (before.count(path) || fs::path(path).extension() != ".yuv") continue;
     EXPECT_EQ(content.size % frameBytes, 0u) << path << " holds a partial frame: " << content.size << " bytes";
   }
   const fs::path output = scene.outputPath();
@@ -689,6 +965,145 @@ TEST(BadInputCatalogue, ConfigWithByteOrderMarkIsRead) {
       test::runTool("ViewSyn", "--check " + test::quoted(scene.configPath().string()), root, scene.dir);
   EXPECT_EQ(result.exitCode, 0) << result.err;
   EXPECT_NE(result.out.find("configuration OK"), std::string::npos) << result.out;
+}
+
+// ---- Issue 24: outputs, formats and tools beyond one refused run -----------------------------------
+
+// No file in `dir` is a temporary output (".NAME.vs-PID-N").
+void expectNoTemporaryFile(const fs::path& dir) {
+  for (const auto& entry : fs::directory_iterator(dir))
+    EXPECT_EQ(entry.path().filename().string().find(".vs-"), std::string::npos) << entry.path() << " was left behind";
+}
+
+// Two runs writing one output at the same time: each writes its own temporary file and the later
+// rename wins, so the output is always one run's whole output (doc/formats-yuv.md, "Safe outputs").
+TEST(CatalogueSafeOutput, TwoRunsOnOneOutputNeverMix) {
+  const fs::path root = test::scratchDir("safe_two_runs");
+  TinyScene scene(root / "scene");
+  scene.width = 320;
+  scene.height = 240;
+  scene.frames = 12;
+  scene.writeAll();
+  const std::string config = test::quoted(scene.configPath().string());
+  // Two different results: all frames, and the same run at Precision 1.
+  const fs::path a = root / "a.yuv", b = root / "b.yuv";
+  ASSERT_EQ(test::runTool("ViewSyn", config + " OutputVirtualViewImageName=" + test::quoted(a.string()), root).exitCode, 0);
+  ASSERT_EQ(test::runTool("ViewSyn", config + " Precision=1 Filter=0 OutputVirtualViewImageName=" + test::quoted(b.string()), root).exitCode, 0);
+  const std::string resultA = readFile(a), resultB = readFile(b);
+  ASSERT_NE(resultA, resultB);
+  const fs::path shared = root / "shared.yuv";
+  const std::string bin = test::quoted((test::binDir() / "ViewSyn").string());
+  for (int round = 0; round < 4; ++round) {
+    const std::string both = bin + " " + config + " OutputVirtualViewImageName=" + test::quoted(shared.string()) +
+                             " >/dev/null & " + bin + " " + config + " Precision=1 Filter=0 OutputVirtualViewImageName=" +
+                             test::quoted(shared.string()) + " >/dev/null & wait";
+    ASSERT_EQ(std::system(("bash -c " + test::quoted(both)).c_str()), 0);
+    const std::string result = readFile(shared);
+    EXPECT_TRUE(result == resultA || result == resultB) << "round " << round << ": a mixed file of " << result.size()
+                                                        << " bytes";
+  }
+  expectNoTemporaryFile(root);
+}
+
+// SIGTERM at any moment of a run: the output is the previous file or the whole new one, never a cut
+// frame, and the temporary file is removed (only SIGKILL can leave one).
+TEST(CatalogueSafeOutput, TerminatedRunLeavesTheOutputWholeOrAsItWas) {
+  const fs::path root = test::scratchDir("safe_sigterm");
+  TinyScene scene(root / "scene");
+  scene.width = 640;
+  scene.height = 480;
+  scene.frames = 30;
+  scene.writeAll();
+  const std::string config = test::quoted(scene.configPath().string());
+  const fs::path whole = root / "whole.yuv";
+  ASSERT_EQ(test::runTool("ViewSyn", config + " OutputVirtualViewImageName=" + test::quoted(whole.string()), root).exitCode, 0);
+  const std::string complete = readFile(whole);
+  const std::string previous(1000, 'p');
+  int killed = 0;
+  for (const char* delay : {"0.05", "0.15", "0.3", "0.5", "0.8"}) {
+    writeFile(scene.outputPath(), previous);
+    const test::ToolResult result = test::runTool("ViewSyn", config, root, {}, std::string("timeout -s TERM ") + delay);
+    killed += result.exitCode == 124;
+    const std::string now = readFile(scene.outputPath());
+    EXPECT_TRUE(now == previous || now == complete) << "after " << delay << " s: " << now.size() << " bytes";
+    expectNoTemporaryFile(scene.dir);
+  }
+  EXPECT_GT(killed, 0) << "no run was long enough to be terminated";
+}
+
+// A Y4M texture is read natively: the result is the raw run's, byte for byte. An output named .y4m
+// is written as Y4M: its header, then the same frames each after "FRAME\n".
+TEST(CatalogueY4m, ReadNativelyAndWrittenByName) {
+  const fs::path root = test::scratchDir("y4m_native");
+  TinyScene scene(root / "scene");
+  scene.writeAll();
+  const std::string config = test::quoted(scene.configPath().string());
+  ASSERT_EQ(test::runTool("ViewSyn", config, root).exitCode, 0);
+  const std::string raw = readFile(scene.outputPath());
+  const size_t frameBytes = size_t(scene.textureFormat().frameBytes());
+  writeY4m(scene.path("left.y4m"), "YUV4MPEG2 W32 H16 F30000:1001 It A1:1 C420mpeg2 XYSCSS=420MPEG2\n",
+           readFile(scene.path("left.yuv")), frameBytes);
+  writeY4m(scene.path("right_depth.y4m"), "YUV4MPEG2 W32 H16 C420jpeg\n", readFile(scene.path("right_depth.yuv")),
+           frameBytes);
+  const fs::path fromY4m = root / "from_y4m.yuv";
+  const test::ToolResult y4mRun = test::runTool(
+      "ViewSyn", config + " LeftViewImageName=left.y4m RightDepthMapName=right_depth.y4m OutputVirtualViewImageName=" +
+                     test::quoted(fromY4m.string()),
+      root, scene.dir);
+  ASSERT_EQ(y4mRun.exitCode, 0) << y4mRun.err;
+  EXPECT_TRUE(readFile(fromY4m) == raw);
+
+  const fs::path y4mOut = root / "virtual.y4m";
+  ASSERT_EQ(test::runTool("ViewSyn", config + " OutputVirtualViewImageName=" + test::quoted(y4mOut.string()), root).exitCode, 0);
+  const std::string header = "YUV4MPEG2 W32 H16 F25:1 Ip A1:1 C420jpeg\n";
+  std::string expected = header;
+  for (size_t at = 0; at < raw.size(); at += frameBytes) expected += "FRAME\n" + raw.substr(at, frameBytes);
+  EXPECT_TRUE(readFile(y4mOut) == expected);
+  // With a Y4M texture, its frame rate is kept.
+  ASSERT_EQ(test::runTool("ViewSyn", config + " LeftViewImageName=left.y4m OutputVirtualViewImageName=" +
+                                         test::quoted(y4mOut.string()), root, scene.dir).exitCode, 0);
+  EXPECT_EQ(readFile(y4mOut).rfind("YUV4MPEG2 W32 H16 F30000:1001 Ip A1:1 C420jpeg\n", 0), 0u);
+}
+
+// YuvPsnr: a FIFO is refused without waiting for a writer; numbers that cannot reach stdout are exit 1.
+TEST(CatalogueYuvPsnr, FifoRefusedAndStdoutErrorsAreExit1) {
+  const fs::path root = test::scratchDir("yuvpsnr_trust");
+  TinyScene scene(root / "scene");
+  scene.writeAll();
+  const std::string left = test::quoted(scene.path("left.yuv").string());
+  ASSERT_EQ(mkfifo(scene.path("pipe.yuv").c_str(), 0600), 0);
+  const test::ToolResult fifo =
+      test::runTool("YuvPsnr", left + " " + test::quoted(scene.path("pipe.yuv").string()) + " 32 16", root, {}, "timeout 10");
+  EXPECT_EQ(fifo.exitCode, 1) << fifo.err;
+  EXPECT_NE(fifo.err.find("pipe.yuv: cannot open: is a FIFO"), std::string::npos) << fifo.err;
+  if (fs::exists("/dev/full")) {
+    const test::ToolResult full = test::runTool("YuvPsnr", left + " " + left + " 32 16 >/dev/full", root);
+    EXPECT_EQ(full.exitCode, 1);
+    EXPECT_NE(full.err.find("cannot write the standard output: No space left on device"), std::string::npos) << full.err;
+  }
+  const test::ToolResult ok = test::runTool("YuvPsnr", left + " " + left + " 32 16", root);
+  EXPECT_EQ(ok.exitCode, 0) << ok.err;
+}
+
+// CameraConvert: the output may not be its input, by any name (here a hard link); a camera file is
+// written through a temporary file like every other output.
+TEST(CatalogueTools, CameraConvertRefusesItsInputAsOutput) {
+  const fs::path root = test::scratchDir("cameraconvert_trust");
+  TinyScene scene(root / "scene");
+  scene.writeAll();
+  fs::create_hard_link(scene.path("cameras.txt"), scene.path("alias.txt"));
+  const std::string before = readFile(scene.path("cameras.txt"));
+  const test::ToolResult result =
+      test::runTool("CameraConvert", test::quoted(scene.path("cameras.txt").string()) + " " +
+                                         test::quoted(scene.path("alias.txt").string()), root);
+  EXPECT_EQ(result.exitCode, 1) << result.err;
+  EXPECT_NE(result.err.find("refusing to overwrite an input"), std::string::npos) << result.err;
+  EXPECT_EQ(readFile(scene.path("cameras.txt")), before);
+  const test::ToolResult json = test::runTool(
+      "CameraConvert",
+      test::quoted(scene.path("cameras.txt").string()) + " " + test::quoted(scene.path("cameras.json").string()), root);
+  EXPECT_EQ(json.exitCode, 0) << json.err;
+  expectNoTemporaryFile(scene.dir);
 }
 
 }  // namespace

@@ -37,11 +37,13 @@ TEST(PlanRefusal, MeshRenderRefusesOutputVirtualDepthMapNameBeforeOpeningAnyYuvF
     EXPECT_FALSE(fs::exists(scene.outputPath())) << mode;
     EXPECT_FALSE(fs::exists(scene.path("virtual_depth.yuv"))) << mode;
   }
-  // ViewSyn writes the virtual depth: the same configuration passes its --check (which opens no YUV
-  // file either, so the missing input does not matter there).
+  // ViewSyn writes the virtual depth: the same configuration passes its plan and config check, and
+  // its --check goes on to open the inputs, where the missing one is the only problem.
   const test::ToolResult viewSyn = test::runTool("ViewSyn", "--check " + config, root, scene.dir);
-  EXPECT_EQ(viewSyn.exitCode, 0) << viewSyn.err;
-  EXPECT_NE(viewSyn.out.find("configuration OK"), std::string::npos) << viewSyn.out;
+  EXPECT_EQ(viewSyn.exitCode, 1) << viewSyn.err;
+  EXPECT_NE(viewSyn.err.find("left.yuv"), std::string::npos) << viewSyn.err;
+  EXPECT_EQ(viewSyn.err.find("OutputVirtualDepthMapName"), std::string::npos) << viewSyn.err;
+  EXPECT_EQ(viewSyn.out.find("configuration OK"), std::string::npos) << viewSyn.out;
 }
 
 // ViewSyn's --check asks the plan too: SynthesisMode 1 on a rig that is not rectified is refused with

@@ -128,6 +128,8 @@ struct TinyScene {
         textureWriter.append(shifted);
         depthWriter.append(depthFrame);
       }
+      textureWriter.commit();
+      depthWriter.commit();
     }
   }
 };

@@ -284,6 +284,21 @@ TEST(CameraTest, ValidCamerasPassWithoutWarnings) {
   EXPECT_TRUE(warnings.empty());
 }
 
+// A rotation rounded to 6 decimals (open3d's files: max |R R^T - I| about 1e-6) is no warning; one off
+// by 1e-4 is (issue 24: four warnings per open3d run said nothing useful).
+TEST(CameraTest, RotationRoundingIsNoWarningButADeviationIs) {
+  for (const auto& [offset, warns] : {std::pair<double, bool>{1e-6, false}, {3e-6, false}, {1e-4, true}}) {
+    Camera camera = makeCamera("r", intrinsics(1000, 1000, 500, 400), Mat3::identity(), {});
+    camera.R[0][1] = offset;
+    std::vector<std::string> warnings;
+    vs::validateCamera(camera, "f:1", warnings);
+    EXPECT_EQ(warnings.size(), warns ? 1u : 0u) << offset;
+    if (warns) {
+      EXPECT_TRUE(contains(warnings[0], "R is a rotation only to within")) << warnings[0];
+    }
+  }
+}
+
 TEST(CameraTest, ValidateRejectsNonFiniteNumbers) {
   Camera camera = makeCamera("cam9", intrinsics(1000, 1000, 500, 400), Mat3::identity(), {});
   camera.K[0][2] = std::nan("");
@@ -348,12 +363,13 @@ TEST(CameraTest, ValidateRejectsMatricesThatAreNotRotations) {
 }
 
 TEST(CameraTest, ValidateWarnsAboutNearlyOrthonormalRotations) {
-  Camera camera = makeCamera("nearly", intrinsics(1000, 1000, 500, 400), Mat3::identity() * (1.0 + 1e-6), {});
+  // Beyond rounding (1e-5; see RotationRoundingIsNoWarningButADeviationIs): 1e-4 off.
+  Camera camera = makeCamera("nearly", intrinsics(1000, 1000, 500, 400), Mat3::identity() * (1.0 + 1e-4), {});
   std::vector<std::string> warnings;
   EXPECT_NO_THROW(vs::validateCamera(camera, "f.txt:3", warnings));
   ASSERT_EQ(warnings.size(), 1u);
   EXPECT_TRUE(contains(warnings[0], "nearly")) << warnings[0];
-  EXPECT_TRUE(contains(warnings[0], "2e-06")) << warnings[0];  // (1 + 1e-6)^2 - 1
+  EXPECT_TRUE(contains(warnings[0], "0.0002")) << warnings[0];  // (1 + 1e-4)^2 - 1
   EXPECT_TRUE(contains(warnings[0], "f.txt:3")) << warnings[0];
 
   warnings.clear();

@@ -256,5 +256,25 @@ TEST(EdgeAlign, OffWithoutAWitnessOrWithReachZero) {
   EXPECT_GT(moved, 0u);
 }
 
+// A reference centre so far away that every distance to it overflows to inf (x = 1e200, issue 24):
+// each view still gets a witness (the other one), and aligning leaves a map of the right size.
+// The search kept no witness and read references[size_t(-1)].
+TEST(EdgeAlign, FarCentreStillHasAWitness) {
+  SquareRig rig(false);
+  test::RenderedReferences coded = test::renderReferences(rig.analytic, rig.scene);
+  for (double x : {1e200, -1e308}) {
+    Scene far = rig.scene;
+    far.settings.references[0].camera.t.x = x;
+    DepthEdgeAligner aligner(far.settings);
+    ASSERT_TRUE(aligner.enabled());
+    EXPECT_EQ(aligner.witness(0), 1) << x;
+    EXPECT_EQ(aligner.witness(1), 0) << x;
+    const std::vector<const Plane*> lumas = {&coded.textures[0].planes[0], &coded.textures[1].planes[0]};
+    size_t moved = 0;
+    const Plane& aligned = aligner.align(0, coded.depths[0], lumas, moved);
+    EXPECT_EQ(aligned.samples.size(), coded.depths[0].samples.size());
+  }
+}
+
 }  // namespace
 }  // namespace vs

@@ -390,6 +390,13 @@ ToolResult runMeshRender(const std::string& arguments, const fs::path& scratch, 
   return vs::test::runTool("MeshRender", arguments, scratch, {}, environment);
 }
 
+// One frame as a whole YUV file.
+void writeFrame(const std::string& path, const vs::FrameFormat& format, const vs::Frame& frame) {
+  vs::YuvWriter writer(path, format);
+  writer.append(frame);
+  writer.commit();
+}
+
 // Writes the plane scene as files (YUV, camera file, config) the way a user has them.
 fs::path writeSceneFiles(const PlaneScene& s, const std::string& name) {
   const fs::path dir = vs::test::scratchDir(name);
@@ -398,13 +405,13 @@ fs::path writeSceneFiles(const PlaneScene& s, const std::string& name) {
                       {settings.references[0].camera, s.scene.virtualCamera, settings.references[1].camera});
   const char* names[2] = {"left", "right"};
   for (int k = 0; k < 2; ++k) {
-    vs::YuvWriter((dir / (std::string(names[k]) + ".yuv")).string(), settings.textureFormat).append(s.textures[k]);
+    writeFrame((dir / (std::string(names[k]) + ".yuv")).string(), settings.textureFormat, s.textures[k]);
     vs::Frame depth(settings.depthFormat);
     depth.fill(0);
     depth.planes[0] = s.depths[k];
-    vs::YuvWriter((dir / (std::string(names[k]) + "_depth.yuv")).string(), settings.depthFormat).append(depth);
+    writeFrame((dir / (std::string(names[k]) + "_depth.yuv")).string(), settings.depthFormat, depth);
   }
-  vs::YuvWriter((dir / "truth.yuv").string(), settings.textureFormat).append(s.truth);
+  writeFrame((dir / "truth.yuv").string(), settings.textureFormat, s.truth);
   std::ofstream cfg(dir / "scene.cfg");
   cfg << "DepthType " << settings.depthType << "\nSourceWidth " << kWidth << "\nSourceHeight " << kHeight
       << "\nStartFrame 0\nTotalNumberOfFrames 1\n"

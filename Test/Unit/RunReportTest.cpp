@@ -96,6 +96,7 @@ TEST(RunReport, CsvAndJsonHoldTheSameFramesAndTheMeansAreFrameMeans) {
     report.begin(scene, {"plan line 1", "plan line 2"}, nullptr);
     report.startFrames(nullptr);
     for (const vs::FrameRecord& r : frames) report.addFrame(r, nullptr);
+    report.commit();
     summary = report.finish("out.yuv", nullptr);
     report.writeSummary(0, "");
   }
@@ -281,6 +282,49 @@ TEST(RunReportApp, ViewSynWritesTheSummaryWhenTheRunFails) {
   EXPECT_NE(run.err.find(member(json, "error").text), std::string::npos) << run.err;
   EXPECT_EQ(member(json, "frames").items.size(), 0u);
   EXPECT_EQ(member(json, "frames_written").number, 0);
+}
+
+// The run's warnings (here a depth map a quarter at level 0, found when the inputs are checked) are
+// printed and in the summary; a later run that fails keeps the previous output and CSV byte for byte
+// and writes only its summary, the record of the failure (doc/report.md).
+TEST(RunReportApp, SummaryHoldsTheRunsWarningsAndAFailedRunKeepsThePreviousFiles) {
+  const fs::path dir = tinyScene("run_report_app_warnings");
+  const std::string cfg = (dir / "viewsyn_cam1.cfg").string();
+  const vs::Config config = vs::Config::load(vs::viewSynOptionTable(), cfg, {});
+  const std::string depth = config.getPath("LeftDepthMapName"), output = config.getPath("OutputVirtualViewImageName");
+  {
+    std::fstream file(depth, std::ios::in | std::ios::out | std::ios::binary);
+    file.write(std::string(48 * 32 / 4, '\0').data(), 48 * 32 / 4);  // a quarter of frame 0's samples
+  }
+  const std::string reports = vs::test::quoted("ReportFile=" + (dir / "r.csv").string()) + " " +
+                              vs::test::quoted("SummaryFile=" + (dir / "s.json").string());
+  const vs::test::ToolResult run = vs::test::runTool("ViewSyn", vs::test::quoted(cfg) + " " + reports, dir);
+  ASSERT_EQ(run.exitCode, 0) << run.err;
+  const JsonValue json = vs::parseJson(readText(dir / "s.json"), "s.json");
+  bool levelZero = false;
+  for (const JsonValue& warning : member(json, "warnings").items) {
+    EXPECT_NE(run.out.find("warning: " + warning.text + "\n"), std::string::npos) << warning.text;
+    levelZero = levelZero || (warning.text.find(depth) != std::string::npos &&
+                              warning.text.find("are at level 0") != std::string::npos);
+  }
+  EXPECT_TRUE(levelZero) << run.out;
+
+  const std::string outputBefore = readText(output), csvBefore = readText(dir / "r.csv");
+  ASSERT_FALSE(outputBefore.empty());
+  const vs::test::ToolResult failed = vs::test::runTool(
+      "ViewSyn",
+      vs::test::quoted(cfg) + " " + vs::test::quoted("RightViewImageName=" + (dir / "missing.yuv").string()) + " " +
+          reports,
+      dir);
+  EXPECT_EQ(failed.exitCode, 1);
+  EXPECT_EQ(readText(output), outputBefore);
+  EXPECT_EQ(readText(dir / "r.csv"), csvBefore);
+  const JsonValue failure = vs::parseJson(readText(dir / "s.json"), "s.json");
+  EXPECT_EQ(member(failure, "exit_status").number, 1);
+  EXPECT_NE(member(failure, "error").text.find("missing.yuv"), std::string::npos);
+  // No temporary file is left beside the outputs.
+  for (const fs::directory_entry& entry : fs::directory_iterator(dir))
+    EXPECT_EQ(entry.path().filename().string().find(".vs-"), std::string::npos) << entry.path();
 }
 
 TEST(RunReportApp, PrintConfigDescribesTheSceneWithoutOpeningAnyYuvFile) {

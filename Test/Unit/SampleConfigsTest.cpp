@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <sstream>
 
 #include "Common/CameraFile.h"
 #include "Common/Config.h"
@@ -88,18 +89,30 @@ TEST(SampleConfigs, EveryConfigPassesViewSynCheckWithItsCameraFile) {
     }
     const Config config = Config::load(viewSynOptionTable(), cfg.string(), {});
     if (config.getString("SynthesisMode") == "1") {
-      // The plan refuses the 1D path on a rig that is not rectified, in --check as in a run; the rest
-      // of the configuration is checked with SynthesisMode auto.
+      // The plan refuses the 1D path on a rig that is not rectified, in --check as in a run (before
+      // any input is opened); the rest of the configuration is checked with SynthesisMode auto. A
+      // rectified rig passes the plan and meets the absent sequences, checked below.
       const test::ToolResult refused = test::runTool("ViewSyn", arguments, scratch);
-      if (refused.exitCode != 0) {
+      if (refused.exitCode != 0 && refused.err.find(": input files:") == std::string::npos) {
         EXPECT_NE(refused.err.find("SynthesisMode 1 (1D parallel) needs a rectified rig"), std::string::npos)
             << relative << "\n" << refused.err;
         arguments += " SynthesisMode=auto";
       }
     }
     const test::ToolResult result = test::runTool("ViewSyn", arguments, scratch);
-    EXPECT_EQ(result.exitCode, 0) << relative << "\n" << result.err;
-    EXPECT_NE(result.out.find("configuration OK"), std::string::npos) << relative;
+    // --check opens the sequences (issue 24), and the samples hold configs and camera files only: the
+    // config and cameras pass when the only problems left are sequences that cannot be opened.
+    if (result.exitCode == 0) {
+      EXPECT_NE(result.out.find("configuration OK"), std::string::npos) << relative;
+    } else {
+      EXPECT_EQ(result.exitCode, 1) << relative << "\n" << result.err;
+      std::istringstream lines(result.err);
+      std::string line;
+      std::getline(lines, line);
+      EXPECT_NE(line.find(": input files:"), std::string::npos) << relative << "\n" << result.err;
+      while (std::getline(lines, line))
+        EXPECT_NE(line.find(": cannot open: No such file or directory"), std::string::npos) << relative << ": " << line;
+    }
     // The effective configuration lists every key, and the three cameras are printed.
     const OptionTable table = viewSynOptionTable();
     for (const OptionSpec& spec : table.options())

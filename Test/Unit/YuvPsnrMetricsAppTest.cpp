@@ -67,6 +67,8 @@ void writeClips(const fs::path& refPath, const fs::path& testPath, const vs::Fra
     refs.push_back(ref);
     tests.push_back(test);
   }
+  refWriter.commit();  // a writer renames its file into place only when told the output is complete
+  testWriter.commit();
 }
 
 std::vector<std::vector<std::string>> readCsv(const fs::path& path) {
@@ -220,7 +222,9 @@ TEST_F(YuvPsnrMetricsAppTest, BadMetricOptionsAreNamed) {
   const vs::FrameFormat format = makeFormat(16, 16, 8, vs::ChromaFormat::Yuv420);
   vs::Frame frame(format);
   frame.fill(9);
-  vs::YuvWriter((dir / "a.yuv").string(), format).append(frame);
+  vs::YuvWriter writer((dir / "a.yuv").string(), format);
+  writer.append(frame);
+  writer.commit();
   const ToolResult result = runTool(quoted((dir / "a.yuv").string()) + " " + quoted((dir / "a.yuv").string()) +
                                         " 16x16 --metrics ssim --json " + quoted((dir / "no/such/dir/r.json").string()),
                                     dir);

@@ -16,6 +16,7 @@
 #if defined(__unix__)
 #include <csignal>
 #include <sys/resource.h>
+#include <sys/stat.h>
 #include <unistd.h>
 #endif
 
@@ -93,6 +94,7 @@ TEST(YuvTest, RoundTripEveryChromaFormatBitDepthAndOddSize) {
           vs::YuvWriter writer(path.string(), format);
           for (const vs::Frame& frame : frames) writer.append(frame);
           EXPECT_EQ(writer.framesWritten(), 3);
+          writer.commit();
         }
         const uint64_t frameBytes = expectedFrameBytes(size[0], size[1], bitDepth, chroma);
         EXPECT_EQ(fs::file_size(path), 3 * frameBytes);
@@ -126,6 +128,7 @@ TEST(YuvTest, EightBitLayoutIsPlanarYThenUThenV) {
   {
     vs::YuvWriter writer(path.string(), format);
     writer.append(frame);
+    writer.commit();
   }
   const std::vector<uint8_t> expected = {10, 11, 12, 13, 14, 15, 16, 17, 18, 100, 101, 102, 103, 200, 201, 202, 203};
   EXPECT_EQ(readBytes(path), expected);
@@ -151,6 +154,7 @@ TEST(YuvTest, SixteenBitLayoutIsLittleEndianByteByByte) {
   {
     vs::YuvWriter writer(written.string(), format, {handMade.string()});
     writer.append(frame);
+    writer.commit();
   }
   const std::vector<uint8_t> writtenBytes = readBytes(written);
   ASSERT_EQ(writtenBytes.size(), bytes.size());
@@ -164,6 +168,7 @@ TEST(YuvTest, SixteenBitLayoutIsLittleEndianByteByByte) {
   {
     vs::YuvWriter writer(path16.string(), format16);
     writer.append(frame16);
+    writer.commit();
   }
   EXPECT_EQ(readBytes(path16), (std::vector<uint8_t>{0x12, 0xfe}));
 }
@@ -180,6 +185,7 @@ TEST(YuvTest, ReadSeeksToAnyFrame) {
       frames.back().planes[0].at(0, 0) = uint16_t(i);  // frames differ even where random samples agree
       writer.append(frames.back());
     }
+    writer.commit();
   }
   vs::YuvReader reader(path.string(), format);
   ASSERT_EQ(reader.frameCount(), 6);
@@ -204,6 +210,7 @@ TEST(YuvTest, ReadsFramesPastFourGibibytes) {
   {
     vs::YuvWriter writer(path.string(), format);
     writer.append(expected);
+    writer.commit();
   }
   const std::vector<uint8_t> bytes = readBytes(path);
   std::error_code ec;
@@ -299,6 +306,7 @@ TEST(YuvTest, SampleAboveBitDepthMaximumIsAnInputError) {
     vs::YuvWriter writer(path.string(), format);
     writer.append(randomFrame(format, 1));
     writer.append(randomFrame(format, 2));
+    writer.commit();
   }
   // Frame 1, plane U, sample (1, 0) := 1024, one above the 10-bit maximum.
   std::vector<uint8_t> bytes = readBytes(path);
@@ -328,6 +336,7 @@ TEST(YuvTest, ReadLumaSkipsChroma) {
   {
     vs::YuvWriter writer(path.string(), format);
     for (const vs::Frame& frame : frames) writer.append(frame);
+    writer.commit();
   }
   vs::YuvReader reader(path.string(), format);
   vs::Plane luma(1, 1);
@@ -411,32 +420,182 @@ TEST(YuvTest, WriterRefusesReadOnlyFolder) {
   EXPECT_NE(message.find("Permission denied"), std::string::npos) << message;
 }
 
-TEST(YuvTest, WriterTruncatesExistingOutput) {
-  const fs::path dir = vs::test::scratchDir("yuv_truncate");
+// The output is a temporary file until commit(): the previous file keeps its bytes while frames
+// are written, and is replaced whole, with the new bytes only, by commit().
+TEST(YuvTest, WriterReplacesExistingOutputOnlyOnCommit) {
+  const fs::path dir = vs::test::scratchDir("yuv_replace");
   const vs::FrameFormat format = makeFormat(4, 4, 8, vs::ChromaFormat::Yuv400);
   const fs::path path = dir / "out.yuv";
-  writeBytes(path, std::vector<uint8_t>(1000, 9));
-  vs::YuvWriter writer(path.string(), format);
-  EXPECT_EQ(fs::file_size(path), 0u);
-  writer.append(randomFrame(format, 3));
-  EXPECT_EQ(fs::file_size(path), 16u) << "append flushes each frame";
+  const std::vector<uint8_t> previous(1000, 9);
+  writeBytes(path, previous);
+  const vs::Frame frame = randomFrame(format, 3);
+  {
+    vs::YuvWriter writer(path.string(), format);
+    writer.append(frame);
+    EXPECT_EQ(readBytes(path), previous) << "the previous file is untouched until commit()";
+    writer.commit();
+  }
+  std::vector<uint8_t> expected(frame.planes[0].samples.begin(), frame.planes[0].samples.end());
+  EXPECT_EQ(readBytes(path), expected);
+  // Without commit(): the file keeps what it held, and no temporary file is left.
+  {
+    vs::YuvWriter writer(path.string(), format);
+    writer.append(randomFrame(format, 4));
+  }
+  EXPECT_EQ(readBytes(path), expected);
+  size_t files = 0;
+  for (const auto& entry : fs::directory_iterator(dir)) files += entry.is_regular_file();
+  EXPECT_EQ(files, 1u) << "a temporary file was left behind";
+}
+
+// A symbolic link output keeps pointing where it did: the file it names is replaced.
+TEST(YuvTest, WriterReplacesTheFileALinkNames) {
+  const fs::path dir = vs::test::scratchDir("yuv_link_output");
+  const vs::FrameFormat format = makeFormat(2, 2, 8, vs::ChromaFormat::Yuv400);
+  fs::create_directory(dir / "store");
+  writeBytes(dir / "store" / "real.yuv", {1, 2, 3});
+  fs::create_symlink(dir / "store" / "real.yuv", dir / "link.yuv");
+  vs::YuvWriter writer((dir / "link.yuv").string(), format);
+  vs::Frame frame(format);
+  frame.fill(7);
+  writer.append(frame);
+  writer.commit();
+  EXPECT_TRUE(fs::is_symlink(dir / "link.yuv"));
+  EXPECT_EQ(readBytes(dir / "store" / "real.yuv"), (std::vector<uint8_t>{7, 7, 7, 7}));
+}
+
+// Y4M out: the header the format gives, "FRAME\n" before each frame; read back natively.
+TEST(YuvTest, Y4mRoundTrip) {
+  const fs::path dir = vs::test::scratchDir("yuv_y4m");
+  for (vs::ChromaFormat chroma : kAllChroma)
+    for (int bitDepth : {8, 10}) {
+      const vs::FrameFormat format = makeFormat(6, 4, bitDepth, chroma);
+      const fs::path path = dir / "out.y4m";
+      std::vector<vs::Frame> frames = {randomFrame(format, 1), randomFrame(format, 2)};
+      {
+        vs::YuvWriter writer(path.string(), format);
+        for (const vs::Frame& frame : frames) writer.append(frame);
+        writer.commit();
+      }
+      const std::vector<uint8_t> bytes = readBytes(path);
+      const std::string text(bytes.begin(), bytes.end());
+      const std::string header = vs::formatY4mHeader(format);
+      ASSERT_EQ(text.compare(0, header.size(), header), 0) << text.substr(0, 40);
+      EXPECT_EQ(text.compare(header.size(), 6, "FRAME\n"), 0);
+      EXPECT_EQ(bytes.size(), header.size() + 2 * (6 + format.frameBytes()));
+      vs::YuvReader reader(path.string(), format);
+      ASSERT_NE(reader.y4m(), nullptr);
+      EXPECT_EQ(reader.frameCount(), 2);
+      EXPECT_EQ(reader.trailingBytes(), 0u);
+      vs::Frame frame;
+      for (int i = 0; i < 2; ++i) {
+        reader.read(i, frame);
+        EXPECT_TRUE(frame == frames[size_t(i)]) << vs::describeFormat(format) << " frame " << i;
+      }
+      // The same file read with another format: refused, both formats named.
+      vs::FrameFormat other = format;
+      other.width = 8;
+      const std::string message = inputErrorOf([&] { vs::YuvReader wrong(path.string(), other); });
+      EXPECT_NE(message.find("the Y4M header says " + vs::describeFormat(format)), std::string::npos) << message;
+      EXPECT_NE(message.find(vs::describeFormat(other)), std::string::npos) << message;
+    }
+}
+
+// Headers written by hand, as other tools write them: parameters in any order, frame headers with
+// parameters, the chroma tags of ffmpeg.
+TEST(YuvTest, Y4mHeadersOfOtherTools) {
+  const vs::Y4mHeader a = vs::parseY4mHeader("YUV4MPEG2 C420mpeg2 W688 H555 F30000:1001 Ib A0:0 XYSCSS=420MPEG2\n", "a");
+  EXPECT_EQ(a.format.width, 688);
+  EXPECT_EQ(a.format.height, 555);
+  EXPECT_EQ(a.format.chroma, vs::ChromaFormat::Yuv420);
+  EXPECT_EQ(a.format.bitDepth, 8);
+  EXPECT_EQ(a.rateNumerator, 30000);
+  EXPECT_EQ(a.rateDenominator, 1001);
+  EXPECT_EQ(a.interlacing, 'b');
+  const vs::Y4mHeader b = vs::parseY4mHeader("YUV4MPEG2 W4 H2 Cmono16\n", "b");
+  EXPECT_EQ(b.format.chroma, vs::ChromaFormat::Yuv400);
+  EXPECT_EQ(b.format.bitDepth, 16);
+  EXPECT_EQ(b.headerBytes, 24u);
+  const vs::Y4mHeader c = vs::parseY4mHeader("YUV4MPEG2 W4 H2 C444p12\n", "c");
+  EXPECT_EQ(c.format.chroma, vs::ChromaFormat::Yuv444);
+  EXPECT_EQ(c.format.bitDepth, 12);
+  const vs::Y4mHeader d = vs::parseY4mHeader("YUV4MPEG2 W4 H2\n", "d");  // no C: 4:2:0 8-bit
+  EXPECT_EQ(d.format.chroma, vs::ChromaFormat::Yuv420);
+  EXPECT_NE(inputErrorOf([] { vs::parseY4mHeader("YUV4MPEG2 W4 H2 C422\n", "e"); }).find("C422 is not read"),
+            std::string::npos);
+  EXPECT_NE(inputErrorOf([] { vs::parseY4mHeader("YUV4MPEG2 W4 C420\n", "f"); }).find("no H"), std::string::npos);
+  EXPECT_NE(inputErrorOf([] { vs::parseY4mHeader("YUV4MPEG2 W4 H2 C420", "g"); }).find("no end of line"),
+            std::string::npos);
+  // A frame header with parameters is skipped whole.
+  const fs::path dir = vs::test::scratchDir("yuv_y4m_params");
+  const std::string file = std::string("YUV4MPEG2 W2 H2 Cmono\n") + "FRAME Ixyz\n" + "\x01\x02\x03\x04" +
+                           "FRAME Ixyz\n" + "\x05\x06\x07\x08";
+  writeBytes(dir / "p.y4m", std::vector<uint8_t>(file.begin(), file.end()));
+  vs::YuvReader reader((dir / "p.y4m").string(), makeFormat(2, 2, 8, vs::ChromaFormat::Yuv400));
+  ASSERT_EQ(reader.frameCount(), 2);
+  vs::Frame frame;
+  reader.read(1, frame);
+  EXPECT_EQ(frame.planes[0].samples, (std::vector<uint16_t>{5, 6, 7, 8}));
+}
+
+// Images and videos are recognised by their first bytes, whatever their name, and refused with what
+// they are and an ffmpeg command line.
+TEST(YuvTest, ContainersAreRefusedWithAConversion) {
+  const fs::path dir = vs::test::scratchDir("yuv_containers");
+  const vs::FrameFormat format = makeFormat(4, 4, 8, vs::ChromaFormat::Yuv420);
+  const std::pair<std::string, std::string> files[] = {
+      {std::string("\x89PNG\r\n\x1a\n", 8) + std::string(40, '\0'), "a PNG image"},
+      {std::string("\xff\xd8\xff\xe0", 4) + std::string(40, 'j'), "a JPEG image"},
+      {std::string("\0\0\0\x20" "ftypisom", 12) + std::string(40, 'm'), "an MP4/MOV video"},
+      {std::string("\x1a\x45\xdf\xa3", 4) + std::string(40, 'k'), "a Matroska/WebM video"},
+      {"GIF89a" + std::string(40, 'g'), "a GIF image"}};
+  for (const auto& [content, what] : files) {
+    const fs::path path = dir / "view.yuv";
+    writeBytes(path, std::vector<uint8_t>(content.begin(), content.end()));
+    const std::string message = inputErrorOf([&] { vs::YuvReader reader(path.string(), format); });
+    EXPECT_NE(message.find("the file is " + what + ", not a raw YUV"), std::string::npos) << message;
+    EXPECT_NE(message.find("ffmpeg -i '" + path.string() + "'"), std::string::npos) << message;
+    EXPECT_NE(message.find("-pix_fmt yuv420p"), std::string::npos) << message;
+  }
+  // Raw bytes that only start like a BMP ("BM" without the file's size after it) are raw YUV.
+  const std::string raw = "BM" + std::string(format.frameBytes() - 2, '\x10');
+  writeBytes(dir / "raw.yuv", std::vector<uint8_t>(raw.begin(), raw.end()));
+  EXPECT_NO_THROW(vs::YuvReader((dir / "raw.yuv").string(), format));
+}
+
+// Sizes that divide a file exactly, for the message of a file that is not whole frames: the
+// configured width's neighbours first. Checked against frame sizes computed here.
+TEST(YuvTest, WholeFrameSizesDivideTheFile) {
+  const vs::FrameFormat art = makeFormat(680, 555 + 1, 8, vs::ChromaFormat::Yuv420);  // 688 x 556 file, 3 frames
+  const uint64_t fileBytes = 3 * uint64_t(688 * 556 * 3 / 2);
+  const std::string sizes = vs::wholeFrameSizes(fileBytes, art);
+  EXPECT_EQ(sizes.rfind("width 688 (3 frames)", 0), 0u) << sizes;
+  // Every suggested width divides the file.
+  for (size_t at = sizes.find("width "); at != std::string::npos; at = sizes.find("width ", at + 1)) {
+    const int width = std::stoi(sizes.substr(at + 6));
+    vs::FrameFormat f = art;
+    f.width = width;
+    EXPECT_EQ(fileBytes % f.frameBytes(), 0u) << width;
+  }
+  EXPECT_EQ(vs::wholeFrameSizes(7, makeFormat(4, 4, 8, vs::ChromaFormat::Yuv420)), "");
 }
 
 #if defined(__unix__)
-TEST(YuvTest, FailedWriteLeavesWholeFramesOnly) {
-  // Limit the file size to 2.5 frames: the third frame's write stops half way (EFBIG), and the writer
-  // must cut the file back to two whole frames.
+// Past the file size limit (ulimit -f) the write fails with EFBIG (SIGXFSZ is ignored, not fatal):
+// an InputError, no further frames, and nothing replaced.
+TEST(YuvTest, FailedWriteReplacesNothing) {
   const fs::path dir = vs::test::scratchDir("yuv_writefail");
   const vs::FrameFormat format = makeFormat(8, 6, 10, vs::ChromaFormat::Yuv420);
   const uint64_t frameBytes = format.frameBytes();
   const fs::path path = dir / "out.yuv";
-  vs::YuvWriter writer(path.string(), format);
+  const std::vector<uint8_t> previous(100, 1);
+  writeBytes(path, previous);
   std::string message;
   {
+    vs::YuvWriter writer(path.string(), format);
     rlimit saved{};
     ASSERT_EQ(getrlimit(RLIMIT_FSIZE, &saved), 0);
     if (saved.rlim_max != RLIM_INFINITY && saved.rlim_max < 5 * frameBytes) GTEST_SKIP() << "file size limit";
-    const auto previousHandler = std::signal(SIGXFSZ, SIG_IGN);
     rlimit limited = saved;
     limited.rlim_cur = rlim_t(2 * frameBytes + frameBytes / 2);
     ASSERT_EQ(setrlimit(RLIMIT_FSIZE, &limited), 0);
@@ -448,25 +607,41 @@ TEST(YuvTest, FailedWriteLeavesWholeFramesOnly) {
       message = error.what();
     }
     setrlimit(RLIMIT_FSIZE, &saved);
-    std::signal(SIGXFSZ, previousHandler);
+    EXPECT_EQ(writer.framesWritten(), 2);
+    const std::string again = inputErrorOf([&] { writer.append(randomFrame(format, 4)); });
+    EXPECT_NE(again.find("earlier write failed"), std::string::npos) << again;
+    const std::string commit = inputErrorOf([&] { writer.commit(); });
+    EXPECT_NE(commit.find("not replaced"), std::string::npos) << commit;
   }
   EXPECT_NE(message.find("writing frame 2 failed"), std::string::npos) << message;
-  EXPECT_NE(message.find("keeps its 2 whole frames"), std::string::npos) << message;
-  EXPECT_EQ(fs::file_size(path), 2 * frameBytes);
-  EXPECT_EQ(writer.framesWritten(), 2);
-  // No further frames after a failure.
-  const std::string again = inputErrorOf([&] { writer.append(randomFrame(format, 4)); });
-  EXPECT_NE(again.find("earlier write failed"), std::string::npos) << again;
-  EXPECT_EQ(fs::file_size(path), 2 * frameBytes);
+  EXPECT_NE(message.find("File too large"), std::string::npos) << message;
+  EXPECT_EQ(readBytes(path), previous);
+  size_t files = 0;
+  for (const auto& entry : fs::directory_iterator(dir)) files += entry.is_regular_file();
+  EXPECT_EQ(files, 1u) << "a temporary file was left behind";
 }
 
+// A device is written in place (nothing to rename onto it); its write errors are InputErrors.
 TEST(YuvTest, WriteToFullDeviceIsAnInputError) {
   if (!fs::exists("/dev/full")) GTEST_SKIP() << "no /dev/full";
   const vs::FrameFormat format = makeFormat(4, 4, 8, vs::ChromaFormat::Yuv420);
   vs::YuvWriter writer("/dev/full", format);
   const std::string message = inputErrorOf([&] { writer.append(randomFrame(format, 1)); });
-  EXPECT_NE(message.find("/dev/full: writing frame 0 failed: No space left on device"), std::string::npos)
-      << message;
+  EXPECT_NE(message.find("/dev/full: writing frame 0 failed"), std::string::npos) << message;
+  EXPECT_NE(message.find("No space left on device"), std::string::npos) << message;
+  EXPECT_TRUE(fs::is_character_file("/dev/full"));
+}
+
+// A FIFO or a device named as an input is refused by stat() alone: open() on a FIFO without a
+// writer would wait for ever.
+TEST(YuvTest, FifoAndDeviceInputsAreRefusedWithoutOpening) {
+  const fs::path dir = vs::test::scratchDir("yuv_fifo");
+  const vs::FrameFormat format = makeFormat(4, 4, 8, vs::ChromaFormat::Yuv420);
+  ASSERT_EQ(mkfifo((dir / "pipe.yuv").c_str(), 0600), 0);
+  const std::string fifo = inputErrorOf([&] { vs::YuvReader reader((dir / "pipe.yuv").string(), format); });
+  EXPECT_NE(fifo.find("is a FIFO"), std::string::npos) << fifo;
+  const std::string device = inputErrorOf([&] { vs::YuvReader reader("/dev/zero", format); });
+  EXPECT_NE(device.find("is a device"), std::string::npos) << device;
 }
 #endif
 

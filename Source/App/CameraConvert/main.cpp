@@ -7,6 +7,8 @@
 #include "Common/CameraJson.h"
 #include "Common/CommandLine.h"
 #include "Common/Config.h"
+#include "Common/Error.h"
+#include "Common/SafeOutput.h"
 
 namespace {
 
@@ -16,6 +18,8 @@ bool isJson(const std::string& path) { return path.size() >= 5 && path.compare(p
 int convert(const vs::CommandLine& line) {
   const std::string& input = line.positional[0];
   const std::string& output = line.positional[1];
+  if (vs::sameFile(input, output))
+    throw vs::InputError(output + ": the output is the input file '" + input + "'; refusing to overwrite an input");
   const vs::CameraFile file = vs::readCameraFile(input);
   std::vector<vs::CameraInfo> info;
   for (const vs::Camera& camera : file.cameras()) {

@@ -150,8 +150,11 @@ int run(const BenchOptions& options) {
     generatePair(ref, test, options.format);
     refPath = "/tmp/MetricsBench_ref.yuv";
     testPath = "/tmp/MetricsBench_test.yuv";
-    vs::YuvWriter(refPath, options.format).append(ref);
-    vs::YuvWriter(testPath, options.format).append(test);
+    for (const auto& [path, frame] : {std::pair(refPath, &ref), std::pair(testPath, &test)}) {
+      vs::YuvWriter writer(path, options.format);  // the reference software reads the pair from files
+      writer.append(*frame);
+      writer.commit();
+    }
   } else {
     vs::YuvReader(refPath, options.format).read(0, ref);
     vs::YuvReader(testPath, options.format).read(0, test);

@@ -9,8 +9,8 @@ int main(int argc, char** argv) {
   vs::SynthesisTool tool;
   tool.name = "ViewSyn";
   tool.description = "synthesizes a virtual camera view from two reference views with depth (VSRS 4.x configs).";
-  tool.checkHelp = "check the config and camera file, print the effective configuration and the cameras;\n"
-                   "      open no YUV file";
+  tool.checkHelp = "check the config, the camera file, every input file (type, format, size) and every\n"
+                   "      output name; print the effective configuration and the cameras; write nothing";
   tool.manual = "doc/manual.md";
   tool.keys = &table;
   tool.run = [](const vs::Config& config) { vs::runViewSyn(config); };

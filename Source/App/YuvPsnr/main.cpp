@@ -1,11 +1,13 @@
 // YuvPsnr: PSNR, and on request IV-PSNR, WS-PSNR, SSIM and MS-SSIM (doc/metrics.md), of a test YUV
 // file against a reference, frame by frame and averaged (doc/formats-yuv.md). Exit codes: 0 done,
 // 1 file error, 2 bad arguments.
+#include <cerrno>
 #include <charconv>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <fstream>
+#include <cstring>
 #include <limits>
 #include <sstream>
 #include <string>
@@ -533,7 +535,13 @@ int main(int argc, char** argv) {
     return 2;
   }
   try {
-    return run(parsed.options);
+    const int code = run(parsed.options);
+    // The numbers must have reached stdout (a full disk, /dev/full, a closed pipe): else exit 1.
+    if (std::fflush(stdout) != 0 || std::ferror(stdout)) {
+      std::fprintf(stderr, "YuvPsnr: error: cannot write the standard output: %s\n", std::strerror(errno));
+      return 1;
+    }
+    return code;
   } catch (const vs::InputError& error) {
     std::fflush(stdout);
     std::fprintf(stderr, "YuvPsnr: error: %s\n", error.what());

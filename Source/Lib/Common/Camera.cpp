@@ -73,6 +73,7 @@ void applyRotationConvention(Camera& camera, RotationConvention convention) {
 }
 
 void validateCamera(const Camera& camera, const std::string& where, std::vector<std::string>& warnings) {
+  constexpr double kRotationRounding = 1e-5;
   const std::string at = prefix(camera, where);
   const auto checkFinite = [&](double value, const std::string& what) {
     if (!std::isfinite(value))
@@ -86,6 +87,14 @@ void validateCamera(const Camera& camera, const std::string& where, std::vector<
     }
   for (int i = 0; i < 2; ++i) checkFinite(camera.distortion[i], "distortion[" + std::to_string(i) + "]");
   for (int i = 0; i < 3; ++i) checkFinite(camera.t[i], "t[" + std::to_string(i) + "]");
+  // Distances between centres are squared on the way (norms, baselines, rectification tests): beyond
+  // 1e100 a square overflows to inf and the tests read NaN as "fine" (a centre at 1e200 crashed the
+  // edge alignment, one at 1e300 passed as a rectified rig; issue 24). No scene is that large.
+  constexpr double kMaxCoordinate = 1e100;
+  for (int i = 0; i < 3; ++i)
+    if (std::fabs(camera.t[i]) > kMaxCoordinate)
+      throw InputError(at + "t[" + std::to_string(i) + "] (the camera centre) is " + formatNumber("%g", camera.t[i]) +
+                       ", expected a coordinate within +-1e100 (distances between cameras would overflow)");
 
   const Mat3& K = camera.K;
   if (!(K[0][0] > 0.0))
@@ -109,7 +118,9 @@ void validateCamera(const Camera& camera, const std::string& where, std::vector<
   if (!(deviation <= 1e-3) || det < 0.0)
     throw InputError(at + "R is not a rotation matrix: max |R R^T - I| = " + formatNumber("%.3g", deviation) +
                      " (at most 1e-3 allowed), det(R) = " + formatNumber("%.6g", det) + " (expected +1)");
-  if (deviation > 1e-9)
+  // Rotations written with 6 or 7 significant digits (open3d, most VSRS camera files) deviate by up
+  // to about 1e-6: that is rounding, not a problem worth a line per camera.
+  if (deviation > kRotationRounding)
     warnings.push_back(at + "R is a rotation only to within " + formatNumber("%.3g", deviation) +
                        " (max |R R^T - I|); it is used as given, with its exact inverse for camera to world");
   if (camera.distortion[0] != 0.0 || camera.distortion[1] != 0.0)

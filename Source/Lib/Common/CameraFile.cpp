@@ -15,6 +15,7 @@
 
 #include "Common/CameraJson.h"
 #include "Common/Error.h"
+#include "Common/SafeOutput.h"
 
 namespace vs {
 
@@ -298,11 +299,10 @@ void writeCameraFile(const std::string& path, const std::vector<Camera>& cameras
                        "' holds a number that is not finite");
     text += formatCamera(camera) + "\n";
   }
-  std::ofstream out(path, std::ios::binary | std::ios::trunc);
-  if (!out) throw InputError("cannot write camera file '" + path + "': " + std::strerror(errno));
-  out << text;
-  out.close();
-  if (!out) throw InputError("cannot write camera file '" + path + "': " + std::strerror(errno));
+  // Through a temporary file: a failed write leaves a previous file as it was (SafeOutput.h).
+  SafeOutputFile out(path, {}, "camera file");
+  out.write(text);
+  out.commit();
 }
 
 }  // namespace vs

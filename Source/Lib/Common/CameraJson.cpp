@@ -8,6 +8,7 @@
 
 #include "Common/Error.h"
 #include "Common/Json.h"
+#include "Common/SafeOutput.h"
 
 namespace vs {
 
@@ -213,10 +214,9 @@ void writeCameraJson(const std::string& path, const std::vector<Camera>& cameras
     out << "\n    }";
   }
   out << "\n  ]\n}\n";
-  std::ofstream file(path, std::ios::binary | std::ios::trunc);
-  if (!file) throw InputError("cannot write camera file '" + path + "': " + std::strerror(errno));
-  file << out.str();
-  if (!file.flush()) throw InputError("cannot write camera file '" + path + "': " + std::strerror(errno));
+  SafeOutputFile file(path, {}, "camera file");  // a failed write leaves a previous file as it was
+  file.write(out.str());
+  file.commit();
 }
 
 }  // namespace vs

@@ -1,6 +1,8 @@
 #include "Common/CommandLine.h"
 
 #include <cctype>
+#include <cerrno>
+#include <cstring>
 #include <exception>
 #include <filesystem>
 #include <new>
@@ -164,7 +166,15 @@ int runCommandLine(const std::vector<std::string>& args, const CommandLineTool& 
   }
   // The one catch: whatever a library throws ends as a message and exit code 1, never as an abort.
   try {
-    return tool.run(parsed);
+    const int code = tool.run(parsed);
+    // What the tool printed must have reached stdout (a full disk, a closed pipe, /dev/full).
+    if (std::fflush(stdout) != 0 || std::ferror(stdout)) {
+      const int error = errno;
+      std::fprintf(stderr, "%s: error: cannot write the standard output: %s\n", name,
+                   error ? std::strerror(error) : "write error");
+      return 1;
+    }
+    return code;
   } catch (const InputError& e) {
     std::fprintf(stderr, "%s: error: %s\n", name, e.what());
   } catch (const std::bad_alloc&) {

@@ -1,5 +1,6 @@
 #include "Common/Scene.h"
 
+#include <cctype>
 #include <cstdio>
 #include <filesystem>
 #include <sstream>
@@ -147,6 +148,7 @@ const char* synthesisModeName(SynthesisMode mode) {
 
 std::vector<std::string> SynthesisSettings::inputPaths() const {
   std::vector<std::string> paths{cameraFile};  // the output must be none of these
+  if (!configFile.empty()) paths.push_back(configFile);
   for (const ReferenceView& view : references) {
     paths.push_back(view.texturePath);
     paths.push_back(view.depthPath);
@@ -182,6 +184,7 @@ SynthesisSettings readSynthesisSettings(const Config& config) {
 
   s.startFrame = config.getInt("StartFrame");
   s.frameCount = config.getInt("TotalNumberOfFrames");
+  s.configFile = config.configPath();
   s.cameraFile = config.getPath("CameraParameterFile");
   s.rotationConvention = config.getInt("CameraRotationConvention") == 1 ? RotationConvention::CameraToWorld
                                                                          : RotationConvention::WorldToCamera;
@@ -338,9 +341,20 @@ std::string describeCameras(const Scene& scene) {
     out << line;
   };
   const SynthesisSettings& s = scene.settings;
-  if (!s.references.empty()) describe("left", s.references[0].camera);
+  const bool leftRight = !s.references.empty() && s.references[0].label == "Left";
+  if (leftRight) {
+    describe("left", s.references[0].camera);
+    describe("virtual", scene.virtualCamera);
+    if (s.references.size() > 1) describe("right", s.references[1].camera);
+    return out.str();
+  }
+  // The Reference lists: every view by its label ("reference 3"), then the virtual camera.
+  for (const ReferenceView& view : s.references) {
+    std::string role = view.label;
+    for (char& c : role) c = char(std::tolower(static_cast<unsigned char>(c)));
+    describe(role.c_str(), view.camera);
+  }
   describe("virtual", scene.virtualCamera);
-  if (s.references.size() > 1) describe("right", s.references[1].camera);
   return out.str();
 }
 

@@ -47,6 +47,7 @@ struct SynthesisSettings {
   FrameFormat depthFormat;                   // depth files (luma only is used)
   int64_t startFrame = 0;
   int64_t frameCount = 1;
+  std::string configFile;                    // the config file read (empty: none); an input like the others
   std::string cameraFile;
   RotationConvention rotationConvention = RotationConvention::WorldToCamera;
   std::string virtualCameraName;
@@ -84,7 +85,7 @@ SynthesisSettings readSynthesisSettings(const Config& config);
 struct Scene {
   SynthesisSettings settings;
   Camera virtualCamera;
-  std::vector<std::string> warnings;  // from the camera file
+  std::vector<std::string> warnings;  // from the camera file (checkInputs and the run add their own)
 };
 
 // Settings plus cameras from the camera file; throws InputError (missing cameras list the names the
@@ -95,7 +96,8 @@ Scene loadScene(const Config& config);
 // name). Outputs use it to refuse overwriting an input.
 bool samePath(const std::string& a, const std::string& b);
 
-// Human-readable summary of the three cameras (name, K, R, centre), for --check and the log.
+// Human-readable summary of the cameras (name, K, R, centre), for --check and the log: "left",
+// "virtual", "right" for the Left/Right keys, else every reference view by its label, then "virtual".
 std::string describeCameras(const Scene& scene);
 
 }  // namespace vs

@@ -1,10 +1,14 @@
 #include "Common/Yuv.h"
 
 #include <algorithm>
+#include <cctype>
+#include <cstring>
 #include <cerrno>
 #include <filesystem>
 #include <system_error>
 #include <utility>
+
+#include "Common/SafeOutput.h"
 
 namespace vs {
 
@@ -29,21 +33,6 @@ void checkFormat(const FrameFormat& format, const std::string& path) {
 
 size_t planeBytes(const Plane& plane, int bytesPerSample) {
   return size_t(plane.width) * size_t(plane.height) * size_t(bytesPerSample);
-}
-
-// Same file: std::filesystem::equivalent when both exist (catches links and other spellings), else
-// the weakly canonical absolute paths (catches dir/./file and dir/../dir/file for files not yet made).
-bool sameFile(const fs::path& a, const fs::path& b) {
-  std::error_code ec;
-  if (fs::exists(a, ec) && fs::exists(b, ec)) {
-    const bool equivalent = fs::equivalent(a, b, ec);
-    if (!ec) return equivalent;
-  }
-  std::error_code ecA, ecB;
-  const fs::path canonicalA = fs::weakly_canonical(fs::absolute(a, ecA), ecA);
-  const fs::path canonicalB = fs::weakly_canonical(fs::absolute(b, ecB), ecB);
-  if (ecA || ecB) return fs::absolute(a, ecA).lexically_normal() == fs::absolute(b, ecB).lexically_normal();
-  return canonicalA == canonicalB;
 }
 
 // Packs one plane into `out` (8-bit: bytes; else little-endian 16-bit words); returns the bytes written.
@@ -74,17 +63,46 @@ size_t packPlane(const Plane& plane, int bitDepth, uint8_t* out) {
 
 YuvReader::YuvReader(std::string path, const FrameFormat& format) : path_(std::move(path)), format_(format) {
   checkFormat(format_, path_);
-  std::error_code ec;
-  if (fs::is_directory(path_, ec)) throw InputError(path_ + ": cannot open: is a folder, not a file");
+  requireRegularFile(path_);  // stat() first: open() on a FIFO would wait for a writer for ever
   errno = 0;
   file_.open(path_, std::ios::in | std::ios::binary);
   if (!file_.is_open()) throw InputError(path_ + ": cannot open: " + osReason(errno));
+  std::error_code ec;
   fileBytes_ = fs::file_size(path_, ec);
   if (ec) throw InputError(path_ + ": cannot get the file size: " + ec.message());
+
+  // What the file is, by its first bytes (a Y4M stream header can be long: up to 1 KiB is read).
+  std::string head(size_t(std::min<uint64_t>(fileBytes_, 1024)), '\0');
+  file_.read(head.data(), std::streamsize(head.size()));
+  head.resize(size_t(std::max<std::streamsize>(file_.gcount(), 0)));
+  file_.clear();
+  const ContainerSniff sniff = sniffContainer(head, fileBytes_, path_, format_);
+  if (sniff.kind == ContainerKind::Other)
+    throw InputError(path_ + ": the file is " + sniff.description + ", not a raw YUV or Y4M sequence; convert it: " +
+                     sniff.conversion);
+  if (sniff.kind != ContainerKind::Y4m) return;
+  const Y4mHeader header = parseY4mHeader(head, path_);
+  if (header.format != format_)
+    throw InputError(path_ + ": the Y4M header says " + describeFormat(header.format) + ", the configuration " +
+                     describeFormat(format_) + " (set the size, chroma format and bit depth keys to the file's)");
+  y4m_ = std::make_shared<const Y4mHeader>(header);
+  dataStart_ = header.headerBytes;
+  // Every frame starts with "FRAME", optional parameters and '\n'; the first one gives the length.
+  frameHeaderBytes_ = 6;
+  if (fileBytes_ > dataStart_) {
+    std::string line(size_t(std::min<uint64_t>(fileBytes_ - dataStart_, 256)), '\0');
+    file_.seekg(std::streamoff(dataStart_));
+    file_.read(line.data(), std::streamsize(line.size()));
+    file_.clear();
+    const size_t end = line.find('\n');
+    if (line.rfind("FRAME", 0) != 0 || end == std::string::npos)
+      throw InputError(path_ + ": Y4M: no FRAME header after the stream header (a cut or damaged file?)");
+    frameHeaderBytes_ = end + 1;
+  }
 }
 
 void YuvReader::throwIncomplete(int64_t frameIndex, uint64_t bytesAvailable) const {
-  const uint64_t frameBytes = format_.frameBytes();
+  const uint64_t frameBytes = frameStride();
   const std::string what = bytesAvailable > 0 ? " is incomplete: " : " is missing: ";
   throw InputError(path_ + ": frame " + std::to_string(frameIndex) + what +
                    std::to_string(frameBytes - bytesAvailable) + " of " + std::to_string(frameBytes) +
@@ -94,22 +112,32 @@ void YuvReader::throwIncomplete(int64_t frameIndex, uint64_t bytesAvailable) con
 void YuvReader::readFrameBytes(int64_t frameIndex, uint64_t count) {
   VS_CHECK(frameIndex >= 0);
   const uint64_t frameBytes = format_.frameBytes();
+  const uint64_t stride = frameStride();
   VS_CHECK(count <= frameBytes);
   if (buffer_.size() < frameBytes) buffer_.resize(frameBytes);  // once per reader
 
   // Comparing indices, not byte offsets, keeps absurd indices from overflowing the offset.
-  if (uint64_t(frameIndex) >= fileBytes_ / frameBytes) {
+  if (uint64_t(frameIndex) >= dataBytes() / stride) {
     std::error_code ec;
     const uint64_t nowBytes = fs::file_size(path_, ec);  // the file may have grown since it was opened
     if (!ec) fileBytes_ = nowBytes;
-    const uint64_t wholeFrames = fileBytes_ / frameBytes;
+    const uint64_t wholeFrames = dataBytes() / stride;
     if (uint64_t(frameIndex) >= wholeFrames)
-      throwIncomplete(frameIndex, uint64_t(frameIndex) == wholeFrames ? fileBytes_ % frameBytes : 0);
+      throwIncomplete(frameIndex, uint64_t(frameIndex) == wholeFrames ? dataBytes() % stride : 0);
   }
 
+  const uint64_t start = dataStart_ + uint64_t(frameIndex) * stride;
   file_.clear();
   errno = 0;
-  file_.seekg(std::streamoff(uint64_t(frameIndex) * frameBytes), std::ios::beg);
+  file_.seekg(std::streamoff(start), std::ios::beg);
+  if (frameHeaderBytes_ > 0 && file_) {
+    char frameHeader[5] = {};
+    file_.read(frameHeader, 5);
+    if (file_ && std::string(frameHeader, 5) != "FRAME")
+      throw InputError(path_ + ": Y4M frame " + std::to_string(frameIndex) + " does not start with FRAME (frames with " +
+                       "header parameters of different lengths are not read)");
+    file_.seekg(std::streamoff(start + frameHeaderBytes_), std::ios::beg);
+  }
   if (file_) file_.read(reinterpret_cast<char*>(buffer_.data()), std::streamsize(count));
   const uint64_t got = file_.gcount() > 0 ? uint64_t(file_.gcount()) : 0;
   if (got == count) return;
@@ -117,9 +145,8 @@ void YuvReader::readFrameBytes(int64_t frameIndex, uint64_t count) {
   const int readErrno = errno;
   std::error_code ec;
   const uint64_t nowBytes = fs::file_size(path_, ec);
-  if (!ec && nowBytes < (uint64_t(frameIndex) + 1) * frameBytes) {  // the file shrank under us
+  if (!ec && nowBytes < start + stride) {  // the file shrank under us
     fileBytes_ = nowBytes;
-    const uint64_t start = uint64_t(frameIndex) * frameBytes;
     throwIncomplete(frameIndex, nowBytes > start ? nowBytes - start : 0);
   }
   throw InputError(path_ + ": frame " + std::to_string(frameIndex) + ": read failed after " +
@@ -171,39 +198,27 @@ void YuvReader::readLuma(int64_t frameIndex, Plane& luma) {
 // ---------------------------------------------------------------------------------------------------
 // YuvWriter
 
-void YuvWriter::checkOutput(const std::string& path, const FrameFormat& format, const std::vector<std::string>& inputPaths) {
-  if (path.empty()) throw InputError("output file name is empty");
+void YuvWriter::checkOutput(const std::string& path, const FrameFormat& format, const std::vector<std::string>& inputPaths,
+                            const std::string& role) {
+  if (path.empty()) throw InputError((role.empty() ? std::string("output") : role) + ": file name is empty");
   checkFormat(format, path);
-  for (const std::string& input : inputPaths) {
-    if (!input.empty() && sameFile(path, input))
-      throw InputError(path + ": output file is the same file as input '" + input + "'; refusing to overwrite an input");
-  }
-  std::error_code ec;
-  const fs::path absolutePath = fs::absolute(path, ec);
-  const fs::path folder = absolutePath.parent_path();
-  if (!fs::exists(folder, ec))
-    throw InputError(path + ": output folder '" + folder.string() + "' does not exist");
-  if (!fs::is_directory(folder, ec))
-    throw InputError(path + ": output folder '" + folder.string() + "' is not a folder");
-  if (fs::is_directory(absolutePath, ec)) throw InputError(path + ": output path is a folder, not a file");
+  SafeOutputFile::checkPath(path, inputPaths, role);
 }
 
-YuvWriter::YuvWriter(std::string path, const FrameFormat& format, const std::vector<std::string>& inputPaths)
+YuvWriter::YuvWriter(std::string path, const FrameFormat& format, const std::vector<std::string>& inputPaths,
+                     const std::string& role, const Y4mHeader* rateFrom)
     : path_(std::move(path)), format_(format) {
-  // Every check comes before the open: opening truncates, and an input must never be truncated.
-  checkOutput(path_, format_, inputPaths);
-  std::error_code ec;
-  const fs::path folder = fs::absolute(path_, ec).parent_path();
-
-  // Unbuffered: append() hands each frame to the OS in one write, and nothing is left in a buffer to
-  // reach the file after a failed write has been cut back.
-  file_.rdbuf()->pubsetbuf(nullptr, 0);
-  errno = 0;
-  file_.open(path_, std::ios::out | std::ios::binary | std::ios::trunc);
-  if (!file_.is_open())
-    throw InputError(path_ + ": cannot create the output file in folder '" + folder.string() +
-                     "': " + osReason(errno));
+  checkFormat(format_, path_);
+  file_ = std::make_unique<SafeOutputFile>(path_, inputPaths, role);
+  std::string extension = fs::path(path_).extension().string();
+  std::transform(extension.begin(), extension.end(), extension.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+  y4m_ = extension == ".y4m";
+  if (y4m_)
+    file_->write(rateFrom ? formatY4mHeader(format_, rateFrom->rateNumerator, rateFrom->rateDenominator)
+                          : formatY4mHeader(format_));
 }
+
+YuvWriter::~YuvWriter() = default;
 
 void YuvWriter::append(const Frame& frame) {
   VS_CHECK_MSG(frame.format == format_, "the frame's format differs from the YuvWriter's");
@@ -216,34 +231,28 @@ void YuvWriter::append(const Frame& frame) {
   if (failed_) throw InputError(path_ + ": an earlier write failed; no further frames are written");
 
   const uint64_t frameBytes = format_.frameBytes();
-  if (buffer_.size() != frameBytes) buffer_.resize(frameBytes);
-  size_t offset = 0;
+  const size_t header = y4m_ ? 6 : 0;
+  if (buffer_.size() != header + frameBytes) buffer_.resize(header + frameBytes);
+  if (y4m_) std::memcpy(buffer_.data(), "FRAME\n", 6);
+  size_t offset = header;
   for (int p = 0; p < planeCount(format_.chroma); ++p)
     offset += packPlane(frame.planes[p], format_.bitDepth, buffer_.data() + offset);
-  VS_CHECK(offset == frameBytes);
-
-  errno = 0;
-  file_.write(reinterpret_cast<const char*>(buffer_.data()), std::streamsize(frameBytes));
-  file_.flush();
-  if (file_) {
-    ++framesWritten_;
-    return;
+  VS_CHECK(offset == header + frameBytes);
+  try {
+    file_->write(buffer_.data(), buffer_.size());
+  } catch (const InputError& e) {
+    failed_ = true;
+    if (!file_->lastError()) throw;
+    // The caller says what became of the outputs (the temporary file goes when the writer does).
+    throw InputError(path_ + ": writing frame " + std::to_string(framesWritten_) + " failed: " +
+                     osReason(file_->lastError()));
   }
+  ++framesWritten_;
+}
 
-  const int writeErrno = errno;
-  failed_ = true;
-  file_.close();
-  const uint64_t wholeBytes = uint64_t(framesWritten_) * frameBytes;
-  std::error_code ec;
-  fs::resize_file(path_, wholeBytes, ec);
-  std::string message = path_ + ": writing frame " + std::to_string(framesWritten_) +
-                        " failed: " + osReason(writeErrno);
-  if (ec)
-    message += "; cutting the file back to its " + std::to_string(framesWritten_) +
-               " whole frames also failed: " + ec.message();
-  else
-    message += "; the file keeps its " + std::to_string(framesWritten_) + " whole frames";
-  throw InputError(message);
+void YuvWriter::commit() {
+  if (failed_) throw InputError(path_ + ": a write failed; the file is not replaced");
+  file_->commit();
 }
 
 }  // namespace vs

@@ -46,6 +46,12 @@ std::string plyPathForView(const std::string& path, const std::string& label) {
 }
 
 void writeMeshPly(const std::string& path, const DepthMesh& mesh, const Camera& reference, const Frame& texture) {
+  SafeOutputFile file(path, {}, "MeshPlyOutput");
+  writeMeshPly(file, mesh, reference, texture);
+  file.commit();
+}
+
+void writeMeshPly(SafeOutputFile& file, const DepthMesh& mesh, const Camera& reference, const Frame& texture) {
   const FrameFormat& format = texture.format;
   Frame rgb;
   const bool colour = format.chroma != ChromaFormat::Yuv400;
@@ -84,19 +90,13 @@ void writeMeshPly(const std::string& path, const DepthMesh& mesh, const Camera& 
     ++faceCount;
   }
 
-  std::ofstream file(path, std::ios::binary | std::ios::trunc);
-  if (!file) throw InputError(path + ": cannot create the PLY file (" + std::strerror(errno) + ")");
-  file << "ply\nformat binary_little_endian 1.0\n"
-       << "comment MeshRender mesh of camera " << reference.name << " (world coordinates)\n"
-       << "element vertex " << vertexCount << "\n"
-       << "property float x\nproperty float y\nproperty float z\n"
-       << "property uchar red\nproperty uchar green\nproperty uchar blue\n"
-       << "element face " << faceCount << "\n"
-       << "property list uchar int vertex_indices\nend_header\n";
-  file.write(vertexBytes.data(), std::streamsize(vertexBytes.size()));
-  file.write(faceBytes.data(), std::streamsize(faceBytes.size()));
-  file.flush();
-  if (!file) throw InputError(path + ": writing the PLY file failed (" + std::strerror(errno) + ")");
+  file.write("ply\nformat binary_little_endian 1.0\ncomment MeshRender mesh of camera " + reference.name +
+             " (world coordinates)\nelement vertex " + std::to_string(vertexCount) +
+             "\nproperty float x\nproperty float y\nproperty float z\n"
+             "property uchar red\nproperty uchar green\nproperty uchar blue\nelement face " +
+             std::to_string(faceCount) + "\nproperty list uchar int vertex_indices\nend_header\n");
+  file.write(vertexBytes.data(), vertexBytes.size());
+  file.write(faceBytes.data(), faceBytes.size());
 }
 
 }  // namespace vs

@@ -7,6 +7,8 @@
 // have no finite position: they and their triangles are left out.
 #include <string>
 
+#include "Common/SafeOutput.h"
+
 #include "Common/Camera.h"
 #include "Common/Frame.h"
 #include "Mesh/DepthMesh.h"
@@ -16,6 +18,8 @@ namespace vs {
 // Writes `mesh`, built from `reference`'s depth, coloured from `texture` (the same frame). Throws
 // InputError naming the file when it cannot be written.
 void writeMeshPly(const std::string& path, const DepthMesh& mesh, const Camera& reference, const Frame& texture);
+// The same into `file` (not committed: the caller renames it into place when its run ends well).
+void writeMeshPly(SafeOutputFile& file, const DepthMesh& mesh, const Camera& reference, const Frame& texture);
 
 // The file of one view: "dir/mesh.ply" with label "Left" -> "dir/mesh_left.ply"; a name without the
 // .ply extension gets it appended after the label.

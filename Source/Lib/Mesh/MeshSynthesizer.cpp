@@ -23,6 +23,9 @@ public:
   }
   std::vector<std::string> plan() const override { return synthesizer_.plan(); }
   std::vector<std::pair<std::string, std::string>> decisions() const override { return synthesizer_.decisions().fields(); }
+  int64_t uncoveredSamples() const override { return int64_t(synthesizer_.holesAfterBlend()); }
+  std::vector<NamedOutput> extraOutputs() const override { return synthesizer_.plyOutputs(); }
+  void commitOutputs() override { synthesizer_.commitPlyFiles(); }
 
 private:
   MeshSynthesizer synthesizer_;
@@ -94,6 +97,18 @@ std::vector<std::string> MeshSynthesizer::plan() const {
   return lines;
 }
 
+std::vector<NamedOutput> MeshSynthesizer::plyOutputs() const {
+  std::vector<NamedOutput> outputs;
+  if (settings_.plyPath.empty()) return outputs;
+  for (const ReferenceView& reference : scene_.settings.references)
+    outputs.push_back({"MeshPlyOutput (" + reference.label + " view)", plyPathForView(settings_.plyPath, reference.label)});
+  return outputs;
+}
+
+void MeshSynthesizer::commitPlyFiles() {
+  for (auto& file : plyFiles_) file->commit();
+}
+
 void MeshSynthesizer::synthesize(const std::vector<ReferenceFrame>& references, Frame& output, StageTimes& times) {
   VS_CHECK(references.size() == views_.size());
   const SynthesisSettings& s = scene_.settings;
@@ -137,8 +152,11 @@ void MeshSynthesizer::synthesize(const std::vector<ReferenceFrame>& references, 
     }
     times.textureWarp += secondsSince(start);
 
-    if (!plyWritten_ && !settings_.plyPath.empty())
-      writeMeshPly(plyPathForView(settings_.plyPath, reference.label), view.mesh, reference.camera, texture);
+    if (!plyWritten_ && !settings_.plyPath.empty()) {
+      plyFiles_.push_back(std::make_unique<SafeOutputFile>(plyPathForView(settings_.plyPath, reference.label),
+                                                           s.inputPaths(), "MeshPlyOutput"));
+      writeMeshPly(*plyFiles_.back(), view.mesh, reference.camera, texture);
+    }
   }
   plyWritten_ = true;
 

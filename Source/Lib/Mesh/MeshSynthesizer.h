@@ -14,6 +14,8 @@
 #include <vector>
 
 #include "Common/Config.h"
+#include "Common/InputCheck.h"
+#include "Common/SafeOutput.h"
 #include "Common/Scene.h"
 #include "Mesh/DepthMesh.h"
 #include "Mesh/GlMeshRenderer.h"
@@ -45,6 +47,11 @@ public:
   // Synthesizes the virtual view of one frame into `output` (reset to the texture format). Mesh
   // building and upload count as depthWarp, rendering and read-back as textureWarp.
   void synthesize(const std::vector<ReferenceFrame>& references, Frame& output, StageTimes& times);
+
+  // The PLY files MeshPlyOutput names, one per reference view (empty without the key).
+  std::vector<NamedOutput> plyOutputs() const;
+  // Renames the PLY files written with the first frame into place (the run ended well).
+  void commitPlyFiles();
 
   // Lines for the plan printed before the first frame: the plan's, and what the renderer adds (the
   // OpenGL renderer, the mesh, each view's depth-buffer planes, PLY files).
@@ -91,6 +98,7 @@ private:
   size_t holesAfterBlend_ = 0;
   size_t alignedDepthSamples_ = 0;
   bool plyWritten_ = false;
+  std::vector<std::unique_ptr<SafeOutputFile>> plyFiles_;  // temporary until commitPlyFiles()
 };
 
 // MeshRender's run(): loads the scene, creates the renderer and runs the sequence (runSequence).

@@ -2,12 +2,14 @@
 // What the frame loop (Pipeline/FrameLoop.h) asks of a renderer: the pipeline owns this interface and
 // knows no renderer; ViewSyn's (Synth/ViewSynRenderer.h) and MeshRender's (Mesh/MeshSynthesizer.h)
 // adapters implement it, and the apps wire one into the loop (../shared/DESIGN.md, "Layout").
+#include <cstdint>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "Common/Depth.h"
 #include "Common/Frame.h"
+#include "Common/InputCheck.h"
 #include "Common/Timing.h"
 
 namespace vs {
@@ -27,6 +29,13 @@ public:
                             Plane& /*levels*/) {
     return false;
   }
+  // Luma samples of the last rendered frame that no reference view covered (filled as holes); -1:
+  // unknown. The loop warns when a frame has less than 1 % covered.
+  virtual int64_t uncoveredSamples() const { return -1; }
+  // Files the renderer writes itself (MeshRender's PLY), checked with the run's outputs before frame 0.
+  virtual std::vector<NamedOutput> extraOutputs() const { return {}; }
+  // Renames the renderer's own files into place; called once the run has ended well.
+  virtual void commitOutputs() {}
 };
 
 }  // namespace vs

@@ -1,7 +1,6 @@
 #include "Pipeline/RunReport.h"
 
 #include <cmath>
-#include <fstream>
 #include <sstream>
 
 #include "Common/Error.h"
@@ -125,9 +124,7 @@ RunReport::RunReport(std::string toolName, const Config& config)
       csvPath_(config.getPath("ReportFile")),
       summaryPath_(config.getPath("SummaryFile")) {}
 
-RunReport::~RunReport() {
-  if (csv_) std::fclose(csv_);
-}
+RunReport::~RunReport() = default;
 
 void RunReport::begin(const Scene& scene, const std::vector<std::string>& plan, std::FILE* log) {
   hasChroma_ = scene.settings.textureFormat.chroma != ChromaFormat::Yuv400;
@@ -142,16 +139,26 @@ void RunReport::begin(const Scene& scene, const std::vector<std::string>& plan, 
   for (const std::string& line : plan_) std::fprintf(log, "  %s\n", line.c_str());
 }
 
+void RunReport::warn(const std::string& line, std::FILE* log) {
+  warnings_.push_back(line);
+  if (log) std::fprintf(log, "warning: %s\n", line.c_str());
+}
+
 void RunReport::startFrames(std::FILE* log) {
   if (!csvPath_.empty()) {
-    csv_ = std::fopen(csvPath_.c_str(), "w");
-    if (!csv_) throw InputError(csvPath_ + ": cannot create the report file");
+    std::vector<std::string> inputs;
+    if (!config_.configPath().empty()) inputs.push_back(config_.configPath());
+    csv_ = std::make_unique<SafeOutputFile>(csvPath_, inputs, "ReportFile");
     std::string header;
     for (const Column& column : kColumns) header += std::string(header.empty() ? "" : ",") + column.name;
     header += QualityReport(qualityMetrics_, hasChroma_).csvHeader();  // QualityMetrics' columns last
-    std::fprintf(csv_, "%s\n", header.c_str());
+    csv_->write(header + "\n");
   }
   if (log) std::fprintf(log, "\n");
+}
+
+void RunReport::commit() {
+  if (csv_) csv_->commit();
 }
 
 void RunReport::addFrame(const FrameRecord& record, std::FILE* log) {
@@ -181,7 +188,7 @@ void RunReport::addFrame(const FrameRecord& record, std::FILE* log) {
   const QualityReport quality(qualityMetrics_, hasChroma_);
   for (size_t c = 0; c < quality.keys().size(); ++c)
     row += "," + (c < record.quality.size() ? quality.format(c, record.quality[c]) : std::string());
-  std::fprintf(csv_, "%s\n", row.c_str());
+  csv_->write(row + "\n");
 }
 
 RunSummary RunReport::finish(const std::string& outputPath, std::FILE* log) const {
@@ -273,10 +280,11 @@ void RunReport::writeSummary(int exitStatus, const std::string& error) const {
       if (!path.empty() && samePath(path, summaryPath_))
         throw InputError(summaryPath_ + ": SummaryFile is also " + option.key + "; the summary was not written");
   }
-  const std::string text = summaryJson(exitStatus, error);
-  std::ofstream file(summaryPath_, std::ios::binary | std::ios::trunc);
-  if (!file || !file.write(text.data(), std::streamsize(text.size())) || !file.flush())
-    throw InputError(summaryPath_ + ": cannot write the summary file (SummaryFile)");
+  std::vector<std::string> inputs;
+  if (!config_.configPath().empty()) inputs.push_back(config_.configPath());
+  SafeOutputFile file(summaryPath_, inputs, "SummaryFile");
+  file.write(summaryJson(exitStatus, error));
+  file.commit();
 }
 
 RunSummary runReported(RunReport& report, const std::function<RunSummary()>& body) {

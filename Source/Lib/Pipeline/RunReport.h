@@ -6,12 +6,14 @@
 #include <cstdint>
 #include <cstdio>
 #include <functional>
+#include <memory>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "Common/Config.h"
 #include "Common/Metrics.h"
+#include "Common/SafeOutput.h"
 #include "Common/Scene.h"
 #include "Common/Timing.h"
 
@@ -40,7 +42,7 @@ class RunReport {
 public:
   // Keeps the tool's name and the effective configuration; reads ReportFile and SummaryFile from it.
   RunReport(std::string toolName, const Config& config);
-  ~RunReport();
+  ~RunReport();  // an uncommitted ReportFile: its temporary file is removed
   RunReport(const RunReport&) = delete;
   RunReport& operator=(const RunReport&) = delete;
 
@@ -49,18 +51,26 @@ public:
   void begin(const Scene& scene, const std::vector<std::string>& plan, std::FILE* log);
   // The plan's decisions as key/value pairs, written as the summary's "decisions" object.
   void recordDecisions(std::vector<std::pair<std::string, std::string>> decisions) { decisions_ = std::move(decisions); }
-  // Creates ReportFile (when set) with its header, after the outputs are open. Throws InputError.
+  // A warning of the run (an input's, the coverage's): a line on `log`, and in the JSON summary after
+  // the scene's.
+  void warn(const std::string& line, std::FILE* log);
+  // Creates ReportFile (when set; a temporary file until commit()) with its header, after the outputs
+  // are open. Throws InputError.
   void startFrames(std::FILE* log);
   // One frame: a line on `log`, a CSV row, a JSON entry.
   void addFrame(const FrameRecord& record, std::FILE* log);
+  // Renames ReportFile into place (the run ended well); without it the previous file stays as it was.
+  void commit();
   // Prints frames written, seconds per frame and stage, mean PSNR; returns the same figures.
   RunSummary finish(const std::string& outputPath, std::FILE* log) const;
 
   const std::vector<FrameRecord>& frames() const { return frames_; }
   // The summary as JSON text (doc/report.md has the schema); `error` empty when the run succeeded.
   std::string summaryJson(int exitStatus, const std::string& error) const;
-  // Writes summaryJson() to SummaryFile when one is configured; throws InputError when it cannot.
-  // A SummaryFile that names a file the configuration reads or writes is never written.
+  // Writes summaryJson() to SummaryFile when one is configured (a temporary file renamed into place:
+  // the previous summary stays whole until then); throws InputError when it cannot. Written also
+  // when the run failed, as the record of the failure; a SummaryFile that names a file the
+  // configuration reads or writes (the config file included) is never written.
   void writeSummary(int exitStatus, const std::string& error) const;
 
 private:
@@ -69,7 +79,7 @@ private:
   std::string toolName_;
   const Config& config_;
   std::string csvPath_, summaryPath_;
-  std::FILE* csv_ = nullptr;
+  std::unique_ptr<SafeOutputFile> csv_;
   bool hasChroma_ = true;
   std::vector<std::string> qualityMetrics_;  // QualityMetrics when a reference view is set (doc/metrics.md)
   std::vector<std::string> plan_, warnings_;

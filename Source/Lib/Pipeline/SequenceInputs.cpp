@@ -49,6 +49,12 @@ SequenceInputs::~SequenceInputs() {
   if (nextRead_.valid()) nextRead_.wait();
 }
 
+const Y4mHeader* SequenceInputs::y4mTexture() const {
+  for (const auto& texture : textures_)
+    if (texture->y4m()) return texture->y4m();
+  return nullptr;
+}
+
 std::string SequenceInputs::shortfall() const {
   return shortest_ + " holds only " + std::to_string(available_) + " frames from StartFrame " +
          std::to_string(settings_.startFrame) + ", but TotalNumberOfFrames is " + std::to_string(settings_.frameCount);

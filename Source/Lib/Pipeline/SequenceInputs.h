@@ -28,6 +28,8 @@ public:
   int64_t available() const { return available_; }
   // When available() < TotalNumberOfFrames: which file is short and by how much.
   std::string shortfall() const;
+  // The header of the first Y4M texture (a Y4M output keeps its frame rate); nullptr without one.
+  const Y4mHeader* y4mTexture() const;
 
   struct FrameInputs {
     std::vector<ReferenceFrame> references;  // one per reference view, in the settings' order

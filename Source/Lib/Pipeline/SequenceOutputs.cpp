@@ -4,19 +4,20 @@
 
 namespace vs {
 
-SequenceOutputs::SequenceOutputs(const SynthesisSettings& settings) : settings_(settings) {
+SequenceOutputs::SequenceOutputs(const SynthesisSettings& settings, const Y4mHeader* rate) : settings_(settings) {
   const SynthesisSettings& s = settings;
   const std::vector<std::string> inputs = s.inputPaths();
   FrameFormat depthFormat = s.depthFormat;
   depthFormat.bitDepth = s.virtualDepthRange.bitDepth;
   std::vector<std::string> notDepth = inputs;
   notDepth.push_back(s.outputPath);
-  YuvWriter::checkOutput(s.outputPath, s.textureFormat, inputs);
-  if (!s.virtualDepthPath.empty()) YuvWriter::checkOutput(s.virtualDepthPath, depthFormat, notDepth);
-  writer_ = std::make_unique<YuvWriter>(s.outputPath, s.textureFormat, inputs);
+  YuvWriter::checkOutput(s.outputPath, s.textureFormat, inputs, "OutputVirtualViewImageName");
+  if (!s.virtualDepthPath.empty())
+    YuvWriter::checkOutput(s.virtualDepthPath, depthFormat, notDepth, "OutputVirtualDepthMapName");
+  writer_ = std::make_unique<YuvWriter>(s.outputPath, s.textureFormat, inputs, "OutputVirtualViewImageName", rate);
   virtualDepth_.reset(depthFormat);
   if (!s.virtualDepthPath.empty()) {
-    depthWriter_ = std::make_unique<YuvWriter>(s.virtualDepthPath, depthFormat, notDepth);
+    depthWriter_ = std::make_unique<YuvWriter>(s.virtualDepthPath, depthFormat, notDepth, "OutputVirtualDepthMapName");
     virtualDepth_.fill(0);
   }
 }
@@ -29,10 +30,9 @@ void SequenceOutputs::append(const Frame& output, const std::function<bool(Plane
   depthWriter_->append(virtualDepth_);
 }
 
-std::string SequenceOutputs::written() const {
-  std::string text = std::to_string(writer_->framesWritten()) + " whole frames were written to " + settings_.outputPath;
-  if (depthWriter_) text += ", " + std::to_string(depthWriter_->framesWritten()) + " to " + settings_.virtualDepthPath;
-  return text;
+void SequenceOutputs::commit() {
+  writer_->commit();
+  if (depthWriter_) depthWriter_->commit();
 }
 
 }  // namespace vs

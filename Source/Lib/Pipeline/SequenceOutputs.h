@@ -1,7 +1,8 @@
 #pragma once
 // The output sequences of a run: the virtual view (OutputVirtualViewImageName) and, when configured,
-// its depth (OutputVirtualDepthMapName). Both are checked before either is created, so that a refused
-// run truncates nothing; frames are appended whole (Common/Yuv.h).
+// its depth (OutputVirtualDepthMapName). Both are checked before either is created; each is written to
+// a temporary file and renamed into place by commit() when the run ends well, so that a refused or
+// failed run leaves the previous files as they were (Common/SafeOutput.h).
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -15,15 +16,16 @@ namespace vs {
 
 class SequenceOutputs {
 public:
-  // Checks and creates the outputs; throws InputError (an output that is an input, a folder that
-  // does not exist, ...).
-  explicit SequenceOutputs(const SynthesisSettings& settings);
+  // Checks and creates the outputs (temporary files); throws InputError (an output that is an input, a
+  // folder that does not exist, ...). A Y4M output takes the frame rate of `rate` (a Y4M texture's
+  // header; nullptr: 25:1).
+  explicit SequenceOutputs(const SynthesisSettings& settings, const Y4mHeader* rate = nullptr);
 
   // Appends `output`, then, when a depth output is configured, the levels `virtualDepth` fills
   // (false: the renderer cannot provide them, an InputError naming `toolName`).
   void append(const Frame& output, const std::function<bool(Plane& levels)>& virtualDepth, const std::string& toolName);
-  // What is on disk, for messages: "N whole frames were written to OUT[, M to DEPTH]".
-  std::string written() const;
+  // Renames every output into place (the run ended well). Throws InputError when that fails.
+  void commit();
 
 private:
   const SynthesisSettings& settings_;

@@ -45,6 +45,11 @@ CommandLineTool synthesisCommandLine(const SynthesisTool& tool) {
         return 0;
       }
       printConfigCheck(tool.name, line.positional[0], config, scene);
+      // --check also opens every input (type, format, whole frames) and checks every output name, as
+      // the run does before frame 0; after the printout, so that a refusal follows what was read.
+      for (const std::string& warning : checkInputs(scene)) std::printf("warning: %s\n", warning.c_str());
+      checkOutputs(scene, tool.extraOutputs ? tool.extraOutputs(config, scene) : std::vector<NamedOutput>{});
+      std::printf("input files OK\n");
       if (tool.describe) tool.describe(stdout);
       std::printf("configuration OK\n");
       return 0;

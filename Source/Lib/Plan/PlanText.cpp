@@ -47,7 +47,10 @@ std::vector<std::string> viewSynLines(const Plan& plan) {
                          : "mode: general 3D warping (auto: the rig is not rectified:" + plan.rigDeviations + ")");
   else
     lines.push_back(oneD ? "mode: 1D parallel (SynthesisMode 1)" : "mode: general 3D warping (SynthesisMode 0)");
-  lines.push_back(plan.blend ? "blend: two reference views" : "blend: off (one reference view: extrapolation)");
+  std::string views;  // every reference view by its label, not only "left" and "right"
+  for (const std::string& label : plan.viewLabels) views += (views.empty() ? "" : ", ") + label;
+  lines.push_back(plan.blend ? "blend: " + std::to_string(plan.viewLabels.size()) + " reference views (" + views + ")"
+                             : "blend: off (one reference view: extrapolation)");
   lines.push_back(plan.chroma ? "chroma: warped at its own sample positions" : "chroma: off (4:0:0)");
   lines.push_back(std::string("holes: ") +
                   (!plan.lumaFill.backgroundFirst ? "plain Telea inpainting, as VSRS (identical to OpenCV's)"

@@ -7,7 +7,6 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
-#include <fstream>
 #include <iomanip>
 #include <iostream>
 #include <memory>
@@ -15,6 +14,7 @@
 
 #include "Common/CameraFile.h"
 #include "Common/Error.h"
+#include "Common/SafeOutput.h"
 #include "Common/Yuv.h"
 #include "Scene/Rig.h"
 #include "Scene/SceneFile.h"
@@ -129,12 +129,11 @@ std::string configText(const SceneGenSettings& s, const SceneGenResult& result, 
   return out.str();
 }
 
+// Through a temporary file renamed into place (Common/SafeOutput.h): a failed write keeps the previous file.
 void writeTextFile(const std::string& path, const std::string& text) {
-  std::ofstream out(path, std::ios::binary | std::ios::trunc);
-  if (!out) throw InputError(path + ": cannot create the file");
-  out << text;
-  out.flush();
-  if (!out) throw InputError(path + ": error while writing the file");
+  SafeOutputFile out(path);
+  out.write(text);
+  out.commit();
 }
 
 // The effective settings, one "Key value" a line, as the log's first block.
@@ -534,6 +533,8 @@ SceneGenResult generateScene(const SceneGenSettings& s, std::ostream& log) {
     log << "frame " << frame << ": " << result.cameras.size() << " camera(s), "
         << formatFixed("%.3f", secondsSince(frameStart)) << " s\n";
   }
+  for (auto& writer : textureWriters) writer->commit();
+  for (auto& writer : depthWriters) writer->commit();
 
   // Configs: every camera with a neighbour on each side is a virtual camera once.
   for (size_t v = 1; v + 1 < result.cameras.size(); ++v) {

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "Common/Depth.h"
+#include "Common/Error.h"
 #include "Common/Geometry.h"
 #include "Synth/Flags.h"
 #include "Synth/ScratchPool.h"
@@ -159,7 +160,10 @@ DepthEdgeAligner::DepthEdgeAligner(const SynthesisSettings& s) {
   for (size_t k = 0; k < views_.size(); ++k) {
     const ReferenceView& reference = s.references[k];
     View& view = views_[k];
+    // The nearest other view. Distances can overflow to inf (a centre at 1e200) or be NaN: the first
+    // other view is the witness until a strictly nearer one is found, so there always is one.
     double best = HUGE_VAL;
+    view.witness = k == 0 ? 1 : 0;
     for (size_t j = 0; j < views_.size(); ++j) {
       const double d = norm(s.references[j].camera.centre() - reference.camera.centre());
       if (j != k && d < best) {
@@ -167,6 +171,7 @@ DepthEdgeAligner::DepthEdgeAligner(const SynthesisSettings& s) {
         view.witness = int(j);
       }
     }
+    VS_CHECK(view.witness >= 0 && size_t(view.witness) < views_.size() && size_t(view.witness) != k);
     view.projection.emplace(reference.camera, s.references[size_t(view.witness)].camera, s.depthType);
     view.inverseDepth = inverseZTable(reference.depthRange);
     if (s.missingDepthLevel >= 0 && size_t(s.missingDepthLevel) < view.inverseDepth.size())

@@ -39,6 +39,9 @@ public:
       levels.samples[i] = uint16_t(zToLevelRounded(levelToZ(depth.samples[i], view.depthRange), range));
     return true;
   }
+  int64_t uncoveredSamples() const override {
+    return synthesizer_ ? int64_t(synthesizer_->lastStats().holesAfterBlend) : -1;
+  }
   std::vector<std::string> plan() const override { return plan_.lines(); }
   std::vector<std::pair<std::string, std::string>> decisions() const override { return plan_.fields(); }
 
