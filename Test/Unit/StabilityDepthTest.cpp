@@ -236,7 +236,7 @@ TEST(StabilityDepthRange, ButterflyEveryLevelIsWarpedToItsAnalyticPlaceOrRejecte
       for (double u : {0.0, 40.0, 79.5, 120.0, 159.0}) {
         const double inverse = levelToInverseZ(level, range);
         if (inverse == 0.0) continue;  // the plane at infinity: checked below
-        double x, y, wv;
+        double x = 0, y = 0, wv = 0;
         const bool ok = projection.forward(u, v, inverse, x, y, wv);
         bool analyticOk = false;
         const Vec3 X = backProjectDepth(reference, u, v, 1 / inverse, kDepthTypeWorld, analyticOk);
