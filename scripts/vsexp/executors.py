@@ -67,7 +67,10 @@ def execute_job(spec, processes=None, lock=None):
     text = log.read_text(errors="replace")
     tool = spec["tool"]
     if rc != 0:
-        tail = "\n".join(text.strip().splitlines()[-6:])
+        # The tool's error lines ("ViewSyn: error: ..."), which its unbuffered stderr puts above the
+        # buffered stdout in the log; else the log's last lines.
+        lines = text.strip().splitlines()
+        tail = "\n".join([l for l in lines if ": error:" in l][:6] or lines[-6:])
         raise JobFailed("%s exited with %d (log %s):\n%s" % (tool, rc, log, tail), rc if rc > 0 else 128 - rc)
     try:
         summary = tools.read_summary(summary_path)
