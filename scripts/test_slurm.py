@@ -232,14 +232,18 @@ def slurm_checks(root):
     proc = run_runner(exp, slurm_work, ["--executor", "slurm"])
     check(proc.returncode == 0, "the rerun succeeds")
     records = [json.loads(line) for line in (slurm_work / "slurm" / "jobs.jsonl").read_text().splitlines()]
-    check(len(records) == 2 and len(records[1]["tasks"]) == 1 and "broken" in records[1]["tasks"][0],
+    check(len(records) == 2 and records[1]["tasks"] == [[records[1]["tasks"][0][0]]]
+          and "/broken/" in records[1]["tasks"][0][0],
           "the rerun resubmitted exactly the failed task")
     check(len(rows_of(slurm_work)) == expected + 1, "the CSV is complete")
 
     # 3. --submit-only, an interrupted --collect, --collect again (a second work folder).
     resumed = root / "resumed"
-    proc = run_runner(exp, resumed, ["--executor", "slurm", "--throttle", "1", "--submit-only"])
-    check(proc.returncode == 0 and "--collect" in proc.stdout, "--submit-only returns and says how to collect")
+    # Two jobs an array task here (one after the other).
+    proc = run_runner(exp, resumed, ["--executor", "slurm", "--throttle", "1", "--jobs-per-task", "2", "--submit-only"])
+    jobs = 12 if mesh else 8
+    check(proc.returncode == 0 and "--collect" in proc.stdout and "%d tasks for %d jobs" % (jobs // 2, jobs) in proc.stdout,
+          "--submit-only submits %d jobs in %d tasks, returns and says how to collect" % (jobs, jobs // 2))
     cmd = runner_cmd(exp, resumed, ["--executor", "slurm", "--collect"])
     collect = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env_without_data())
     deadline = time.monotonic() + 60

@@ -26,14 +26,15 @@ def make_executor(exp, args):
             raise ExperimentError("%s needs the slurm executor (--executor slurm)" % slurm_only[0])
         return LocalExecutor()
     settings = dict(exp.slurm)
-    for key in ("partition", "time", "mem", "cpus_per_task", "account", "throttle", "poll"):
+    for key in ("partition", "time", "mem", "cpus_per_task", "account", "throttle", "poll", "jobs_per_task"):
         value = getattr(args, key)
         if value is not None:
             settings[key] = value
     if args.sbatch_option:
         settings["options"] = list(settings.get("options") or []) + args.sbatch_option
-    if settings.get("throttle") is not None and int(settings["throttle"]) < 1:
-        raise ExperimentError("--throttle must be at least 1")
+    for key in ("throttle", "jobs_per_task"):
+        if settings.get(key) is not None and int(settings[key]) < 1:
+            raise ExperimentError("%s must be at least 1" % key)
     return SlurmExecutor(settings, "submit" if args.submit_only else "collect" if args.collect else "run")
 
 
@@ -63,6 +64,8 @@ def main(argv=None):
     cluster.add_argument("--throttle", type=int, help="tasks of the array at once (--array=0-N%%THROTTLE)")
     cluster.add_argument("--sbatch-option", action="append", default=[], metavar="OPTION",
                          help="one more sbatch option, e.g. --sbatch-option=--qos=long (repeatable)")
+    cluster.add_argument("--jobs-per-task", type=int, help="jobs one array task runs one after the other "
+                         "(default 1; Slurm starts about one task per CPU a second, so pack short jobs)")
     cluster.add_argument("--poll", type=float, help="seconds between squeue polls while waiting (default 2)")
     mode = cluster.add_mutually_exclusive_group()
     mode.add_argument("--submit-only", action="store_true", help="slurm: submit the jobs not done and return")

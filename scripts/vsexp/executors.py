@@ -132,7 +132,7 @@ ACTIVE = {"PENDING", "RUNNING", "CONFIGURING", "COMPLETING", "SUSPENDED", "REQUE
           "RESIZING", "SIGNALING", "STAGE_OUT", "RESV_DEL_HOLD", "STOPPED"}
 # What the slurm section of an experiment file (or the command line) may set.
 SLURM_KEYS = {"partition": "--partition", "time": "--time", "mem": "--mem", "cpus_per_task": "--cpus-per-task",
-              "account": "--account", "throttle": None, "options": None, "poll": None}
+              "account": "--account", "throttle": None, "options": None, "poll": None, "jobs_per_task": None}
 
 
 class SlurmError(ExperimentError):
@@ -140,7 +140,8 @@ class SlurmError(ExperimentError):
 
 
 class SlurmExecutor:
-    """One job array per invocation (`sbatch --array=0-N%THROTTLE`), one task per job not yet done; the
+    """One job array per invocation (`sbatch --array=0-N%THROTTLE`), one task per job not yet done (or per
+    `jobs_per_task` jobs, run one after the other: Slurm starts about one task per CPU a second); the
     submissions are recorded in WORK/slurm/jobs.jsonl; the tasks' states and exit codes come from
     `squeue -t all` (no slurmdbd needed), polled every `poll` seconds, with the same progress display as
     local runs. mode: "run" (submit, wait, collect), "submit" (submit and return), "collect" (submit
@@ -156,7 +157,7 @@ class SlurmExecutor:
 
     def describe(self, jobs):
         what = ["slurm"]
-        for key in ("partition", "time", "mem", "cpus_per_task", "account", "throttle"):
+        for key in ("partition", "time", "mem", "cpus_per_task", "account", "throttle", "jobs_per_task"):
             if self.settings.get(key) not in (None, ""):
                 what.append("%s %s" % (key, self.settings[key]))
         return ", ".join(what)
@@ -194,7 +195,10 @@ class SlurmExecutor:
         return found
 
     def submit(self, runner, specs):
-        """One array job for `specs`; returns its id (recorded in WORK/slurm/jobs.jsonl)."""
+        """One array job for `specs` (jobs_per_task of them a task); returns its id and the tasks' lists of
+        specs (recorded in WORK/slurm/jobs.jsonl)."""
+        per = max(1, int(self.settings.get("jobs_per_task") or 1))
+        tasks = [specs[i:i + per] for i in range(0, len(specs), per)]
         folder = runner.exp.work / "slurm"
         folder.mkdir(parents=True, exist_ok=True)
         number = len(list(folder.glob("batch-*.json")))
@@ -202,13 +206,13 @@ class SlurmExecutor:
         while batch.exists():
             number += 1
             batch = folder / ("batch-%04d.json" % number)
-        batch.write_text(json.dumps({"tasks": specs}, indent=1))
+        batch.write_text(json.dumps({"tasks": tasks}, indent=1))
         script = batch.with_suffix(".sh")
         package = Path(__file__).resolve().parent.parent
-        script.write_text("#!/bin/sh\n# One task of an experiment's job array: the job BATCH.json lists at "
+        script.write_text("#!/bin/sh\n# One task of an experiment's job array: the jobs BATCH.json lists at "
                           "SLURM_ARRAY_TASK_ID.\nexport PYTHONPATH=%s${PYTHONPATH:+:$PYTHONPATH}\nexec %s -m vsexp.task %s\n"
                           % (shlex.quote(str(package)), shlex.quote(sys.executable), shlex.quote(str(batch))))
-        array = "0-%d" % (len(specs) - 1)
+        array = "0-%d" % (len(tasks) - 1)
         if self.settings.get("throttle"):
             array += "%%%d" % int(self.settings["throttle"])
         cmd = ["sbatch", "--parsable", "--job-name=vsexp-" + runner.exp.name, "--array=" + array,
@@ -224,10 +228,10 @@ class SlurmExecutor:
         if not job_id.isdigit():
             raise SlurmError("sbatch gave no job id: %r" % job_id)
         with open(folder / "jobs.jsonl", "a") as f:
-            f.write(json.dumps({"job_id": job_id, "batch": str(batch), "tasks": [s["done"] for s in specs],
+            f.write(json.dumps({"job_id": job_id, "batch": str(batch), "tasks": [[s["done"] for s in t] for t in tasks],
                                 "sbatch": cmd, "submitted": time.time()}) + "\n")
         self.submitted.append(job_id)
-        return job_id
+        return job_id, tasks
 
     @staticmethod
     def recorded(work):
@@ -254,8 +258,9 @@ class SlurmExecutor:
         # The latest submission of each job, and whether it is still queued or running.
         latest = {}
         for record in self.recorded(work):
-            for task, done in enumerate(record["tasks"]):
-                latest[done] = (record["job_id"], task, record.get("submitted", 0))
+            for task, dones in enumerate(record["tasks"]):
+                for done in dones if isinstance(dones, list) else [dones]:
+                    latest[done] = (record["job_id"], task, record.get("submitted", 0))
         known = self.states({latest[d][0] for d in waiting if d in latest})
         live = {d for d in waiting if d in latest and known.get(latest[d][:2], ("",))[0] in ACTIVE}
         fresh = [d for d in waiting if d not in live]
@@ -270,12 +275,13 @@ class SlurmExecutor:
                     runner.job_failed(job, "never submitted to Slurm: run without --collect to submit it")
             fresh = []
         if fresh:
-            job_id = self.submit(runner, [specs[d][1] for d in fresh])
+            job_id, tasks = self.submit(runner, [specs[d][1] for d in fresh])
             now = time.time()
-            for task, done in enumerate(fresh):
-                latest[done] = (job_id, task, now)
-            runner.say("submitted job array %s: %d tasks (%s); ids in %s" % (
-                job_id, len(fresh), self.describe(runner.jobs), work / "slurm" / "jobs.jsonl"))
+            for task, task_specs in enumerate(tasks):
+                for spec in task_specs:
+                    latest[spec["done"]] = (job_id, task, now)
+            runner.say("submitted job array %s: %d tasks for %d jobs (%s); ids in %s" % (
+                job_id, len(tasks), len(fresh), self.describe(runner.jobs), work / "slurm" / "jobs.jsonl"))
         if self.mode == "submit":
             return
         self.wait(runner, progress, {d: specs[d] for d in live | set(fresh)}, latest)
@@ -293,6 +299,10 @@ class SlurmExecutor:
                     if state[0] != "PENDING" and done not in started:
                         started.add(done)
                         progress.started()
+                    info = finished_job(spec) if state[0] != "PENDING" else None
+                    if info:  # one of the jobs of a task that goes on
+                        del tracked[done]
+                        runner.job_done(job, info)
                     continue
                 if state is None and time.time() - latest[done][2] < 30:
                     continue  # just submitted: not listed yet
@@ -301,7 +311,7 @@ class SlurmExecutor:
                     progress.started()
                 del tracked[done]
                 info = finished_job(spec)
-                if info and (state is None or state[0] == "COMPLETED"):
+                if info:  # written whole after the tool's summary was checked: this job succeeded
                     runner.job_done(job, info)
                 else:
                     runner.job_failed(job, self.failure(work, spec, key, state))
@@ -319,12 +329,16 @@ class SlurmExecutor:
         else:
             what = "Slurm task %s %s, exit code %s" % (task, state[0], state[1])
         lines = [what]
-        try:
-            tail = err.read_text(errors="replace").strip().splitlines()[-8:]
+        try:  # the tool's own error lines from the job's log, else the end of the task's .err
+            tail = [l for l in Path(spec["log"]).read_text(errors="replace").splitlines() if ": error:" in l][:6]
         except OSError:
             tail = []
-        if tail:
-            lines += ["  " + t for t in tail]
+        if not tail:
+            try:
+                tail = err.read_text(errors="replace").strip().splitlines()[-8:]
+            except OSError:
+                tail = []
+        lines += ["  " + t for t in tail]
         lines.append("  .err: %s" % err)
         lines.append("  log: %s" % spec["log"])
         lines.append("  rerun by hand: %s" % rerun_command(spec))

@@ -118,7 +118,7 @@ class Experiment:
             problems.append("executor: 'local' or 'slurm', not %r" % (self.executor,))
         self.slurm = spec.get("slurm", {})
         if check_keys("slurm", self.slurm, {"partition", "time", "mem", "cpus_per_task", "account", "throttle",
-                                            "options", "poll"}, (), problems):
+                                            "options", "poll", "jobs_per_task"}, (), problems):
             if not isinstance(self.slurm.get("options", []), list):
                 problems.append("slurm.options: a list of sbatch options, e.g. [\"--qos=long\"]")
         else:
