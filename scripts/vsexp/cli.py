@@ -120,8 +120,8 @@ def main(argv=None):
             if getattr(executor, "mode", "run") == "submit":
                 runner.say("submitted %s; collect with: %s --collect" % (
                     ", ".join(executor.submitted) or "nothing (every job is done or queued)",
-                    " ".join(sys.argv[:1] + [a for a in (argv if argv is not None else sys.argv[1:])
-                                             if a != "--submit-only"])))
+                    " ".join(["python3", os.path.relpath(REPO / "scripts" / "experiment.py")] +
+                             [a for a in (argv if argv is not None else sys.argv[1:]) if a != "--submit-only"])))
                 return 0
             runner.say("ran %d runs, skipped %d already done, %.1f s" % (ran, skipped, elapsed))
             if ran:

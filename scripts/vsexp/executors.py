@@ -179,7 +179,14 @@ class SlurmExecutor:
         """{(job id, task): (state, exit code text)} of the tasks Slurm still knows (within MinJobAge)."""
         if not job_ids:
             return {}
-        out = self._call(["squeue", "-h", "-r", "-t", "all", "-O", "JobArrayID:64,State:32,exit_code:16"])
+        for attempt in range(5):  # a busy controller may time out once in a while
+            try:
+                out = self._call(["squeue", "-h", "-r", "-t", "all", "-O", "JobArrayID:64,State:32,exit_code:16"])
+                break
+            except SlurmError:
+                if attempt == 4:
+                    raise
+                time.sleep(2)
         wanted = set(job_ids)
         found = {}
         for line in out.splitlines():
