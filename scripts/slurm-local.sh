@@ -98,8 +98,7 @@ start() {
   fi
   slurmctld || code=$SKIP die "slurmctld did not start (see $dir/log/slurmctld.log)"
   slurmd || code=$SKIP die "slurmd did not start (see $dir/log/slurmd.log)"
-  local i
-  for i in $(seq 1 100); do
+  for _ in $(seq 1 100); do
     if sinfo -h -o %T 2>/dev/null | grep -qx idle; then
       echo "slurm-local: up ($dir), partition local, $(nproc) CPUs"
       echo "export SLURM_CONF=$SLURM_CONF"
@@ -115,8 +114,7 @@ stop() {
   [[ -f $SLURM_CONF ]] || { echo "slurm-local: nothing in $dir"; return; }
   if scontrol ping >/dev/null 2>&1; then
     scancel --full --user="$(id -un)" 2>/dev/null || true
-    local i
-    for i in $(seq 1 100); do  # jobs' slurmstepd would outlive the daemons
+    for _ in $(seq 1 100); do  # jobs' slurmstepd would outlive the daemons
       [[ -z $(squeue -h -t running,completing -o %i 2>/dev/null) ]] && break
       sleep 0.2
     done
@@ -126,7 +124,7 @@ stop() {
     pid=$(cat "$dir/$name.pid" 2>/dev/null || true)
     if [[ -n $pid ]] && kill -0 "$pid" 2>/dev/null; then
       kill "$pid"
-      for i in $(seq 1 50); do kill -0 "$pid" 2>/dev/null || break; sleep 0.1; done
+      for _ in $(seq 1 50); do kill -0 "$pid" 2>/dev/null || break; sleep 0.1; done
     fi
     rm -f "$dir/$name.pid"
   done

@@ -147,9 +147,8 @@ def slurm_up(conf_dir):
     env_conf = os.environ.get("SLURM_CONF")
     for conf in ([env_conf] if env_conf else []) + [str(conf_dir / "slurm.conf")]:
         if shutil.which("scontrol") and Path(conf).is_file():
-            if subprocess.run(["scontrol", "ping"], capture_output=True, env=dict(os.environ, SLURM_CONF=conf)) \
-                    .returncode == 0 and b"UP" in subprocess.run(["scontrol", "ping"], capture_output=True,
-                                                                env=dict(os.environ, SLURM_CONF=conf)).stdout:
+            ping = subprocess.run(["scontrol", "ping"], capture_output=True, env=dict(os.environ, SLURM_CONF=conf))
+            if ping.returncode == 0 and b"UP" in ping.stdout:
                 os.environ["SLURM_CONF"] = conf
                 return False, "using the running cluster of %s" % conf
     proc = subprocess.run(["bash", str(REPO / "scripts" / "slurm-local.sh"), "start", str(conf_dir)],
