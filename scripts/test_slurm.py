@@ -202,6 +202,11 @@ def test_slurm(root):
 
 def slurm_checks(root):
     mesh = (BIN / "MeshRender").is_file()
+    if mesh and "detect_leaks=1" in os.environ.get("ASAN_OPTIONS", "") and b"__asan_init" in (BIN / "MeshRender").read_bytes():
+        # Mesa's driver keeps blocks that LeakSanitizer reports (scripts/test.sh runs the Mesh tests
+        # without leak detection): leave MeshRender out of this pass.
+        print("note: MeshRender left out (sanitizer build with leak detection)")
+        mesh = False
     data = root / "data"
     subprocess.run([str(BIN / "SceneGen"), "Scene=tiny", "OutputFolder=%s" % (data / "broken"), "Threads=1"],
                    check=True, stdout=subprocess.DEVNULL)
