@@ -24,6 +24,7 @@
 #include "Scene/SceneGen.h"
 #include "Scene/Scenes.h"
 #include "Synth/Synthesizer.h"
+#include "TestPlan.h"
 
 namespace vs::test {
 
@@ -164,7 +165,7 @@ struct SynthesisResult {
 
 inline SynthesisResult synthesize(const Scene& scene, const SynthesisInputs& inputs,
                                   SynthesisMode mode = SynthesisMode::General) {
-  Synthesizer synthesizer(scene, mode);
+  Synthesizer synthesizer(scene, planOnPath(scene, mode));
   SynthesisResult result;
   StageTimes times;
   synthesizer.synthesize(inputs.frames(), result.output, times);

@@ -11,6 +11,7 @@
 #include "Common/Frame.h"
 #include "Common/Scene.h"
 #include "Synth/Synthesizer.h"
+#include "TestPlan.h"
 
 namespace vs::test {
 
@@ -141,7 +142,7 @@ inline RenderedReferences renderReferences(const AnalyticScene& analytic, const 
 // Synthesizes one frame of `scene` from the references' renders.
 inline Frame synthesizeOnce(const AnalyticScene& analytic, const Scene& scene) {
   RenderedReferences rendered = renderReferences(analytic, scene);
-  Synthesizer synthesizer(scene);
+  Synthesizer synthesizer(scene, planOnPath(scene));
   Frame output;
   StageTimes times;
   synthesizer.synthesize(rendered.frames(), output, times);

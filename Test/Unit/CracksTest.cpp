@@ -72,7 +72,8 @@ TEST(Cracks, ClosingEqualsTheSequentialPassForAnyThreadCount) {
     for (int threads : {1, 2}) {
       cv::setNumThreads(threads);
       std::vector<double> actual = z;
-      closeCracks(actual, w, h, tolerance);
+      ScratchPool<std::vector<uint8_t>> flagRows;
+      closeCracks(actual, w, h, tolerance, flagRows);
       ASSERT_EQ(0, std::memcmp(actual.data(), expected.data(), z.size() * sizeof(double)))
           << "trial " << trial << ", " << w << "x" << h << ", " << threads << " threads";
     }

@@ -12,6 +12,7 @@
 #include "Synth/EdgeAlign.h"
 #include "Synth/Warp.h"
 #include "SynthTestScene.h"
+#include "TestPlan.h"
 
 namespace vs {
 namespace {
@@ -127,7 +128,7 @@ TEST_P(EdgeAlignOnTheSquare, ForegroundEdgesCodedAsBackgroundGetTheirDepthBack) 
   auto synthesize = [&](test::RenderedReferences& references, int reach) {
     Scene scene = rig.scene;
     scene.settings.depthEdgeAlignment = reach;
-    Synthesizer synthesizer(scene);
+    Synthesizer synthesizer(scene, test::planOnPath(scene));
     Frame output;
     StageTimes times;
     synthesizer.synthesize(references.frames(), output, times);

@@ -29,6 +29,7 @@
 #include "Synth/Warp.h"
 #include "Process.h"
 #include "TestPaths.h"
+#include "TestPlan.h"
 
 
 namespace fs = std::filesystem;
@@ -324,7 +325,7 @@ void expectSelfRender(PlaneScene s, int gridStep, const std::string& what) {
   s.scene.virtualCamera = s.scene.settings.references[0].camera;
   vs::MeshSettings settings;
   settings.gridStep = gridStep;
-  vs::MeshSynthesizer synthesizer(s.scene, settings);
+  vs::MeshSynthesizer synthesizer(s.scene, vs::makePlan(s.scene, vs::Tool::MeshRender), settings);
   vs::Frame output;
   vs::StageTimes times;
   synthesizer.synthesize(s.frames(), output, times);
@@ -356,7 +357,7 @@ TEST(MeshRenderGl, TwoViewSynthesisMatchesTheTruth) {
   REQUIRE_GL();
   for (int depthType : {0, 1}) {
     const PlaneScene s = makePlaneScene(depthType);
-    vs::MeshSynthesizer synthesizer(s.scene, vs::MeshSettings{});
+    vs::MeshSynthesizer synthesizer(s.scene, vs::makePlan(s.scene, vs::Tool::MeshRender), vs::MeshSettings{});
     vs::Frame output;
     vs::StageTimes times;
     synthesizer.synthesize(s.frames(), output, times);
@@ -369,7 +370,7 @@ TEST(MeshRenderGl, TwoViewSynthesisMatchesTheTruth) {
         innerTruth.at(x, y) = s.truth.planes[0].at(x + 20, y + 10);
       }
     const double mesh = planePsnr(innerTruth, inner);
-    vs::Synthesizer viewSyn(s.scene);
+    vs::Synthesizer viewSyn(s.scene, vs::test::planOnPath(s.scene));
     vs::Frame viewSynOutput;
     viewSyn.synthesize(s.frames(), viewSynOutput, times);
     for (int y = 0; y < inner.height; ++y)

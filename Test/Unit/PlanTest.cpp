@@ -1,14 +1,19 @@
 // The plan: which path and which stages a scene gets, and why; the 1D path against analytic truth.
+#include <cmath>
+#include <cstdlib>
+#include <string>
+
 #include <gtest/gtest.h>
 
 #include "Common/Config.h"
 #include "Common/Error.h"
 #include "Common/Metrics.h"
 #include "Common/Options.h"
-#include "Synth/Plan.h"
+#include "Plan/Plan.h"
 #include "Synth/ViewSynRenderer.h"
 #include "SynthTestScene.h"
 #include "TestPaths.h"
+#include "TestPlan.h"
 
 namespace vs {
 namespace {
@@ -32,7 +37,7 @@ TEST(Plan, AutoPicksTheOneDimensionalPathForARectifiedRigAndSaysWhy) {
   AnalyticScene analytic;
   const Plan plan = makePlan(rigScene(analytic, SynthesisMode::Auto));
   EXPECT_EQ(plan.mode, SynthesisMode::Parallel1D);
-  EXPECT_NE(plan.lines[0].find("auto: the rig is rectified"), std::string::npos) << plan.lines[0];
+  EXPECT_NE(plan.lines()[0].find("auto: the rig is rectified"), std::string::npos) << plan.lines()[0];
   EXPECT_TRUE(plan.blend);
   EXPECT_TRUE(plan.chroma);
   EXPECT_EQ(plan.copyOf, -1);
@@ -42,7 +47,7 @@ TEST(Plan, AutoPicksTheGeneralPathForARotatedRigAndMode1IsRefusedWithTheDeviatio
   AnalyticScene analytic;
   const Plan plan = makePlan(rigScene(analytic, SynthesisMode::Auto, 0.01));
   EXPECT_EQ(plan.mode, SynthesisMode::General);
-  EXPECT_NE(plan.lines[0].find("rotation differs by 0.573 deg"), std::string::npos) << plan.lines[0];
+  EXPECT_NE(plan.lines()[0].find("rotation differs by 0.573 deg"), std::string::npos) << plan.lines()[0];
   try {
     makePlan(rigScene(analytic, SynthesisMode::Parallel1D, 0.01));
     FAIL() << "SynthesisMode 1 on a rotated rig must be refused";
@@ -75,7 +80,7 @@ TEST(Plan, CopiesWhenTheVirtualCameraIsAReferenceAndSkipsWhatIsNotThere) {
 TEST(Plan, SaysWhetherDepthEdgesAreAlignedAndWhy) {
   AnalyticScene analytic;
   auto depthEdgeLine = [](const Plan& plan) {
-    for (const std::string& line : plan.lines)
+    for (const std::string& line : plan.lines())
       if (line.rfind("depth edges: ", 0) == 0) return line;
     return std::string("(no depth edges line)");
   };
@@ -88,6 +93,142 @@ TEST(Plan, SaysWhetherDepthEdgesAreAlignedAndWhy) {
   scene.settings.depthEdgeAlignment = 4;
   scene.settings.references.pop_back();
   EXPECT_NE(depthEdgeLine(makePlan(scene)).find("as given (one reference view"), std::string::npos);
+}
+
+// The decisions against values worked out here from the cameras and depth ranges: the left camera
+// 5 units from the virtual one, the right 3 (weights 1/d, normalised), the depth tolerances (n + 0.5)
+// 8-bit levels of the mean inverse-depth range.
+TEST(Plan, WeightsAndTolerancesFollowFromTheCamerasAndTheDepthRanges) {
+  AnalyticScene analytic;
+  Scene scene = rigScene(analytic, SynthesisMode::General);
+  scene.settings.depthBlendDifference = 5;
+  const double inverseRange = 1.0 / analytic.range.znear - 1.0 / analytic.range.zfar;
+  auto levels = [&](double n) { return (n + 0.5) / 255.0 * inverseRange; };
+  const Plan plan = makePlan(scene);
+  ASSERT_EQ(plan.blending.weights.size(), 2u);
+  EXPECT_NEAR(plan.blending.weights[0], (1.0 / 5) / (1.0 / 5 + 1.0 / 3), 1e-15);
+  EXPECT_NEAR(plan.blending.weights[1], (1.0 / 3) / (1.0 / 5 + 1.0 / 3), 1e-15);
+  EXPECT_NEAR(plan.blending.depthTolerance, levels(5), 1e-18);
+  EXPECT_NEAR(plan.lumaFill.depthTolerance, levels(5), 1e-18);
+  EXPECT_NEAR(plan.discontinuity, levels(8), 1e-18);
+  EXPECT_FALSE(plan.blending.nearestViewOnly);
+  EXPECT_EQ(plan.edgeLevelStep, 8);  // 8-bit depth
+  // The same step of 8 in 255 levels on deeper maps: 8 / 255 * 1023 = 32.1, 8 / 255 * 65535 = 2056.
+  scene.settings.depthFormat.bitDepth = 10;
+  EXPECT_EQ(makePlan(scene).edgeLevelStep, 32);
+  scene.settings.depthFormat.bitDepth = 16;
+  EXPECT_EQ(makePlan(scene).edgeLevelStep, 2056);
+  // Hole filling on a rectified rig mixes the three estimates 2 : 3 : 1; an empty layer is black
+  // (16) in luma and mid-grey (128) in chroma.
+  EXPECT_TRUE(plan.lumaFill.backgroundFirst);
+  EXPECT_EQ(plan.lumaFill.directionalWeight, 2.0f);
+  EXPECT_EQ(plan.lumaFill.rowRunWeight, 3.0f);
+  EXPECT_EQ(plan.lumaFill.inpaintWeight, 1.0f);
+  EXPECT_EQ(plan.lumaFill.emptyValue[0], 16.0f);
+  EXPECT_EQ(plan.lumaFill.emptyValue[1], 128.0f);
+  EXPECT_EQ(plan.chromaFill.emptyValue[0], 128.0f);
+  EXPECT_EQ(plan.chromaFill.emptyValue[1], 128.0f);
+
+  // The right camera turned by 0.01 rad: its distance counts the turn, scaled by the mean distance
+  // (4), and the rig is not rectified, so hole filling leaves the row runs out (1 : 0 : 1).
+  const Plan turned = makePlan(rigScene(analytic, SynthesisMode::General, 0.01));
+  const double right = 3 + 4 * 0.01;
+  EXPECT_NEAR(turned.blending.weights[0], (1.0 / 5) / (1.0 / 5 + 1.0 / right), 1e-12);
+  EXPECT_FALSE(turned.rectified);
+  EXPECT_EQ(turned.lumaFill.directionalWeight, 1.0f);
+  EXPECT_EQ(turned.lumaFill.rowRunWeight, 0.0f);
+  EXPECT_EQ(turned.lumaFill.inpaintWeight, 1.0f);
+
+  // 1D MergingOption: 0 one level of tolerance, 1 averaging everywhere, 2 DepthThreshold levels (by
+  // default DepthBlendDifference's); the general path and hole filling do not look at it.
+  Scene oneD = rigScene(analytic, SynthesisMode::Parallel1D);
+  oneD.settings.depthBlendDifference = 5;
+  oneD.settings.oneD.merging = 0;
+  EXPECT_NEAR(makePlan(oneD).blending.depthTolerance, levels(1), 1e-18);
+  EXPECT_NEAR(test::planOnPath(oneD, SynthesisMode::General).blending.depthTolerance, levels(5), 1e-18);
+  EXPECT_NEAR(makePlan(oneD).lumaFill.depthTolerance, levels(5), 1e-18);
+  oneD.settings.oneD.merging = 1;
+  EXPECT_TRUE(std::isinf(makePlan(oneD).blending.depthTolerance));
+  oneD.settings.oneD.merging = 2;
+  EXPECT_NEAR(makePlan(oneD).blending.depthTolerance, levels(5), 1e-18);
+  oneD.settings.oneD.depthThreshold = 3;
+  EXPECT_NEAR(makePlan(oneD).blending.depthTolerance, levels(3), 1e-18);
+  EXPECT_TRUE(makePlan(oneD).crowdedHoles);
+  EXPECT_FALSE(test::planOnPath(oneD, SynthesisMode::General).crowdedHoles);
+}
+
+// MeshRender blends and fills as ViewSyn's general path does (it no longer asks a Synthesizer), and
+// what it cannot do is refused by its plan: no virtual depth output.
+TEST(Plan, MeshRenderGetsTheGeneralPathsOptionsAndIsRefusedTheVirtualDepth) {
+  AnalyticScene analytic;
+  Scene scene = rigScene(analytic, SynthesisMode::Parallel1D);
+  scene.settings.oneD.merging = 0;  // a 1D key: not MeshRender's
+  const Plan mesh = makePlan(scene, Tool::MeshRender);
+  const Plan general = test::planOnPath(scene, SynthesisMode::General);
+  EXPECT_EQ(mesh.mode, SynthesisMode::General);
+  EXPECT_EQ(mesh.blending.weights, general.blending.weights);
+  EXPECT_EQ(mesh.blending.depthTolerance, general.blending.depthTolerance);
+  EXPECT_EQ(mesh.lumaFill.depthTolerance, general.blending.depthTolerance);
+  EXPECT_EQ(mesh.lumaFill.rowRunWeight, general.lumaFill.rowRunWeight);
+  ASSERT_EQ(mesh.notApplied.size(), 1u);
+  EXPECT_NE(mesh.notApplied[0].find("the 1D mode does not apply"), std::string::npos);
+
+  scene.settings.virtualDepthPath = "/nonexistent/virtual_depth.yuv";
+  EXPECT_TRUE(makePlan(scene).virtualDepthOutput);
+  try {
+    makePlan(scene, Tool::MeshRender);
+    FAIL() << "MeshRender cannot write OutputVirtualDepthMapName";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("OutputVirtualDepthMapName '/nonexistent/virtual_depth.yuv'"), std::string::npos)
+        << e.what();
+  }
+}
+
+// The printed lines and the key/value fields are made from the plan's fields: change a field and
+// both say so; numbers in the fields read back exactly.
+TEST(Plan, LinesAndFieldsAreMadeFromThePlansFields) {
+  AnalyticScene analytic;
+  Plan plan = makePlan(rigScene(analytic, SynthesisMode::Auto));
+  auto field = [](const Plan& p, const std::string& key) {
+    std::string value = "(missing)";
+    int count = 0;
+    for (const auto& [k, v] : p.fields())
+      if (k == key) {
+        value = v;
+        ++count;
+      }
+    EXPECT_EQ(count, 1) << key;
+    return value;
+  };
+  EXPECT_EQ(field(plan, "path"), "1d");
+  EXPECT_EQ(field(plan, "tool"), "ViewSyn");
+  const std::string weights = field(plan, "blend_weights");
+  const size_t comma = weights.find(',');
+  ASSERT_NE(comma, std::string::npos) << weights;
+  EXPECT_EQ(std::strtod(weights.substr(0, comma).c_str(), nullptr), plan.blending.weights[0]);
+  EXPECT_EQ(std::strtod(weights.substr(comma + 1).c_str(), nullptr), plan.blending.weights[1]);
+  EXPECT_EQ(std::strtod(field(plan, "blend_depth_tolerance").c_str(), nullptr), plan.blending.depthTolerance);
+  EXPECT_EQ(std::strtod(field(plan, "discontinuity").c_str(), nullptr), plan.discontinuity);
+
+  plan.blending.weights = {0.25, 0.75};
+  plan.precision = 2;
+  plan.rgb = true;
+  bool weightsLine = false, textureLine = false;
+  for (const std::string& line : plan.lines()) {
+    weightsLine = weightsLine || line == "blend weights: Left 0.2500 Right 0.7500";
+    textureLine = textureLine || line == "texture: Precision 2, Filter 1, processed in RGB";
+  }
+  EXPECT_TRUE(weightsLine);
+  EXPECT_TRUE(textureLine);
+  EXPECT_EQ(field(plan, "blend_weights"), "0.25,0.75");
+
+  const Camera left = analytic.camera("left", -4), right = analytic.camera("right", 4);
+  const Plan copy = makePlan(analytic.scene(left, right, right));
+  EXPECT_EQ(field(copy, "path"), "copy");
+  EXPECT_EQ(field(copy, "copy_of"), "Right");
+  ASSERT_EQ(copy.lines().size(), 1u);
+  EXPECT_EQ(copy.lines()[0].rfind("copy: the virtual camera 'right' is the Right camera", 0), 0u) << copy.lines()[0];
+  EXPECT_EQ(field(makePlan(analytic.scene(left, right, right), Tool::MeshRender), "path"), "mesh");
 }
 
 TEST(Plan, OneReferenceViewIsAValidConfigWithoutAnyRightKey) {
@@ -122,8 +263,8 @@ TEST(OneD, ParallelPathMatchesTheAnalyticViewAndTheGeneralPath) {
   const std::vector<ReferenceFrame> refs = rendered.frames();
   Frame parallel, general;
   StageTimes times;
-  Synthesizer(oneD, SynthesisMode::Parallel1D).synthesize(refs, parallel, times);
-  Synthesizer(oneD, SynthesisMode::General).synthesize(refs, general, times);
+  Synthesizer(oneD, test::planOnPath(oneD, SynthesisMode::Parallel1D)).synthesize(refs, parallel, times);
+  Synthesizer(oneD, test::planOnPath(oneD, SynthesisMode::General)).synthesize(refs, general, times);
   EXPECT_GT(framePsnr(truth, parallel).y, 32.0);
   // Same geometry: the two paths agree closely (not bitwise: the 1D path merges by its own keys).
   EXPECT_GT(framePsnr(general, parallel).y, 40.0);
@@ -131,7 +272,7 @@ TEST(OneD, ParallelPathMatchesTheAnalyticViewAndTheGeneralPath) {
   Scene identity = oneD;
   identity.virtualCamera = identity.settings.references[0].camera;
   Frame copy;
-  Synthesizer(identity, SynthesisMode::Parallel1D).synthesize(refs, copy, times);
+  Synthesizer(identity, test::planOnPath(identity, SynthesisMode::Parallel1D)).synthesize(refs, copy, times);
   EXPECT_TRUE(copy == rendered.textures[0]);
 }
 
@@ -155,12 +296,12 @@ TEST(OneD, TemporalImprovementKeepsThePreviousFillWhereTheReferenceRowsAreUnchan
     }
   for (bool temporal : {true, false}) {
     scene.settings.oneD.temporalImprovement = temporal;
-    Synthesizer sequence(scene, SynthesisMode::Parallel1D);
+    Synthesizer sequence(scene, test::planOnPath(scene, SynthesisMode::Parallel1D));
     Frame output1, output2, fresh2;
     StageTimes times;
     sequence.synthesize(first.frames(), output1, times);
     sequence.synthesize(second.frames(), output2, times);
-    Synthesizer(scene, SynthesisMode::Parallel1D).synthesize(second.frames(), fresh2, times);
+    Synthesizer(scene, test::planOnPath(scene, SynthesisMode::Parallel1D)).synthesize(second.frames(), fresh2, times);
     if (!temporal) {
       EXPECT_TRUE(output2 == fresh2);
       continue;

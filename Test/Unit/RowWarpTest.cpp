@@ -99,6 +99,7 @@ TEST(RowWarp, EqualsThePlainPerRowAlgorithm) {
                                                  : reach * unit(rng) * 0.3;
     const int splatting = pick(3);
     const RowDepthWarp warp(projection, rowDepth, discontinuity, splatting);
+    RowDepthWarp::Scratch scratch;
 
     for (int row = 0; row < 3; ++row) {
       // Runs of one level, ramps of one level per sample, noise, and a few levels past the table.
@@ -125,7 +126,7 @@ TEST(RowWarp, EqualsThePlainPerRowAlgorithm) {
       std::vector<double> expected = z, actual = z;
       warpRowPlainly(projection, rowDepth, discontinuity, splatting, levels.data(), width, nearBoundary.data(),
                      expected.data(), outWidth);
-      warp.warp(levels.data(), width, nearBoundary.data(), actual.data(), outWidth);
+      warp.warp(levels.data(), width, nearBoundary.data(), actual.data(), outWidth, scratch);
       ASSERT_EQ(0, std::memcmp(actual.data(), expected.data(), z.size() * sizeof(double)))
           << "trial " << trial << ", row " << row << ", width " << width << ", out " << outWidth << ", splatting "
           << splatting;

@@ -92,6 +92,7 @@ TEST(RunReport, CsvAndJsonHoldTheSameFramesAndTheMeansAreFrameMeans) {
   vs::RunSummary summary;
   {
     vs::RunReport report("ViewSyn", config);
+    report.recordDecisions({{"path", "1d"}, {"blend_weights", "0.375,0.625"}});
     report.begin(scene, {"plan line 1", "plan line 2"}, nullptr);
     report.startFrames(nullptr);
     for (const vs::FrameRecord& r : frames) report.addFrame(r, nullptr);
@@ -116,6 +117,9 @@ TEST(RunReport, CsvAndJsonHoldTheSameFramesAndTheMeansAreFrameMeans) {
   EXPECT_EQ(member(json, "frames_written").number, 3);
   ASSERT_EQ(member(json, "plan").items.size(), 2u);
   EXPECT_EQ(member(json, "plan").items[1].text, "plan line 2");
+  ASSERT_EQ(member(json, "decisions").members.size(), 2u);
+  EXPECT_EQ(member(member(json, "decisions"), "path").text, "1d");
+  EXPECT_EQ(member(member(json, "decisions"), "blend_weights").text, "0.375,0.625");
   ASSERT_EQ(member(json, "warnings").items.size(), 1u);
   EXPECT_EQ(member(json, "warnings").items[0].text, scene.warnings[0]);
   // Every key of the table, with the value the effective-config printout shows.

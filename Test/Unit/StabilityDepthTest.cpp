@@ -16,6 +16,7 @@
 #include "StabilityScene.h"
 #include "Synth/Warp.h"
 #include "TestPaths.h"
+#include "TestPlan.h"
 
 namespace vs {
 namespace {
@@ -199,7 +200,7 @@ TEST(StabilityDepthRange, ButterflyRangeCrossingInfinitySynthesizesTheDemoSceneW
       range.bitDepth = bits;
       const Scene scene = test::makeScene({cameras[0], cameras[2]}, cameras[1], format, range, depthType);
       const SynthesisInputs inputs = test::renderInputs(generated, scene);
-      Synthesizer synthesizer(scene);
+      Synthesizer synthesizer(scene, test::planOnPath(scene));
       Frame output;
       StageTimes times;
       synthesizer.synthesize(inputs.frames(), output, times);

@@ -28,6 +28,7 @@
 #include "TestPaths.h"
 #if __has_include("Mesh/MeshSynthesizer.h")
 #include "Mesh/MeshSynthesizer.h"
+#include "TestPlan.h"
 #define VS_STABILITY_HAVE_MESH 1
 #endif
 
@@ -127,7 +128,7 @@ double meshIdentityPsnr(const MeshSettings& settings, bool everyPrecisionAndFilt
         identity.settings.filter = filter;
         std::unique_ptr<MeshSynthesizer> mesh;
         try {
-          mesh = std::make_unique<MeshSynthesizer>(identity, settings);
+          mesh = std::make_unique<MeshSynthesizer>(identity, makePlan(identity, Tool::MeshRender), settings);
         } catch (const InputError& e) {
           why = e.what();
           return std::nan("");
@@ -290,7 +291,7 @@ TEST(StabilityDeterminism, SameInputTwiceAndAnyThreadCountGiveBitIdenticalOutput
       if (c->name == "tiny") modes.push_back(SynthesisMode::Parallel1D);
       for (SynthesisMode mode : modes) {
         // Twice through one Synthesizer (it keeps state between frames on the 1D path), then a new one.
-        Synthesizer synthesizer(c->scene, mode);
+        Synthesizer synthesizer(c->scene, test::planOnPath(c->scene, mode));
         Frame first, second;
         StageTimes times;
         synthesizer.synthesize(c->inputs.frames(), first, times);

@@ -16,6 +16,7 @@
 #include "Synth/Layer.h"
 #include "Synth/Warp.h"
 #include "SynthTestScene.h"
+#include "TestPlan.h"
 
 namespace vs {
 namespace {
@@ -79,7 +80,7 @@ TEST(Synth, MissingDepthFillWarpsUnknownBackgroundWithTheBackgroundsDepth) {
   auto synthesize = [&](const Scene& s) {
     Frame output;
     StageTimes times;
-    Synthesizer(s).synthesize(references, output, times);
+    Synthesizer(s, test::planOnPath(s)).synthesize(references, output, times);
     return psnrY(truth, output);
   };
   const double asFarPlane = synthesize(scene);
@@ -134,7 +135,7 @@ TEST(Synth, FilledSamplesStayUnreliableWhenEdgesAreAligned) {
   auto synthesize = [&](int reach, size_t& moved) {
     Scene s = scene;
     s.settings.depthEdgeAlignment = reach;
-    Synthesizer synthesizer(s);
+    Synthesizer synthesizer(s, test::planOnPath(s));
     Frame output;
     StageTimes times;
     synthesizer.synthesize(rendered.frames(), output, times);
@@ -169,7 +170,7 @@ TEST(Synth, FarSliversInsideASurfaceAreClosedLikeCracks) {
           if (depth.at(x, y) == squareLevel) depth.at(x, y) = 0;  // the far plane's level
     Frame output;
     StageTimes times;
-    Synthesizer(scene).synthesize(rendered.frames(), output, times);
+    Synthesizer(scene, test::planOnPath(scene)).synthesize(rendered.frames(), output, times);
     // The square covers |u - cx| < 14 at z = 60 in the virtual view: look well inside it.
     double worst = 0;
     int compared = 0;

@@ -5,6 +5,7 @@
 #include "Mesh/EglContext.h"
 #include "Mesh/MeshSynthesizer.h"
 #include "Pipeline/SynthesisCommandLine.h"
+#include "Plan/Plan.h"
 
 int main(int argc, char** argv) {
   const vs::OptionTable table = vs::meshRenderOptionTable();
@@ -19,7 +20,10 @@ int main(int argc, char** argv) {
   tool.manual = "doc/meshrender.md";
   tool.keys = &table;
   tool.run = [](const vs::Config& config) { vs::runMeshRender(config); };
-  tool.validate = [](const vs::Config& config, const vs::Scene&) { vs::readMeshSettings(config); };
+  tool.validate = [](const vs::Config& config, const vs::Scene& scene) {
+    vs::readMeshSettings(config);
+    vs::makePlan(scene, vs::Tool::MeshRender);  // refuses what MeshRender cannot do, as a run would
+  };
   tool.describe = [](std::FILE* out) {
     const vs::EglContext context;
     std::fprintf(out, "OpenGL: %s\n", context.description().c_str());

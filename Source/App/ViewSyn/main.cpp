@@ -1,6 +1,7 @@
 // ViewSyn: VSRS-compatible view synthesis. `ViewSyn FILE.cfg [Key=Value ...]`; see --help.
 #include "Common/Options.h"
 #include "Pipeline/SynthesisCommandLine.h"
+#include "Plan/Plan.h"
 #include "Synth/ViewSynRenderer.h"
 
 int main(int argc, char** argv) {
@@ -13,5 +14,7 @@ int main(int argc, char** argv) {
   tool.manual = "doc/manual.md";
   tool.keys = &table;
   tool.run = [](const vs::Config& config) { vs::runViewSyn(config); };
+  // Refuses what no path can do (SynthesisMode 1 on a rig that is not rectified), as a run would.
+  tool.validate = [](const vs::Config&, const vs::Scene& scene) { vs::makePlan(scene); };
   return vs::runCommandLine(argc, argv, vs::synthesisCommandLine(tool));
 }

@@ -16,11 +16,13 @@ namespace {
 
 class MeshFrameRenderer : public FrameRenderer {
 public:
-  MeshFrameRenderer(const Scene& scene, const MeshSettings& settings) : synthesizer_(scene, settings) {}
+  MeshFrameRenderer(const Scene& scene, const Plan& plan, const MeshSettings& settings)
+      : synthesizer_(scene, plan, settings) {}
   void render(const std::vector<ReferenceFrame>& references, Frame& output, StageTimes& times) override {
     synthesizer_.synthesize(references, output, times);
   }
   std::vector<std::string> plan() const override { return synthesizer_.plan(); }
+  std::vector<std::pair<std::string, std::string>> decisions() const override { return synthesizer_.decisions().fields(); }
 
 private:
   MeshSynthesizer synthesizer_;
@@ -36,26 +38,28 @@ MeshSettings readMeshSettings(const Config& config) {
   return settings;
 }
 
-MeshSynthesizer::MeshSynthesizer(const Scene& scene, const MeshSettings& settings)
+MeshSynthesizer::MeshSynthesizer(const Scene& scene, const Plan& plan, const MeshSettings& settings)
     : scene_(scene),
+      plan_(plan),
       settings_(settings),
       outputFormat_(scene.settings.textureFormat),
-      rgb_(scene.settings.colorSpace == 1),
-      hasChroma_(scene.settings.textureFormat.chroma != ChromaFormat::Yuv400),
+      rgb_(plan.rgb),
+      hasChroma_(plan.chroma),
       aligner_(scene.settings) {
+  VS_CHECK(plan_.tool == Tool::MeshRender && plan_.blending.weights.size() == scene.settings.references.size());
   const SynthesisSettings& s = scene.settings;
   lumaGrid_ = lumaGrid(scene.virtualCamera, outputFormat_.width, outputFormat_.height);
   if (hasChroma_ && !rgb_) {
     chromaGrid_ = chromaGrid(scene.virtualCamera, outputFormat_.width, outputFormat_.height, outputFormat_.chroma);
     if (outputFormat_.chroma == ChromaFormat::Yuv420) chromaTexels_ = TexelMap{0.5, -0.25};
   }
-  const SubPixelSampler sampler(s.precision, s.filter);
+  const SubPixelSampler sampler(plan.precision, plan.filter);
   renderer_.setSampling(&sampler);
   MeshOptions options;
   options.depthType = s.depthType;
   options.gridStep = settings.gridStep;
   options.discontinuityThreshold = settings.discontinuityThreshold;
-  options.missingDepthLevel = s.missingDepthLevel;
+  options.missingDepthLevel = plan.missingDepthLevel;
   for (const ReferenceView& reference : s.references) {
     ViewState view{DepthMeshBuilder(reference.camera, reference.depthRange, s.depthFormat.width, s.depthFormat.height, options),
                    false, {}, {}, {}, {}, {}, {}};
@@ -65,22 +69,6 @@ MeshSynthesizer::MeshSynthesizer(const Scene& scene, const MeshSettings& setting
     if (view.depthRangeBounded) view.planes = clipPlanes(range);
     views_.push_back(std::move(view));
   }
-
-  // Blending and hole filling exactly as ViewSyn sets them up for this scene: the weights and the
-  // depth tolerance come from a Synthesizer on the same scene (so they cannot drift apart); the rest
-  // follows the same keys.
-  const Synthesizer viewSyn(scene);
-  blendOptions_.weights = viewSyn.blendWeights();
-  blendOptions_.depthTolerance = viewSyn.depthTolerance();
-  blendOptions_.nearestViewOnly = s.viewBlending == 1;
-  fillOptions_ = viewSyn.holeFillOptions();  // IvsrsInpaint and the estimates' weights for this rig
-  fillOptions_.depthTolerance = blendOptions_.depthTolerance;
-  const float mid = float(1 << (outputFormat_.bitDepth - 1));
-  const float black = float(16 << (outputFormat_.bitDepth - 8));
-  fillOptions_.emptyValue[0] = rgb_ ? mid : black;
-  fillOptions_.emptyValue[1] = fillOptions_.emptyValue[2] = mid;
-  chromaFillOptions_ = fillOptions_;
-  chromaFillOptions_.emptyValue[0] = chromaFillOptions_.emptyValue[1] = mid;
 }
 
 std::vector<std::string> MeshSynthesizer::plan() const {
@@ -93,28 +81,10 @@ std::vector<std::string> MeshSynthesizer::plan() const {
                 "(1 - z_min / z_max)",
                 settings_.gridStep, settings_.discontinuityThreshold);
   lines.push_back(line);
-  if (s.missingDepthLevel >= 0)
-    lines.push_back("depth level " + std::to_string(s.missingDepthLevel) + " is missing depth: " +
-                    (s.missingDepthFill ? "runs between valid samples take the farther level, the rest are dropped"
-                                        : "its vertices are dropped"));
   for (size_t k = 0; k < views_.size(); ++k)
     lines.push_back(s.references[k].label + " view: depth-buffer planes " +
                     (views_[k].depthRangeBounded ? "from the scene's depth range" : "from each frame's mesh (the depth range is unbounded in the virtual camera)"));
-  lines.push_back(std::string("texture: Precision ") + std::to_string(s.precision) + ", Filter " + std::to_string(s.filter) +
-                  " as ViewSyn samples, evaluated in the fragment shader" +
-                  (rgb_ ? ", processed in RGB" : (hasChroma_ ? "; chroma rendered at chroma resolution" : "")));
-  std::string weights;
-  for (size_t k = 0; k < views_.size(); ++k) {
-    std::snprintf(line, sizeof line, "%s%s %.4f", k ? ", " : "", s.references[k].label.c_str(), blendOptions_.weights[k]);
-    weights += line;
-  }
-  std::snprintf(line, sizeof line, "blend weights: %s (%s), depth tolerance %.4g (1/depth)", weights.c_str(),
-                blendOptions_.nearestViewOnly ? "nearer view only" : "weighted blending", blendOptions_.depthTolerance);
-  lines.push_back(line);
-  lines.push_back(std::string("holes: ") + (s.ivsrsInpaint ? "background-side fill, then Telea inpainting" : "plain Telea inpainting, as VSRS (identical to OpenCV's)"));
-  if (s.boundaryNoiseRemoval) lines.push_back("BoundaryNoiseRemoval 1: not applied by MeshRender");
-  if (s.mode != SynthesisMode::General)
-    lines.push_back("SynthesisMode: MeshRender renders every rig the same way (the 1D mode does not apply)");
+  for (const std::string& decision : plan_.lines()) lines.push_back(decision);
   if (!settings_.plyPath.empty()) {
     std::string files;
     for (const ReferenceView& reference : s.references)
@@ -138,8 +108,8 @@ void MeshSynthesizer::synthesize(const std::vector<ReferenceFrame>& references, 
 
     auto start = std::chrono::steady_clock::now();
     const Plane* depth = references[k].depth;
-    if (s.missingDepthLevel >= 0 && s.missingDepthFill) {
-      fillMissingDepthRuns(*depth, s.missingDepthLevel, inverseZTable(reference.depthRange), view.filledDepth,
+    if (plan_.missingDepthFill) {
+      fillMissingDepthRuns(*depth, plan_.missingDepthLevel, inverseZTable(reference.depthRange), view.filledDepth,
                            view.filledSamples);
       depth = &view.filledDepth;
     }
@@ -178,14 +148,14 @@ void MeshSynthesizer::synthesize(const std::vector<ReferenceFrame>& references, 
     lumaLayers.push_back(&view.luma);
     chromaLayers.push_back(&view.chroma);
   }
-  blendLayers(lumaLayers, blendOptions_, blendedLuma_);
-  if (hasChroma_ && !rgb_) blendLayers(chromaLayers, blendOptions_, blendedChroma_);
+  blendLayers(lumaLayers, plan_.blending, blendedLuma_);
+  if (hasChroma_ && !rgb_) blendLayers(chromaLayers, plan_.blending, blendedChroma_);
   holesAfterBlend_ = blendedLuma_.holeCount();
   times.blend += secondsSince(start);
 
   start = std::chrono::steady_clock::now();
-  fillHoles(blendedLuma_, fillOptions_, &lumaFill_);
-  if (hasChroma_ && !rgb_) fillHoles(blendedChroma_, chromaFillOptions_, &chromaFill_);
+  fillHoles(blendedLuma_, plan_.lumaFill, &lumaFill_);
+  if (hasChroma_ && !rgb_) fillHoles(blendedChroma_, plan_.chromaFill, &chromaFill_);
   times.holeFill += secondsSince(start);
 
   roundLayersToFrame(blendedLuma_, blendedChroma_, rgb_, rgbOutput_, output);
@@ -196,7 +166,9 @@ int runMeshRender(const Config& config) {
   runReported(report, [&] {
     const Scene scene = loadScene(config);
     const MeshSettings settings = readMeshSettings(config);
-    MeshFrameRenderer renderer(scene, settings);
+    // The plan refuses what MeshRender cannot do before anything is opened.
+    const Plan plan = makePlan(scene, Tool::MeshRender);
+    MeshFrameRenderer renderer(scene, plan, settings);
     setWorkerThreads(scene.settings.threads);
     return runSequence("MeshRender", scene, renderer, report);
   });

@@ -5,8 +5,9 @@
 //      virtual camera with OpenGL (GlMeshRenderer.h): luma at luma resolution, U and V in a second
 //      render at chroma resolution whose pixel centres are the chroma sample centres; colour and
 //      inverse depth are read back as ViewSyn's WarpedLayers
-//   3. blend the views and 4. fill the holes with ViewSyn's blendLayers and fillHoles, with the same
-//      options ViewSyn uses for the scene, 5. round into the output frame
+//   3. blend the views and 4. fill the holes with ViewSyn's blendLayers and fillHoles, with the
+//      options the plan decides for the scene (makePlan(scene, Tool::MeshRender): ViewSyn's general
+//      path's), 5. round into the output frame
 // ColorSpace 1 renders R, G, B at luma resolution instead of Y and U, V, as ViewSyn does.
 #include <memory>
 #include <string>
@@ -17,10 +18,11 @@
 #include "Mesh/DepthMesh.h"
 #include "Mesh/GlMeshRenderer.h"
 #include "Mesh/MeshProjection.h"
+#include "Plan/Plan.h"
 #include "Synth/EdgeAlign.h"
 #include "Synth/HoleFill.h"
 #include "Synth/Layer.h"
-#include "Synth/Synthesizer.h"
+#include "Synth/Synthesizer.h"  // StageTimes, ReferenceFrame
 
 namespace vs {
 
@@ -36,18 +38,21 @@ MeshSettings readMeshSettings(const Config& config);
 class MeshSynthesizer {
 public:
   // Creates the OpenGL context (throws InputError when there is none) and everything that depends on
-  // the scene only: mesh grids, camera matrices, blend and hole-fill options.
-  MeshSynthesizer(const Scene& scene, const MeshSettings& settings);
+  // the scene only: mesh grids, camera matrices. `plan`: makePlan(scene, Tool::MeshRender), whose
+  // blend and hole-fill options are used as they are.
+  MeshSynthesizer(const Scene& scene, const Plan& plan, const MeshSettings& settings);
 
   // Synthesizes the virtual view of one frame into `output` (reset to the texture format). Mesh
   // building and upload count as depthWarp, rendering and read-back as textureWarp.
   void synthesize(const std::vector<ReferenceFrame>& references, Frame& output, StageTimes& times);
 
-  // Lines for the plan printed before the first frame.
+  // Lines for the plan printed before the first frame: the plan's, and what the renderer adds (the
+  // OpenGL renderer, the mesh, each view's depth-buffer planes, PLY files).
   std::vector<std::string> plan() const;
+  const Plan& decisions() const { return plan_; }
   const std::string& rendererDescription() const { return renderer_.description(); }
-  const BlendOptions& blendOptions() const { return blendOptions_; }
-  const HoleFillOptions& holeFillOptions() const { return fillOptions_; }
+  const BlendOptions& blendOptions() const { return plan_.blending; }
+  const HoleFillOptions& holeFillOptions() const { return plan_.lumaFill; }
 
   // The last frame's intermediate results, for tests and diagnostics.
   const DepthMesh& mesh(size_t view) const { return views_[view].mesh; }
@@ -70,15 +75,14 @@ private:
   };
 
   const Scene& scene_;
+  const Plan plan_;
   MeshSettings settings_;
   FrameFormat outputFormat_;
-  bool rgb_;
-  bool hasChroma_;
+  bool rgb_;        // plan_.rgb
+  bool hasChroma_;  // plan_.chroma
   GlMeshRenderer renderer_;
   RenderGrid lumaGrid_, chromaGrid_;
   TexelMap chromaTexels_;
-  BlendOptions blendOptions_;
-  HoleFillOptions fillOptions_, chromaFillOptions_;
   DepthEdgeAligner aligner_;  // DepthEdgeAlignment, as ViewSyn does it
   std::vector<ViewState> views_;
   BlendedLayer blendedLuma_, blendedChroma_;

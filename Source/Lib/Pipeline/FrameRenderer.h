@@ -3,6 +3,7 @@
 // knows no renderer; ViewSyn's (Synth/ViewSynRenderer.h) and MeshRender's (Mesh/MeshSynthesizer.h)
 // adapters implement it, and the apps wire one into the loop (../shared/DESIGN.md, "Layout").
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "Common/Depth.h"
@@ -18,6 +19,8 @@ public:
   virtual void render(const std::vector<ReferenceFrame>& references, Frame& output, StageTimes& times) = 0;
   // Lines describing what this renderer will do (the plan), printed before the first frame.
   virtual std::vector<std::string> plan() const = 0;
+  // The plan's decisions as key/value pairs (Plan::fields), for the JSON summary; none by default.
+  virtual std::vector<std::pair<std::string, std::string>> decisions() const { return {}; }
   // The last rendered frame's depth as levels of `range` (OutputVirtualDepthMapName); false when the
   // renderer cannot provide it.
   virtual bool virtualDepth(const std::vector<ReferenceFrame>& /*references*/, const DepthRange& /*range*/,

@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <functional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "Common/Config.h"
@@ -22,6 +23,7 @@ struct FrameRecord {
   bool scored = false;  // PSNR against the reference view was measured
   FramePsnr psnr;
   StageTimes times;
+  std::vector<double> quality;  // QualityMetrics' values, in the order of QualityReport::keys()
 };
 
 // The CSV header's names in order: frame, psnr_y, psnr_u, psnr_v, psnr_yuv, then seconds per stage
@@ -45,6 +47,8 @@ public:
   // Prints the start of the run to `log` (nullptr: silent): tool and version, the effective
   // configuration, the cameras, the scene's warnings and the plan; keeps warnings and plan.
   void begin(const Scene& scene, const std::vector<std::string>& plan, std::FILE* log);
+  // The plan's decisions as key/value pairs, written as the summary's "decisions" object.
+  void recordDecisions(std::vector<std::pair<std::string, std::string>> decisions) { decisions_ = std::move(decisions); }
   // Creates ReportFile (when set) with its header, after the outputs are open. Throws InputError.
   void startFrames(std::FILE* log);
   // One frame: a line on `log`, a CSV row, a JSON entry.
@@ -60,12 +64,16 @@ public:
   void writeSummary(int exitStatus, const std::string& error) const;
 
 private:
+  double qualityMean(size_t column) const;  // mean of a QualityMetrics column over the frames
+
   std::string toolName_;
   const Config& config_;
   std::string csvPath_, summaryPath_;
   std::FILE* csv_ = nullptr;
   bool hasChroma_ = true;
+  std::vector<std::string> qualityMetrics_;  // QualityMetrics when a reference view is set (doc/metrics.md)
   std::vector<std::string> plan_, warnings_;
+  std::vector<std::pair<std::string, std::string>> decisions_;
   std::vector<FrameRecord> frames_;
 };
 

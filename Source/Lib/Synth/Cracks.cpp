@@ -9,7 +9,8 @@
 
 namespace vs {
 
-void closeCracks(std::vector<double>& inverseDepth, int width, int height, double tolerance) {
+void closeCracks(std::vector<double>& inverseDepth, int width, int height, double tolerance,
+                 ScratchPool<std::vector<uint8_t>>& flagRows) {
   double* const zbuffer = inverseDepth.data();
   // Closes the gap [gap1, gap2] between samples a and b when it is one (gap2 == gap1 for one sample).
   auto close = [zbuffer, tolerance](size_t a, size_t gap1, size_t gap2, size_t b, bool two) {
@@ -33,11 +34,9 @@ void closeCracks(std::vector<double>& inverseDepth, int width, int height, doubl
   // values until two in a row have passed without a close; the flags beyond are still those of the
   // current values.
   parallelRanges(height, [&](int y0, int y1) {
-    // Declared here, where each thread of the pool passes it: that registers its destructor on the
-    // thread (one declared outside the loop's body would never be freed there).
-    static thread_local std::vector<uint8_t> flagsBuffer;
-    flagsBuffer.resize(size_t(width));
-    uint8_t* flags = flagsBuffer.data();
+    const auto flagsBuffer = flagRows.take();
+    flagsBuffer->resize(size_t(width));
+    uint8_t* flags = flagsBuffer->data();
     const double limit = tolerance;
     for (int y = y0; y < y1; ++y) {
       const double* z = zbuffer + size_t(y) * width;
@@ -60,9 +59,9 @@ void closeCracks(std::vector<double>& inverseDepth, int width, int height, doubl
   // y changes that column's rows y and y + 1 only: a row's flags, found before it is visited, stay
   // those of the current values for the whole row.
   parallelColumns(width, [&](int x0, int x1) {
-    static thread_local std::vector<uint8_t> flagsBuffer;
-    flagsBuffer.resize(size_t(width));
-    uint8_t* flags = flagsBuffer.data();
+    const auto flagsBuffer = flagRows.take();
+    flagsBuffer->resize(size_t(width));
+    uint8_t* flags = flagsBuffer->data();
     const double limit = tolerance;
     const size_t stride = size_t(width);
     for (int y = 1; y + 1 < height; ++y) {

@@ -1,6 +1,9 @@
 #pragma once
 // Crack closing in a warped depth layer (doc/algorithms.md, "Warping").
+#include <cstdint>
 #include <vector>
+
+#include "Synth/ScratchPool.h"
 
 namespace vs {
 
@@ -12,6 +15,8 @@ namespace vs {
 // never filled with foreground: both ends are one surface, and nearer than what they replace.
 // Rows first, each from left to right, then columns, each from top to bottom; a closed gap counts as
 // closed for the tests after it, as in one sequential pass (any thread count gives the same layer).
-void closeCracks(std::vector<double>& inverseDepth, int width, int height, double tolerance);
+// `flagRows`: one line of flags for each loop body running at once.
+void closeCracks(std::vector<double>& inverseDepth, int width, int height, double tolerance,
+                 ScratchPool<std::vector<uint8_t>>& flagRows);
 
 }  // namespace vs

@@ -8,6 +8,7 @@
 #include "Common/Depth.h"
 #include "Common/Geometry.h"
 #include "Synth/Flags.h"
+#include "Synth/ScratchPool.h"
 #include "Synth/Parallel.h"
 
 namespace vs {
@@ -114,12 +115,12 @@ size_t alignDepthEdges(const Plane& depth, const Plane& luma, const EdgeAlignOpt
       !witness.projection || !witness.inverseDepth)
     return 0;
   const int w = depth.width, h = depth.height;
-  // Edge flags of one line, per thread (alignEdge reads the input depth and writes `out`, so flags
-  // found before aligning a line are the ones found while aligning it). Declared inside the loops'
-  // bodies: a thread_local's destructor is registered on a thread when that thread passes its
-  // declaration, so one declared out here would never be freed on the pool's threads.
+  // Edge flags of one line for each loop body running at once (alignEdge reads the input depth and
+  // writes `out`, so flags found before aligning a line are the ones found while aligning it).
+  ScratchPool<std::vector<uint8_t>> flagRows;
   parallelRanges(h, [&](int y0, int y1) {
-    static thread_local std::vector<uint8_t> edgeFlags;
+    const auto flags = flagRows.take();
+    std::vector<uint8_t>& edgeFlags = *flags;
     edgeFlags.resize(size_t(w));
     for (int y = y0; y < y1; ++y) {
       const Line line{depth.row(y), luma.row(y), out.row(y), 1, w, 0, y, 1, 0};
@@ -132,7 +133,8 @@ size_t alignDepthEdges(const Plane& depth, const Plane& luma, const EdgeAlignOpt
   // and finds their edges row by row, in memory order.
   scratch = out;
   parallelColumns(w, [&](int x0, int x1) {
-    static thread_local std::vector<uint8_t> edgeFlags;
+    const auto flags = flagRows.take();
+    std::vector<uint8_t>& edgeFlags = *flags;
     edgeFlags.resize(size_t(w));
     for (int y = 0; y + 1 < h; ++y) {
       markDepthEdges(scratch.row(y) + x0, scratch.row(y + 1) + x0, x1 - x0, options, edgeFlags.data());
@@ -150,8 +152,6 @@ size_t alignDepthEdges(const Plane& depth, const Plane& luma, const EdgeAlignOpt
   for (size_t i = 0, n = out.samples.size(); i < n; ++i) changed += size_t(before[i] != after[i]);
   return changed;
 }
-
-int depthEdgeStep(int maxLevel) { return std::max(1, int(std::lround(kSurfaceStepLevels8 / 255.0 * maxLevel))); }
 
 DepthEdgeAligner::DepthEdgeAligner(const SynthesisSettings& s) {
   if (s.depthEdgeAlignment <= 0 || s.references.size() < 2) return;

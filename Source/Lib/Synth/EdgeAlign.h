@@ -20,6 +20,7 @@
 
 #include "Common/Frame.h"
 #include "Common/Scene.h"
+#include "Plan/StageOptions.h"
 #include "Synth/Warp.h"
 
 namespace vs {
@@ -30,11 +31,6 @@ struct EdgeAlignOptions {
   int minContrast = 16;   // luma step (texture levels) that makes a texture edge
   int missingLevel = -1;  // MissingDepthLevel: such samples are neither edges nor taken over; -1: none
 };
-
-// Two samples whose depth levels differ by this many 8-bit levels lie on different surfaces.
-constexpr double kSurfaceStepLevels8 = 8.0;
-// The same step in levels of a depth map with `maxLevel` as its largest level (at least 1).
-int depthEdgeStep(int maxLevel);
 
 // Another reference view that judges each move: it must see the moved samples' colours where the
 // near depth puts them better than where their own depth does.

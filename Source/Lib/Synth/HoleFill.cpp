@@ -31,7 +31,8 @@ void sizeEstimate(const BlendedLayer& layer, std::vector<float> estimate[3], std
 // row after row, and only found anew where the sample above was not a hole of this range of rows.
 // The diagonals, which leave a run of holes soon, are walked.
 void directionalFill(const BlendedLayer& layer, const HoleFillOptions& options, std::vector<float> estimate[3],
-                     std::vector<double>& background, std::vector<uint8_t>& found) {
+                     std::vector<double>& background, std::vector<uint8_t>& found,
+                     ScratchPool<std::vector<int>>& columnRows) {
   static const int diagonals[4][2] = {{1, 1}, {-1, -1}, {1, -1}, {-1, 1}};
   const int w = layer.width, h = layer.height;
   sizeEstimate(layer, estimate, background, found);
@@ -39,7 +40,8 @@ void directionalFill(const BlendedLayer& layer, const HoleFillOptions& options, 
   parallelRanges(h, [&](int rowBegin, int rowEnd) {
   // Per column: the last row of this range whose hole was estimated, and the nearest valid rows
   // above (-1: none) and below (h: none) it.
-  thread_local std::vector<int> columns;
+  const auto scratch = columnRows.take();
+  std::vector<int>& columns = *scratch;
   columns.assign(size_t(w) * 3, -2);
   int* lastRow = columns.data();
   int* above = lastRow + w;
@@ -188,7 +190,7 @@ void rowRunFill(const BlendedLayer& layer, const HoleFillOptions& options, std::
 // row within `band`, the samples nearer than the least threshold of its holes within `band` columns,
 // one pass over its span per row instead of one window per hole.
 void backgroundOnlyMask(const BlendedLayer& layer, const std::vector<double>& background, double tolerance, int band,
-                        std::vector<uint8_t>& mask) {
+                        std::vector<uint8_t>& mask, ScratchPool<HoleFillScratch::Thresholds>& thresholdRows) {
   const int w = layer.width, h = layer.height;
   mask = layer.hole;
   // Holes of a block of rows mark samples up to `band` rows outside it. Blocks of at least 2 band + 1
@@ -197,7 +199,9 @@ void backgroundOnlyMask(const BlendedLayer& layer, const std::vector<double>& ba
   const int blockRows = std::max(32, 2 * band + 1), blocks = (h + blockRows - 1) / blockRows;
   for (int parity = 0; parity < 2; ++parity)
     parallelRanges((blocks + 1 - parity) / 2, [&](int first, int last) {
-      thread_local std::vector<double> runThreshold, spanThreshold;
+      const auto scratch = thresholdRows.take();
+      std::vector<double>& runThreshold = scratch->run;
+      std::vector<double>& spanThreshold = scratch->span;
       runThreshold.resize(size_t(w));
       spanThreshold.resize(size_t(w) + 2 * size_t(band));
       // Local pointers: the mask's byte stores could alias the vectors' own pointers (and anything
@@ -328,10 +332,12 @@ void planInpaint(const BlendedLayer& layer, const std::vector<uint8_t>& mask, in
 
 // Inpaints one group of `layer`'s mask samples in its crop, all channels in one march, into `result`.
 void inpaintGroup(const BlendedLayer& layer, const std::vector<uint8_t>& mask, int radius, const BlockGroups& groups,
-                  const HoleFillScratch::InpaintTask& task, std::vector<float> result[3]) {
-  thread_local TeleaScratch telea;
-  thread_local std::vector<uint8_t> groupMask;
-  thread_local std::vector<float> samples;  // the crop's channels, interleaved four to a sample
+                  const HoleFillScratch::InpaintTask& task, std::vector<float> result[3],
+                  ScratchPool<HoleFillScratch::InpaintBuffers>& buffers) {
+  const auto scratch = buffers.take();
+  TeleaScratch& telea = scratch->telea;
+  std::vector<uint8_t>& groupMask = scratch->groupMask;
+  std::vector<float>& samples = scratch->samples;
   const int channels = layer.channels;
   const size_t w = size_t(layer.width);
   const cv::Rect& c = task.crop;
@@ -422,7 +428,8 @@ void inpaintAll(const std::vector<LayerFill>& fills) {
     for (int j = begin; j < end; ++j) {
       const LayerFill& f = fills[jobs[size_t(j)].fill];
       HoleFillScratch& s = *f.scratch;
-      inpaintGroup(*f.layer, s.mask, f.options->inpaintRadius, s.inpaintGroups, s.tasks[jobs[size_t(j)].task], s.inpainted);
+      inpaintGroup(*f.layer, s.mask, f.options->inpaintRadius, s.inpaintGroups, s.tasks[jobs[size_t(j)].task], s.inpainted,
+                   s.inpaintBuffers);
     }
   });
 }
@@ -445,9 +452,9 @@ void fillHoles(const std::vector<HoleFillJob>& jobs) {
     if (!options.backgroundFirst) {
       s.mask = layer.hole;
     } else {
-      directionalFill(layer, options, s.directional, s.background, s.found);
+      directionalFill(layer, options, s.directional, s.background, s.found, s.columnRows);
       rowRunFill(layer, options, s.runs, s.runBackground, s.runFound);
-      backgroundOnlyMask(layer, s.background, options.depthTolerance, options.inpaintRadius + 1, s.mask);
+      backgroundOnlyMask(layer, s.background, options.depthTolerance, options.inpaintRadius + 1, s.mask, s.thresholdRows);
     }
     planInpaint(layer, s.mask, options.inpaintRadius, s.inpainted, s);
     fills.push_back({&layer, &options, &s});

@@ -21,18 +21,10 @@
 #include <opencv2/core/mat.hpp>
 
 #include "Synth/Layer.h"
+#include "Synth/ScratchPool.h"
+#include "Synth/Telea.h"
 
 namespace vs {
-
-struct HoleFillOptions {
-  bool backgroundFirst = true;  // IvsrsInpaint 1
-  double depthTolerance = 0;    // inverse depths closer than this are one surface
-  float emptyValue[3] = {0, 0, 0};
-  int inpaintRadius = 3;
-  int maxReach = 256;           // samples a directional search looks along
-  // IvsrsInpaint 1: weights of the directional, row-run and inpainting estimates in the mix.
-  float directionalWeight = 2.0f, rowRunWeight = 3.0f, inpaintWeight = 1.0f;
-};
 
 // Working buffers of fillHoles, kept by a caller that fills every frame so that nothing is allocated
 // per frame once they have grown to the picture's size.
@@ -51,6 +43,18 @@ struct HoleFillScratch {
     cv::Rect crop;
   };
   std::vector<InpaintTask> tasks;
+  // Working buffers of the parallel loop bodies, one set per body running at once (ScratchPool.h).
+  ScratchPool<std::vector<int>> columnRows;  // the directional fill's per-column rows
+  struct Thresholds {                        // the background-only mask's thresholds of one row
+    std::vector<double> run, span;
+  };
+  ScratchPool<Thresholds> thresholdRows;
+  struct InpaintBuffers {                    // one group's inpainting
+    TeleaScratch telea;
+    std::vector<uint8_t> groupMask;
+    std::vector<float> samples;              // the crop's channels, interleaved four to a sample
+  };
+  ScratchPool<InpaintBuffers> inpaintBuffers;
 };
 
 // Fills every hole of `layer` (hole mask cleared, inverse depth set to the background's where

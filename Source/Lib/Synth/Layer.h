@@ -2,9 +2,12 @@
 // What one reference view contributes to the virtual view at one resolution (luma, or chroma), and
 // the blended result. ViewSyn's warper and MeshRender's renderer both produce WarpedLayers; blending
 // and hole filling work on them alike (doc/algorithms.md, "Blending" and "Hole filling").
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
+
+#include "Plan/StageOptions.h"
 
 namespace vs {
 
@@ -25,6 +28,16 @@ struct WarpedLayer {
   bool valid(size_t i) const { return inverseDepth[i] >= 0.0; }
 };
 
+// What WarpedLayer::reset leaves in rows [y0, y1): no depth, colour 0, no edge. The warps size their
+// layers with resize() and clear each row in their parallel loops, where the row is about to be
+// written anyway, instead of in one pass on one thread over the whole layer before.
+inline void clearRows(WarpedLayer& layer, int y0, int y1) {
+  const size_t begin = size_t(y0) * size_t(layer.width), end = size_t(y1) * size_t(layer.width);
+  std::fill(layer.inverseDepth.data() + begin, layer.inverseDepth.data() + end, kNoDepth);
+  for (int k = 0; k < layer.channels; ++k) std::fill(layer.colour[k].data() + begin, layer.colour[k].data() + end, 0.0f);
+  std::fill(layer.edge.data() + begin, layer.edge.data() + end, uint8_t(0));
+}
+
 struct BlendedLayer {
   int width = 0;
   int height = 0;
@@ -38,22 +51,10 @@ struct BlendedLayer {
   size_t holeCount() const;
 };
 
-struct BlendOptions {
-  std::vector<double> weights;  // one per view, summing to 1; a weight of 1 makes that view win where it is valid
-  double depthTolerance = 0;    // inverse depths closer than this are the same surface (blended)
-  bool nearestViewOnly = false; // ViewBlending 1: where views agree, take the heaviest view, not a mix
-};
-
 // Blends the views sample by sample: one valid view is taken as it is; where several are valid, the
 // nearest surface wins when their depths differ by more than depthTolerance, else the agreeing views
 // are mixed by weight, leaving out those whose sample lies on a reference depth edge when another
 // agreeing view has a clean one.
 void blendLayers(const std::vector<const WarpedLayer*>& views, const BlendOptions& options, BlendedLayer& out);
-
-// Baseline weights for views at distances d_k from the virtual camera: proportional to 1 / d_k
-// (closer weighs more; for two views this is VSRS's d_other / (d_left + d_right)). Views at distance
-// 0, or below 1e-6 of the largest distance, share the whole weight equally (one such view gets weight
-// 1 and decides alone where it is valid); no division by zero whatever the distances.
-std::vector<double> baselineWeights(const std::vector<double>& distances);
 
 }  // namespace vs

@@ -71,17 +71,18 @@ RowDepthWarp::RowDepthWarp(const ViewProjection& projection, const std::vector<d
   levels_.push_back({std::nan(""), kNoDepth});
 }
 
-void RowDepthWarp::warp(const uint16_t* levels, int width, const uint8_t* nearBoundary, double* z,
-                        int outWidth) const {
+void RowDepthWarp::warp(const uint16_t* levels, int width, const uint8_t* nearBoundary, double* z, int outWidth,
+                        Scratch& scratch) const {
   // Locals for everything the loops read: their stores (doubles) could alias members.
   const ViewProjection projection = projection_;
   const Level* table = levels_.data();
   const size_t beyond = levels_.size() - 1;
   const double discontinuity = discontinuity_;
   const int splatting = splatting_;
-  // One row's positions and depths, and the segments left to draw, kept per thread between rows.
-  static thread_local std::vector<double> xsRow, wsRow;
-  static thread_local std::vector<int> segmentsRow;
+  // One row's positions and depths, and the segments left to draw, kept by the caller between rows.
+  std::vector<double>& xsRow = scratch.xs;
+  std::vector<double>& wsRow = scratch.ws;
+  std::vector<int>& segmentsRow = scratch.segments;
   xsRow.resize(size_t(width));
   wsRow.resize(size_t(width));
   double* xs = xsRow.data();

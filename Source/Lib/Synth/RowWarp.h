@@ -22,7 +22,13 @@ public:
   // between horizontal neighbours on one surface, rasterised at the pixel centres they cover, and
   // every sample as a point at its nearest pixel centre. nearBoundary (width flags) is read only
   // with splatting 2.
-  void warp(const uint16_t* levels, int width, const uint8_t* nearBoundary, double* z, int outWidth) const;
+  // `scratch`: working space of the caller's thread (any content; resized here).
+  struct Scratch {
+    std::vector<double> xs, ws;  // the row's positions and depths
+    std::vector<int> segments;   // the segments left to draw
+  };
+  void warp(const uint16_t* levels, int width, const uint8_t* nearBoundary, double* z, int outWidth,
+            Scratch& scratch) const;
 
 private:
   struct Level {

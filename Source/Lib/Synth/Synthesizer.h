@@ -8,19 +8,32 @@
 //      sub-pixel position its depth gives (Precision, Filter), luma at luma positions and chroma at
 //      chroma positions (no sample replication)
 //   3. blend the views (Layer.h), 4. fill the holes (HoleFill.h), 5. round into the output frame
+// The 1D path (a rectified rig, Plan/Rectification.h) warps rows into rows instead. Every decision (path, weights,
+// tolerances, which stages run) comes from the plan. The stages live in files of their own:
+//   ReferenceEdges.cpp  reference depth edges: which reference samples are unreliable
+//   DepthWarp.cpp       the general path's depth warp (triangles and points into a z-buffer)
+//   RowPath.cpp         the 1D path: row depth warp, noise cleaning, crowded holes, row texture look-up
+//   TextureWarp.cpp     the general texture look-up, boundary noise, samples occluded in other views
+//   ChromaWarp.cpp      U and V at their own sample positions, from the luma depth
+//   TemporalFill.h      1D TemporalImprovementOption: static holes keep the previous frame's fill
+//   Synthesizer.cpp     the frame: the stages in order, on the threads, with their times
 #include <chrono>
 #include <memory>
 #include <vector>
 
 #include "Common/Frame.h"
-#include "Common/Timing.h"
 #include "Common/Scene.h"
+#include "Common/Timing.h"
+#include "Plan/Plan.h"
+#include "Synth/EdgeAlign.h"
 #include "Synth/HoleFill.h"
 #include "Synth/Interpolation.h"
 #include "Synth/Layer.h"
 #include "Synth/Occlusion.h"
-#include "Synth/EdgeAlign.h"
 #include "Synth/Parallel.h"
+#include "Synth/RowWarp.h"
+#include "Synth/ScratchPool.h"
+#include "Synth/TemporalFill.h"
 #include "Synth/Warp.h"
 
 namespace vs {
@@ -33,8 +46,9 @@ struct FrameStats {
 
 class Synthesizer {
 public:
-  // `mode` is General or Parallel1D (the plan's choice; Parallel1D needs a rectified rig).
-  explicit Synthesizer(const Scene& scene, SynthesisMode mode = SynthesisMode::General);
+  // `plan`: makePlan(scene)'s decisions; its mode (General or Parallel1D) is the path taken. A plan
+  // that copies a view (copyOf) is synthesized on its path all the same: copying is the caller's.
+  Synthesizer(const Scene& scene, const Plan& plan);
 
   // Synthesizes the virtual view of one frame into `output` (reset to the texture format).
   void synthesize(const std::vector<ReferenceFrame>& references, Frame& output, StageTimes& times);
@@ -42,13 +56,7 @@ public:
   // The last frame's virtual depth (after hole filling) as levels of `range`, with the scene's
   // DepthType; samples nothing covered get level 0.
   void virtualDepth(const DepthRange& range, Plane& levels) const;
-  // Hole filling as this scene gets it (MeshRender fills its holes the same way).
-  const HoleFillOptions& holeFillOptions() const { return fillOptions_; }
-  const std::vector<double>& blendWeights() const { return blendOptions_.weights; }
-
-  // Inverse-depth tolerance that makes two samples one surface (DepthBlendDifference, in 8-bit levels
-  // of the reference depth ranges).
-  double depthTolerance() const { return blendOptions_.depthTolerance; }
+  const Plan& plan() const { return plan_; }
 
 private:
   struct ViewState {
@@ -72,32 +80,45 @@ private:
     AtomicMaxBuffer zbuffer;
   };
 
-  void warpDepth(ViewState& view, const Plane& depth);
-  void warpDepthRows(ViewState& view, const Plane& depth);
-  void flagCrowdedHoles(ViewState& view);
-  void keepStaticFill(const std::vector<ReferenceFrame>& references, std::vector<uint8_t>& lumaHoles,
-                      std::vector<uint8_t>& chromaHoles);
-  void markReferenceEdges(ViewState& view, const Plane& depth);
-  void warpTexture(ViewState& view, const std::vector<const Plane*>& planes);
-  void warpChroma(ViewState& view, const Frame& texture);
-  void removeBoundaryNoise(ViewState& view);
+  // Working buffers of one parallel loop body (ScratchPool.h), one kind per stage.
+  struct DepthRows {  // warpDepth: a row's inverse depths, and positions and depths of two rows
+    std::vector<double> inverse, positions;
+  };
+  struct RowWarpRows {  // warpDepthRows: boundary flags and isolated samples of a row, and the row warp's
+    std::vector<uint8_t> nearEdge, isolated;
+    RowDepthWarp::Scratch warp;
+  };
+  struct TextureRows {  // warpTexture, warpTextureRows: each channel's row table, a row's source positions
+    SampledRow sampled[3];
+    std::vector<double> sourceU, sourceV, grid;
+    std::vector<uint8_t> sourceOk;
+  };
+  struct ChromaRows {  // warpChroma: U and V row tables, a row's block depths, edges and source positions
+    SampledRow sampledU, sampledV;
+    std::vector<double> blockDepth, sourceU, sourceV, grid;
+    std::vector<uint8_t> blockEdge, sourceOk;
+  };
+
+  void markReferenceEdges(ViewState& view, const Plane& depth);               // ReferenceEdges.cpp
+  void warpDepth(ViewState& view, const Plane& depth);                        // DepthWarp.cpp
+  void warpDepthRows(ViewState& view, const Plane& depth);                    // RowPath.cpp
+  void flagCrowdedHoles(ViewState& view);                                     // RowPath.cpp
+  void warpTextureRows(ViewState& view, const std::vector<const Plane*>& planes);  // RowPath.cpp
+  void warpTexture(ViewState& view, const std::vector<const Plane*>& planes);  // TextureWarp.cpp
+  void removeBoundaryNoise(ViewState& view);                                  // TextureWarp.cpp
+  void rejectOccludedInOtherViews();                                          // TextureWarp.cpp
+  void warpChroma(ViewState& view, const Frame& texture);                     // ChromaWarp.cpp
   // Calls step(k) for every view k: the views side by side on the threads where that balances (see
   // synthesize), else one after the other with each step's loops on the threads.
   template <class Step>
   void forEachView(const Step& step);
   bool viewsSideBySide() const;  // forEachView runs the views side by side on the threads
-  void rejectOccludedInOtherViews();
 
   const Scene& scene_;
-  bool parallel_;          // the 1D path
+  const Plan plan_;
+  const bool rowPath_;  // the 1D path: rows warp into rows (plan_.mode == Parallel1D)
   FrameFormat outputFormat_;
-  bool rgb_;
-  bool hasChroma_;
   SubPixelSampler sampler_;
-  double discontinuity_;   // inverse-depth step that separates surfaces in the z-buffer
-  int edgeLevelStep_;      // depth-level step that marks a reference depth edge
-  BlendOptions blendOptions_;
-  HoleFillOptions fillOptions_;
   DepthEdgeAligner aligner_;
   std::vector<ViewState> views_;
   BlendedLayer blendedLuma_, blendedChroma_;
@@ -106,13 +127,13 @@ private:
   OcclusionScratch occlusionScratch_;
   std::vector<Frame> rgbReferences_;
   Frame rgbOutput_;  // ColorSpace 1: the rounded R, G, B before conversion
+  ScratchPool<DepthRows> depthRows_;
+  ScratchPool<RowWarpRows> rowWarpRows_;
+  ScratchPool<std::vector<uint8_t>> byteRows_;  // crack closing's flags, crowded holes' counts
+  ScratchPool<TextureRows> textureRows_;
+  ScratchPool<ChromaRows> chromaRows_;
+  TemporalFill temporalFill_;
   FrameStats stats_;
-  // 1D TemporalImprovementOption: the previous frame's depth, texture luma, holes and filled colours.
-  std::vector<Plane> previousDepth_, previousLuma_;
-  std::vector<uint8_t> previousHoles_, previousChromaHoles_;
-  std::vector<uint8_t> lumaHolesScratch_, chromaHolesScratch_;  // this frame's holes before filling
-  std::vector<float> previousColour_[3], previousChromaColour_[3];
-  bool havePrevious_ = false;
 };
 
 }  // namespace vs

@@ -5,8 +5,8 @@
 
 #include "Common/Depth.h"
 #include "Pipeline/FrameLoop.h"
+#include "Plan/Plan.h"
 #include "Synth/Parallel.h"
-#include "Synth/Plan.h"
 #include "Synth/Synthesizer.h"
 
 namespace vs {
@@ -17,7 +17,7 @@ namespace {
 class ViewSynRenderer : public FrameRenderer {
 public:
   explicit ViewSynRenderer(const Scene& scene) : scene_(scene), plan_(makePlan(scene)) {
-    if (plan_.copyOf < 0) synthesizer_ = std::make_unique<Synthesizer>(scene, plan_.mode);
+    if (plan_.copyOf < 0) synthesizer_ = std::make_unique<Synthesizer>(scene, plan_);
   }
   void render(const std::vector<ReferenceFrame>& references, Frame& output, StageTimes& times) override {
     if (plan_.copyOf >= 0) {
@@ -39,21 +39,8 @@ public:
       levels.samples[i] = uint16_t(zToLevelRounded(levelToZ(depth.samples[i], view.depthRange), range));
     return true;
   }
-  std::vector<std::string> plan() const override {
-    std::vector<std::string> lines = plan_.lines;
-    if (!synthesizer_) return lines;
-    const SynthesisSettings& s = scene_.settings;
-    std::string weights = "blend weights:";
-    for (size_t k = 0; k < s.references.size(); ++k) {
-      char item[64];
-      std::snprintf(item, sizeof item, " %s %.4f", s.references[k].label.c_str(), synthesizer_->blendWeights()[k]);
-      weights += item;
-    }
-    lines.push_back(weights + (s.viewBlending ? " (ViewBlending 1: the heavier view where views agree)" : ""));
-    lines.push_back("texture: Precision " + std::to_string(s.precision) + ", Filter " + std::to_string(s.filter) +
-                    (s.colorSpace ? ", processed in RGB" : ", processed in YUV"));
-    return lines;
-  }
+  std::vector<std::string> plan() const override { return plan_.lines(); }
+  std::vector<std::pair<std::string, std::string>> decisions() const override { return plan_.fields(); }
 
 private:
   const Scene& scene_;

@@ -21,7 +21,7 @@ namespace vs {
 
 class ViewProjection {
 public:
-  // `parallel`: the two cameras form a rectified pair (Plan.h's checkRectification), so a pixel moves
+  // `parallel`: the two cameras form a rectified pair (Plan/Rectification.h's checkRectification), so a pixel moves
   // along its row only: x = s u + o + f_x b w, with the same inverse depth in both cameras. The
   // general formulas give the same result; this form is a multiply-add per pixel.
   ViewProjection(const Camera& reference, const Camera& target, int depthType, bool parallel = false);

@@ -1,0 +1,147 @@
+#include "Plan/Plan.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include "Common/Error.h"
+
+namespace vs {
+
+namespace {
+
+bool sameCamera(const Camera& a, const Camera& b) { return a.K == b.K && a.R == b.R && a.t == b.t; }
+
+// Blend weights, tolerances and the discontinuity threshold from the cameras and depth ranges.
+void decideDepthAndWeights(const Scene& scene, Plan& plan) {
+  const SynthesisSettings& s = scene.settings;
+  double inverseRange = 0;
+  std::vector<double> distances, angles;
+  for (const ReferenceView& reference : s.references) {
+    const double farInverse = std::isinf(reference.depthRange.zfar) ? 0.0 : 1.0 / reference.depthRange.zfar;
+    inverseRange += std::fabs(1.0 / reference.depthRange.znear - farInverse);
+    distances.push_back(norm(reference.camera.centre() - scene.virtualCamera.centre()));
+    // Angle between the optical axes (rows 2 of R are the viewing directions in world coordinates).
+    const double cosine = dot(reference.camera.R.row(2), scene.virtualCamera.R.row(2)) /
+                          (norm(reference.camera.R.row(2)) * norm(scene.virtualCamera.R.row(2)));
+    angles.push_back(std::acos(std::clamp(cosine, -1.0, 1.0)));
+  }
+  inverseRange /= double(s.references.size());
+  // Thresholds sit half a level past the whole number of 8-bit levels they name: inverse depths of
+  // quantised maps differ by whole levels, so a difference never ties with a threshold and a change of
+  // units or of world origin cannot flip a decision through rounding.
+  auto levels = [&](double levels8) { return (levels8 + 0.5) / 255.0 * inverseRange; };
+  plan.discontinuity = levels(kSurfaceStepLevels8);
+  plan.edgeLevelStep = depthEdgeStep(s.depthFormat.maxValue());
+  // A view's distance from the virtual camera counts its position and its viewing direction: the
+  // angle between optical axes (radians) is scaled by the mean camera distance, so a parallel rig
+  // keeps VSRS's baseline weights.
+  double meanDistance = 0;
+  for (double d : distances) meanDistance += d / double(distances.size());
+  for (size_t k = 0; k < distances.size(); ++k) {
+    // A view whose parallax against the virtual camera stays below 1e-3 px everywhere (baseline
+    // times the nearest inverse depth, plus the turn between the optical axes, in pixels) is the
+    // virtual camera for every purpose: it decides alone where it is valid.
+    const ReferenceView& reference = s.references[k];
+    const double nearest = std::max(std::fabs(1.0 / reference.depthRange.znear),
+                                    std::isinf(reference.depthRange.zfar) ? 0.0 : std::fabs(1.0 / reference.depthRange.zfar));
+    const double parallax = scene.virtualCamera.K[0][0] * (distances[k] * nearest + angles[k]);
+    if (parallax < 1e-3) distances[k] = 0;
+    else distances[k] += meanDistance * angles[k];
+  }
+  plan.blending.weights = baselineWeights(distances);
+  plan.blending.depthTolerance = levels(s.depthBlendDifference);
+  if (plan.mode == SynthesisMode::Parallel1D) {
+    // VSRS's 1D MergingOption: 0 z-buffer only (one level of tolerance), 1 averaging only,
+    // 2 adaptive: mixed within DepthThreshold levels (by default DepthBlendDifference's, so that the
+    // 1D path blends as the general one does), hole counting decides between views.
+    if (s.oneD.merging == 0) plan.blending.depthTolerance = levels(1);
+    else if (s.oneD.merging == 1) plan.blending.depthTolerance = HUGE_VAL;
+    else if (s.oneD.depthThreshold >= 0) plan.blending.depthTolerance = levels(s.oneD.depthThreshold);
+  }
+  plan.blending.nearestViewOnly = s.viewBlending == 1;
+  plan.lumaFill.depthTolerance = levels(s.depthBlendDifference);
+}
+
+void decideHoleFilling(const Scene& scene, Plan& plan) {
+  const SynthesisSettings& s = scene.settings;
+  HoleFillOptions& fill = plan.lumaFill;
+  fill.backgroundFirst = s.ivsrsInpaint;
+  // Row runs follow the disocclusions of a rectified rig, which lie along rows. On any other rig they
+  // do not (open3d: 33.29 dB with them), and hole filling stays the directional and inpainting
+  // estimates mixed 1 : 1 (33.96 dB), the mix the weights of the three were chosen against.
+  if (!plan.rectified) {
+    fill.directionalWeight = fill.inpaintWeight = 1.0f;
+    fill.rowRunWeight = 0.0f;
+  }
+  // An empty layer: black luma (mid-grey in RGB), mid-grey chroma.
+  const int bitDepth = s.textureFormat.bitDepth;
+  const float mid = float(1 << (bitDepth - 1));
+  fill.emptyValue[0] = plan.rgb ? mid : float(16 << (bitDepth - 8));
+  fill.emptyValue[1] = fill.emptyValue[2] = mid;
+  plan.chromaFill = fill;
+  plan.chromaFill.emptyValue[0] = plan.chromaFill.emptyValue[1] = mid;
+}
+
+}  // namespace
+
+const char* toolName(Tool tool) { return tool == Tool::MeshRender ? "MeshRender" : "ViewSyn"; }
+
+Plan makePlan(const Scene& scene, Tool tool) {
+  const SynthesisSettings& s = scene.settings;
+  Plan plan;
+  plan.tool = tool;
+  plan.requestedMode = s.mode;
+  plan.virtualCameraName = scene.virtualCamera.name;
+  for (const ReferenceView& view : s.references) plan.viewLabels.push_back(view.label);
+  plan.blend = s.references.size() > 1;
+  plan.chroma = s.textureFormat.chroma != ChromaFormat::Yuv400;
+  plan.rgb = s.colorSpace == 1;
+  plan.precision = s.precision;
+  plan.filter = s.filter;
+  plan.missingDepthLevel = s.missingDepthLevel;
+  plan.missingDepthFill = s.missingDepthLevel >= 0 && s.missingDepthFill;
+  plan.depthEdgeAlignment = std::max(0, s.depthEdgeAlignment);
+
+  // What the tool cannot do is refused before anything else is looked at.
+  if (tool == Tool::MeshRender && !s.virtualDepthPath.empty())
+    throw InputError("OutputVirtualDepthMapName '" + s.virtualDepthPath +
+                     "': MeshRender cannot write the virtual view's depth (ViewSyn can); remove the key or set it to -");
+  plan.virtualDepthOutput = !s.virtualDepthPath.empty();
+
+  for (size_t k = 0; k < s.references.size() && tool == Tool::ViewSyn; ++k)
+    if (sameCamera(s.references[k].camera, scene.virtualCamera)) {
+      plan.copyOf = int(k);
+      break;
+    }
+  for (const ReferenceView& view : s.references) {
+    const Rectification check = checkRectification(view.camera, scene.virtualCamera, s.depthType);
+    if (!check.rectified()) {
+      plan.rectified = false;
+      plan.rigDeviations += "\n    " + view.label + ": " + check.describe();
+    }
+  }
+  if (tool == Tool::ViewSyn) {
+    if (s.mode == SynthesisMode::Parallel1D && !plan.rectified && plan.copyOf < 0)
+      throw InputError("SynthesisMode 1 (1D parallel) needs a rectified rig, and this one is not:" + plan.rigDeviations +
+                       "\n  use SynthesisMode 0 (general) or auto");
+    if (s.mode == SynthesisMode::Auto) plan.mode = plan.rectified ? SynthesisMode::Parallel1D : SynthesisMode::General;
+    else plan.mode = plan.copyOf >= 0 && !plan.rectified ? SynthesisMode::General : s.mode;
+  }
+  const bool oneD = plan.mode == SynthesisMode::Parallel1D;
+  plan.referenceEdgeFlags = !oneD || s.oneD.warpEnhancement;
+  plan.cleanNoise = oneD && s.oneD.cleanNoise;
+  plan.crowdedHoles = oneD && s.oneD.merging == 2;
+  plan.temporalFill = oneD && s.oneD.temporalImprovement;
+  plan.boundaryNoiseRemoval = tool == Tool::ViewSyn && s.boundaryNoiseRemoval;
+  if (tool == Tool::MeshRender) {
+    if (s.boundaryNoiseRemoval) plan.notApplied.push_back("BoundaryNoiseRemoval 1: not applied by MeshRender");
+    if (s.mode != SynthesisMode::General)
+      plan.notApplied.push_back("SynthesisMode: MeshRender renders every rig the same way (the 1D mode does not apply)");
+  }
+  decideDepthAndWeights(scene, plan);
+  decideHoleFilling(scene, plan);
+  return plan;
+}
+
+}  // namespace vs

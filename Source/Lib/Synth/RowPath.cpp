@@ -1,0 +1,175 @@
+// The 1D path (doc/algorithms.md, "The 1D path"): on a rectified rig a reference row maps to the same
+// row of the virtual view, so depth and texture are warped row by row. VSRS's 1D keys act here:
+// SplattingOption and BoundaryGrowth (the row depth warp), CleanNoiseOption (isolated samples),
+// MergingOption 2's hole counting (crowded holes), WarpEnhancementOption (ReferenceEdges.cpp).
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <type_traits>
+
+#include "Synth/Cracks.h"
+#include "Synth/Flags.h"
+#include "Synth/Synthesizer.h"
+
+namespace vs {
+
+namespace {
+
+// CleanNoiseOption on one row of a layer's depth: a sample with holes on both sides along its row is
+// a stray point of a surface seen elsewhere, removed before it picks up colour. Removing a sample
+// never changes the decision for the next one (it is removed only when the next is a hole, which is
+// then not removed either), so the decisions are taken on the row as it was: a branch-free pass that
+// vectorises flags the samples (in `isolated`, width bytes), and only those are then cleared.
+void cleanIsolatedSamples(double* row, int width, uint8_t* isolated) {
+  if (width < 3) return;
+  for (int x = 1; x + 1 < width; ++x) isolated[x] = uint8_t((row[x] >= 0) & (row[x - 1] < 0) & (row[x + 1] < 0));
+  forEachFlag(isolated + 1, width - 2, [&](int x) { row[x + 1] = kNoDepth; });
+}
+
+}  // namespace
+
+void Synthesizer::warpDepthRows(ViewState& view, const Plane& depth) {
+  // 1D: rows map to rows, so each thread warps whole rows straight into the layer (RowDepthWarp):
+  // samples move along the row by the disparity of their level, the depth grid is rasterised as
+  // segments between horizontal neighbours on one surface, and every sample also lands as a point.
+  // SplattingOption 2 draws segments only within BoundaryGrowth samples of a reference depth edge.
+  const int w = depth.width, h = depth.height;
+  const int outW = outputFormat_.width, outH = outputFormat_.height;
+  const OneDOptions& oneD = scene_.settings.oneD;
+  view.luma.resize(outW, outH, plan_.rgb ? 3 : 1);  // cleared row by row below (clearRows)
+  // Rows below the reference (an output taller than it) receive nothing.
+  if (outH > h) clearRows(view.luma, h, outH);
+  const RowDepthWarp rowWarp(view.projection, view.levelToRowDepth, plan_.discontinuity, oneD.splatting);
+  parallelRanges(std::min(h, outH), [&](int y0, int y1) {
+    const int width = w, outWidth = outW, growth = oneD.boundaryGrowth;
+    const bool nearEdges = oneD.splatting == 2;
+    const bool cleanNoise = plan_.cleanNoise;
+    // The row's boundary flags and isolated samples, and the row warp's buffers.
+    const auto scratch = rowWarpRows_.take();
+    std::vector<uint8_t>& nearRow = scratch->nearEdge;
+    std::vector<uint8_t>& isolatedRow = scratch->isolated;
+    nearRow.resize(size_t(width));
+    isolatedRow.resize(size_t(outWidth));
+    for (int y = y0; y < y1; ++y) {
+      clearRows(view.luma, y, y + 1);
+      // Within BoundaryGrowth samples of a reference depth edge.
+      if (nearEdges) markWithinReach(view.referenceStep.data() + size_t(y) * width, width, growth, nearRow.data());
+      double* row = view.luma.inverseDepth.data() + size_t(y) * outWidth;
+      rowWarp.warp(depth.row(y), width, nearRow.data(), row, outWidth, scratch->warp);
+      // A row is all its own warp writes: it is cleaned while it is at hand.
+      if (cleanNoise) cleanIsolatedSamples(row, outWidth, isolatedRow.data());
+    }
+  });
+  closeCracks(view.luma.inverseDepth, outW, outH, plan_.discontinuity, byteRows_);
+}
+
+void Synthesizer::flagCrowdedHoles(ViewState& view) {
+  WarpedLayer& layer = view.luma;
+  // MergingOption 2's hole counting: a sample with more than HoleCountThreshold holes in its 7x7
+  // neighbourhood is unreliable; where another view agrees and is not, that view is used.
+  const int w = layer.width, h = layer.height, threshold = scene_.settings.oneD.holeCountThreshold;
+  // Separable counts: holes among the 7 samples of each row around x (clipped at the borders), then
+  // the sum of those over the 7 rows around y.
+  std::vector<uint8_t>& rowHoles = view.rowHoleScratch;
+  rowHoles.resize(size_t(w) * h);
+  parallelRanges(h, [&](int y0, int y1) {
+    // The row's hole flags with three clear flags on either side (beyond the border), then seven
+    // shifted sums: both loops are branch-free byte loops that vectorise.
+    const auto scratch = byteRows_.take();
+    std::vector<uint8_t>& paddedRow = *scratch;
+    paddedRow.assign(size_t(w) + 6, 0);
+    uint8_t* padded = paddedRow.data();
+    const int width = w;
+    for (int y = y0; y < y1; ++y) {
+      const double* depth = layer.inverseDepth.data() + size_t(y) * width;
+      uint8_t* count = rowHoles.data() + size_t(y) * width;
+      for (int x = 0; x < width; ++x) padded[x + 3] = uint8_t(depth[x] < 0);
+      for (int x = 0; x < width; ++x)
+        count[x] = uint8_t(padded[x] + padded[x + 1] + padded[x + 2] + padded[x + 3] + padded[x + 4] + padded[x + 5] +
+                           padded[x + 6]);
+    }
+  });
+  parallelRanges(h, [&](int rowBegin, int rowEnd) {
+    const int width = w, height = h, most = threshold;  // locals: see markReferenceEdges
+    // The 7 rows' sum (at most 49) as a window that slides down the thread's rows: the row entering
+    // added, the one leaving taken away (byte arithmetic, exact as the sums stay below 256).
+    const auto scratch = byteRows_.take();
+    std::vector<uint8_t>& sumRow = *scratch;
+    sumRow.assign(size_t(width), 0);
+    uint8_t* sum = sumRow.data();
+    auto add = [&](int r) {
+      const uint8_t* count = rowHoles.data() + size_t(r) * width;
+      for (int x = 0; x < width; ++x) sum[x] = uint8_t(sum[x] + count[x]);
+    };
+    auto remove = [&](int r) {
+      const uint8_t* count = rowHoles.data() + size_t(r) * width;
+      for (int x = 0; x < width; ++x) sum[x] = uint8_t(sum[x] - count[x]);
+    };
+    // Rows rowBegin - 4 to rowBegin + 2: the first step takes row rowBegin - 4 away again.
+    for (int r = std::max(0, rowBegin - 4); r < std::min(height, rowBegin + 3); ++r) add(r);
+    for (int y = rowBegin; y < rowEnd; ++y) {
+      if (y + 3 < height) add(y + 3);
+      if (y - 4 >= 0) remove(y - 4);
+      uint8_t* edge = layer.edge.data() + size_t(y) * width;
+      for (int x = 0; x < width; ++x) edge[x] |= uint8_t(sum[x] > most);
+    }
+  });
+}
+
+void Synthesizer::warpTextureRows(ViewState& view, const std::vector<const Plane*>& planes) {
+  WarpedLayer& layer = view.luma;
+  const int refW = planes[0]->width, refH = planes[0]->height;
+  // Rows map to rows: the look-up stays in row y (as backward() gives v = y). The tap and channel
+  // counts are compile-time constants, so that the channel loop unrolls.
+  auto warpRows = [&](auto taps, auto channelCount) {
+    constexpr int kTaps = decltype(taps)::value, kChannels = decltype(channelCount)::value;
+    parallelRanges(std::min(layer.height, refH), [&](int y0, int y1) {
+      // Local copies of what the loop reads: the edge flags are bytes, and a byte store may alias
+      // anything the loop would otherwise read through a pointer or a capture, reloading it per sample.
+      const ViewProjection projection = view.projection;
+      const SubPixelSampler sampler = sampler_;
+      const int width = layer.width, referenceWidth = refW;
+      double* depth = layer.inverseDepth.data();
+      float* colour[3] = {layer.colour[0].data(), layer.colour[1].data(), layer.colour[2].data()};
+      uint8_t* edgeOut = layer.edge.data();
+      // Each reference row sampled once at every grid position (SampledRow): the look-ups below are
+      // loads. Positions in [-0.5, width - 0.5] have integer parts in [-1, width].
+      const auto scratch = textureRows_.take();
+      SampledRow* sampledRows = scratch->sampled;
+      // The row's source positions first, in a pass that vectorises (holes too: not read).
+      std::vector<double>& sourceRow = scratch->sourceU;
+      std::vector<double>& gridRow = scratch->grid;
+      sourceRow.resize(size_t(width));
+      gridRow.resize(size_t(width));
+      double* sources = sourceRow.data();
+      double* grid = gridRow.data();
+      for (int y = y0; y < y1; ++y) {
+        const uint8_t* edges = view.referenceEdge.data() + size_t(y) * referenceWidth;
+        for (int c = 0; c < kChannels; ++c) sampledRows[c].build<kTaps>(sampler, *planes[size_t(c)], y, -1, referenceWidth);
+        projection.rowSources(depth + size_t(y) * width, width, sources);
+        for (int x = 0; x < width; ++x) grid[x] = sampledRows[0].gridIndex(sources[x]);
+        for (int x = 0; x < width; ++x) {
+          const size_t i = size_t(y) * width + x;
+          if (depth[i] < 0) continue;
+          const double u = sources[x];
+          if (!std::isfinite(u) || u < -0.5 || u > referenceWidth - 0.5) {
+            depth[i] = kNoDepth;
+            continue;
+          }
+          for (int c = 0; c < kChannels; ++c) colour[c][i] = sampledRows[c].atGrid<kTaps>(u, grid[x]);
+          edgeOut[i] = edges[std::clamp(int(std::floor(u + 0.5)), 0, referenceWidth - 1)];
+        }
+      }
+    });
+  };
+  sampler_.withTaps([&](auto taps) {
+    if (layer.channels == 3) warpRows(taps, std::integral_constant<int, 3>());
+    else warpRows(taps, std::integral_constant<int, 1>());
+  });
+  // Rows below the reference (an output taller than it) look up nothing.
+  for (size_t i = size_t(std::min(layer.height, refH)) * layer.width; i < layer.inverseDepth.size(); ++i)
+    layer.inverseDepth[i] = kNoDepth;
+}
+
+}  // namespace vs

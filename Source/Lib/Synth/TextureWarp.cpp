@@ -1,0 +1,110 @@
+// The general path's texture look-up (doc/algorithms.md, "Warping"): every virtual sample with depth
+// looks its colour up in the reference at the sub-pixel position its depth gives; then the samples
+// that carry colour bled across a depth edge (BoundaryNoiseRemoval) and those occluded in the other
+// views are dropped, for the other view or the hole filler to supply.
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+
+#include "Synth/Occlusion.h"
+#include "Synth/Synthesizer.h"
+
+namespace vs {
+
+namespace {
+
+// A sample seen by one view only is dropped when it lies this many discontinuity steps behind every
+// surface the other view shows around that spot (rejectOccludedInOtherViews).
+constexpr double kBehindHoleSteps = 3.0;
+
+}  // namespace
+
+void Synthesizer::warpTexture(ViewState& view, const std::vector<const Plane*>& planes) {
+  WarpedLayer& layer = view.luma;
+  const int refW = planes[0]->width, refH = planes[0]->height;
+  sampler_.withTaps([&](auto taps) {
+    constexpr int kTaps = decltype(taps)::value;
+    parallelRanges(layer.height, [&](int y0, int y1) {
+      // Locals, as in warpTextureRows (RowPath.cpp).
+      const ViewProjection projection = view.projection;
+      const SubPixelSampler sampler = sampler_;
+      const int width = layer.width, channels = layer.channels, referenceWidth = refW, referenceHeight = refH;
+      double* depth = layer.inverseDepth.data();
+      float* colour[3] = {layer.colour[0].data(), layer.colour[1].data(), layer.colour[2].data()};
+      uint8_t* edgeOut = layer.edge.data();
+      const uint8_t* edges = view.referenceEdge.data();
+      // A look-up that lands on this row's own reference row (a whole row of the grid: every one on a
+      // rectified rig) is the row sampler's value, read from the row's table (SampledRow, as on the 1D
+      // path), built the first time one does; any other goes through the 2D kernel.
+      const auto scratch = textureRows_.take();
+      SampledRow* sampledRows = scratch->sampled;
+      int tableRow = -1;
+      // The row's backward projections first, in a loop that vectorises (holes too: not read).
+      scratch->sourceU.resize(size_t(width));
+      scratch->sourceV.resize(size_t(width));
+      scratch->sourceOk.resize(size_t(width));
+      // Their addresses in locals: read through the scratch set they would be looked up again for
+      // every sample.
+      double* us = scratch->sourceU.data();
+      double* vs = scratch->sourceV.data();
+      uint8_t* ok = scratch->sourceOk.data();
+      for (int y = y0; y < y1; ++y) {
+        projection.backwardRow(depth + size_t(y) * width, width, y, us, vs, ok);
+        for (int x = 0; x < width; ++x) {
+          const size_t i = size_t(y) * width + x;
+          if (depth[i] < 0) continue;
+          const double u = us[x], v = vs[x];
+          if (!ok[x] || u < -0.5 || v < -0.5 || u > referenceWidth - 0.5 || v > referenceHeight - 0.5) {
+            depth[i] = kNoDepth;
+            continue;
+          }
+          long long row;
+          if (sampler.wholeRow(v, row) && row == y) {
+            if (tableRow != y) {
+              for (int c = 0; c < channels; ++c) sampledRows[c].build<kTaps>(sampler, *planes[size_t(c)], y, -1, referenceWidth);
+              tableRow = y;
+            }
+            for (int c = 0; c < channels; ++c) colour[c][i] = sampledRows[c].at<kTaps>(u);
+          } else {
+            for (int c = 0; c < channels; ++c) colour[c][i] = sampler.sampleTaps<kTaps>(*planes[size_t(c)], u, v);
+          }
+          const int eu = std::clamp(int(std::floor(u + 0.5)), 0, referenceWidth - 1);
+          const int ev = std::clamp(int(std::floor(v + 0.5)), 0, referenceHeight - 1);
+          edgeOut[i] = edges[size_t(ev) * referenceWidth + eu];
+        }
+      }
+    });
+  });
+}
+
+void Synthesizer::removeBoundaryNoise(ViewState& view) {
+  WarpedLayer& layer = view.luma;
+  // Samples on a reference depth edge within two samples of this view's own hole carry foreground
+  // colour bled onto background: drop them, so the other view or the hole filler supplies them.
+  const int w = layer.width, h = layer.height;
+  std::vector<uint8_t>& drop = view.dropScratch;
+  drop.assign(size_t(w) * h, 0);
+  parallelRanges(h, [&](int y0, int y1) {
+    for (int y = y0; y < y1; ++y)
+      for (int x = 0; x < w; ++x) {
+        if (!layer.edge[size_t(y) * w + x] || layer.inverseDepth[size_t(y) * w + x] < 0) continue;
+        bool nearHole = false;
+        for (int ny = std::max(0, y - 2); ny <= std::min(h - 1, y + 2) && !nearHole; ++ny)
+          for (int nx = std::max(0, x - 2); nx <= std::min(w - 1, x + 2); ++nx) nearHole |= layer.inverseDepth[size_t(ny) * w + nx] < 0;
+        drop[size_t(y) * w + x] = nearHole;
+      }
+  });
+  for (size_t i = 0; i < drop.size(); ++i)
+    if (drop[i]) layer.inverseDepth[i] = kNoDepth;
+}
+
+void Synthesizer::rejectOccludedInOtherViews() {
+  // A sample only one view shows fills a hole of the other views; one farther than the surroundings
+  // every other view shows there is a misplaced one (Occlusion.h).
+  std::vector<WarpedLayer*> layers;
+  for (ViewState& view : views_) layers.push_back(&view.luma);
+  rejectMisplacedSamples(layers, plan_.blending.weights, kBehindHoleSteps * plan_.discontinuity, occlusionScratch_);
+}
+
+}  // namespace vs

@@ -1,0 +1,73 @@
+// ScratchPool: the working buffers of parallel loop bodies (Synth/ScratchPool.h), which replaced the
+// thread_local buffers (BUG-5 in doc/stability.md).
+#include <atomic>
+#include <set>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <opencv2/core/utility.hpp>
+
+#include "Synth/Parallel.h"
+#include "Synth/ScratchPool.h"
+
+namespace vs {
+namespace {
+
+struct Counted {
+  static std::atomic<int> made;
+  Counted() { ++made; }
+  std::vector<int> buffer;
+};
+std::atomic<int> Counted::made{0};
+
+TEST(ScratchPool, LeasesHeldAtOnceAreDistinctAndReturnedOnesAreReused) {
+  ScratchPool<Counted> pool;
+  Counted::made = 0;
+  const Counted* first;
+  const Counted* second;
+  {
+    const auto a = pool.take();
+    const auto b = pool.take();
+    first = &*a;
+    second = &*b;
+    EXPECT_NE(first, second);
+  }
+  EXPECT_EQ(Counted::made.load(), 2);
+  {
+    const auto c = pool.take();
+    EXPECT_TRUE(&*c == first || &*c == second);
+  }
+  EXPECT_EQ(Counted::made.load(), 2);
+  // A copy of the pool does not share its sets.
+  ScratchPool<Counted> copy(pool);
+  const auto d = copy.take();
+  EXPECT_TRUE(&*d != first && &*d != second);
+  EXPECT_EQ(Counted::made.load(), 3);
+}
+
+// In parallel loops a set is held by one body at a time, and no more sets are made than bodies run
+// at once (at most the thread count), however many bodies and loops there are.
+TEST(ScratchPool, ParallelLoopsMakeNoMoreSetsThanThreadsAndNeverShareOne) {
+  const int defaultThreads = cv::getNumThreads();
+  for (int threads : {1, 2, 4}) {
+    cv::setNumThreads(threads);
+    ScratchPool<Counted> pool;
+    Counted::made = 0;
+    std::atomic<int> shared{0};
+    for (int loop = 0; loop < 20; ++loop)
+      parallelRanges(1000, [&](int begin, int end) {
+        const auto lease = pool.take();
+        // Every body marks its set with its own range and finds the mark unchanged at its end.
+        lease->buffer.assign(16, begin);
+        for (int i = begin; i < end; ++i) lease->buffer[size_t(i % 16)] = begin;
+        for (int value : lease->buffer) shared += value != begin;
+      });
+    EXPECT_EQ(shared.load(), 0) << threads << " threads";
+    EXPECT_GE(Counted::made.load(), 1);
+    EXPECT_LE(Counted::made.load(), std::max(threads, cv::getNumThreads())) << threads << " threads";
+  }
+  cv::setNumThreads(defaultThreads);
+}
+
+}  // namespace
+}  // namespace vs
