@@ -4,7 +4,8 @@
 set -euo pipefail
 packages=(build-essential cmake libopencv-dev libgtest-dev libgmock-dev libbenchmark-dev
           libegl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri python3
-          python3-matplotlib python3-numpy)
+          python3-matplotlib python3-numpy
+          slurmctld slurmd slurm-client munge)  # the Slurm test's single-node cluster (scripts/slurm-local.sh)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

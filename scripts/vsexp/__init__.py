@@ -11,8 +11,9 @@ The package never parses the tools' stdout or their config files: it asks the to
 (`--print-config`, tools.py) and reads the JSON summary every run writes (`SummaryFile`).
 
 Modules, one job each: experiment (the experiment file), tools (talking to the executables), runner
-(runs, jobs, results.csv), report (the Markdown report), plots (the work-precision plot), crops (the
-zoomed crops), cli (the command line).
+(runs, jobs, results.csv), executors (where jobs run: local processes or Slurm job arrays), task (one
+Slurm array task), report (the Markdown report), plots (the work-precision plot), crops (the zoomed
+crops), cli (the command line).
 Only the Python standard library is needed to run experiments; the report's plots and crops need the
 Debian packages python3-matplotlib and python3-numpy.
 """

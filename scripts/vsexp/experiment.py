@@ -58,8 +58,10 @@ def _distance(a, b):
 class Scene:
     """One scene folder with the cameras to synthesize and how to find their configs."""
 
-    def __init__(self, name, group, folder, cameras, config, reference, frames_per_job, verify_split, scenegen=None):
+    def __init__(self, name, group, folder, cameras, config, reference, frames_per_job, verify_split, scenegen=None,
+                 shards=None):
         self.name, self.group, self.folder = name, group, Path(folder)
+        self.shards = shards
         self.cameras, self.config, self.reference = list(cameras), config, reference
         self.frames_per_job, self.verify_split, self.scenegen = frames_per_job, verify_split, scenegen
 
@@ -86,7 +88,7 @@ class Experiment:
     """The parsed experiment file. Paths in the file are relative to the file's folder."""
 
     TOP = {"name", "title", "description", "data", "work", "threads", "scenes", "methods", "tables", "plot", "crops",
-           "notes", "baseline"}
+           "notes", "baseline", "executor", "slurm"}
 
     def __init__(self, path, data_override=None, work_override=None):
         self.path = Path(path).resolve()
@@ -111,6 +113,16 @@ class Experiment:
         self.threads = int(spec.get("threads", 1))
         self.notes = spec.get("notes", [])
         self.baseline_file = spec.get("baseline", "vsrs_baseline.csv")
+        self.executor = spec.get("executor", "local")
+        if self.executor not in ("local", "slurm"):
+            problems.append("executor: 'local' or 'slurm', not %r" % (self.executor,))
+        self.slurm = spec.get("slurm", {})
+        if check_keys("slurm", self.slurm, {"partition", "time", "mem", "cpus_per_task", "account", "throttle",
+                                            "options", "poll", "jobs_per_task"}, (), problems):
+            if not isinstance(self.slurm.get("options", []), list):
+                problems.append("slurm.options: a list of sbatch options, e.g. [\"--qos=long\"]")
+        else:
+            self.slurm = {}
         self.scenes = self._scenes(spec["scenes"], problems)
         self.methods = self._methods(spec["methods"], problems)
         self.tables = spec.get("tables", [])
@@ -156,7 +168,7 @@ class Experiment:
 
     def _scenes(self, entries, problems):
         scenes, seen = [], set()
-        allowed = {"group", "path", "scenegen", "name", "cameras", "config", "reference", "frames_per_job",
+        allowed = {"group", "path", "scenegen", "name", "cameras", "config", "reference", "frames_per_job", "shards",
                    "verify_split"}
         for i, entry in enumerate(entries):
             where = "scenes[%d]" % i
@@ -172,7 +184,12 @@ class Experiment:
                         problems.append("%s.config: unknown tool '%s' (tools: %s)" % (where, tool, ", ".join(TOOLS)))
             common = dict(group=entry["group"], cameras=entry["cameras"], config=config,
                           reference=entry.get("reference"), frames_per_job=entry.get("frames_per_job"),
-                          verify_split=entry.get("verify_split", False))
+                          verify_split=entry.get("verify_split", False), shards=entry.get("shards"))
+            if "shards" in entry and "frames_per_job" in entry:
+                problems.append("%s: give at most one of 'frames_per_job' and 'shards'" % where)
+            if "shards" in entry and (not isinstance(entry["shards"], int) or isinstance(entry["shards"], bool)
+                                      or entry["shards"] < 1):
+                problems.append("%s.shards: a whole number of frame ranges, at least 1" % where)
             if "scenegen" in entry:
                 name = entry.get("name") or entry["scenegen"].get("Scene", "demo")
                 folder = self.work / "scenes" / slug(name)

@@ -1,7 +1,6 @@
 """Runs and jobs: the runs an experiment asks for, their frame-range jobs, the tools' processes, and
 results.csv (one row per run, resumable)."""
 
-import concurrent.futures
 import csv
 import datetime
 import hashlib
@@ -17,6 +16,7 @@ from pathlib import Path
 from . import RESULT_FIELDS, STAGES, TOOLS, ExperimentError
 from .experiment import setting_text, settings_key, slug
 from . import tools
+from .executors import LocalExecutor, execute_job, finished_job
 
 
 class Run:
@@ -114,18 +114,27 @@ def plan_runs(exp, query):
         total = int(values.get("TotalNumberOfFrames", 300))
         run.start, run.total = start, total
         step = run.scene.frames_per_job
+        shards = min(total, run.scene.shards or 1)
         run.parts = [(start, total)]
-        if step and total > step:
+        if (step and total > step) or shards > 1:
             mode = values.get("SynthesisMode", "auto").strip()
             temporal = values.get("TemporalImprovementOption", "1").strip()
             if run.tool == "ViewSyn" and mode != "0" and temporal != "0":
                 # 1D TemporalImprovementOption keeps the previous frame's hole fill where a row is static,
-                # so the first frame of a later range could differ from the same frame of one run.
+                # and that fill was itself kept from the frame before: a row static since frame 0 still
+                # shows frame 0's fill at frame 299. No fixed number of earlier frames that a shard could
+                # run and drop makes it exact, so the run is not split (the test shows the difference).
                 run.split_note = ("not split: SynthesisMode %s with TemporalImprovementOption 1 carries the "
                                   "previous frame's hole fill" % mode)
             else:
-                run.parts = [(s, min(step, start + total - s)) for s in range(start, start + total, step)]
-                run.split_note = "%d frames per job" % step
+                if shards > 1:  # K ranges as equal as can be, the longer ones first
+                    sizes = [total // shards + (i < total % shards) for i in range(shards)]
+                    firsts = [start + sum(sizes[:i]) for i in range(shards)]
+                    run.parts = list(zip(firsts, sizes))
+                    run.split_note = "%d shards" % shards
+                else:
+                    run.parts = [(s, min(step, start + total - s)) for s in range(start, start + total, step)]
+                    run.split_note = "%d frames per job" % step
                 verify = run.scene.verify_split
                 run.verify = bool(verify) if not isinstance(verify, list) else any(m in verify for m in run.methods)
     if problems:
@@ -201,8 +210,9 @@ def _clock(seconds):
 
 
 class Runner:
-    def __init__(self, exp, bin_dir, jobs, quiet=False):
+    def __init__(self, exp, bin_dir, jobs, quiet=False, executor=None):
         self.exp, self.bin_dir, self.jobs = exp, Path(bin_dir), jobs
+        self.executor = executor or LocalExecutor()
         self.results_path = exp.work / "results.csv"
         self.lock = threading.Lock()
         self.processes = set()
@@ -252,54 +262,22 @@ class Runner:
                 "SummaryFile=%s" % summary, "Threads=%d" % self.exp.threads]
         return cmd
 
-    def execute(self, run, index, start, count):
-        """Runs one part (index >= 0) or the verification run of the whole range (index -1)."""
+    def job_spec(self, run, index, start, count):
+        """Everything one job needs, as JSON-able text: the command, its folder, its files. A Slurm array
+        task gets exactly this (executors.py), so a job runs the same way under either executor."""
         folder = run.folder(self.exp.work)
         stem = "whole" if index < 0 else ("part%03d" % index if len(run.parts) > 1 else "run")
         output = run.output_path(self.exp.work) if stem == "run" else folder / (stem + ".yuv")
-        summary_path = folder / (stem + ".summary.json")
-        log = folder / (stem + ".log")
-        done = folder / (stem + ".done")
-        if done.is_file() and output.is_file() and summary_path.is_file():
-            return json.loads(done.read_text())
-        folder.mkdir(parents=True, exist_ok=True)
-        for p in (output, summary_path, done):
-            if p.exists():
-                p.unlink()
-        cmd = self.command(run, start, count, output, summary_path)
-        env = dict(os.environ)
-        env["LP_NUM_THREADS"] = str(self.exp.threads)  # Mesa llvmpipe: as many render threads as Threads
-        env["OMP_NUM_THREADS"] = str(self.exp.threads)
-        began = time.monotonic()
-        with open(log, "w") as f:
-            f.write("# cwd %s\n# %s\n" % (run.scene.folder, " ".join(cmd)))
-            f.flush()
-            proc = subprocess.Popen(cmd, cwd=str(run.scene.folder), stdout=f, stderr=subprocess.STDOUT, env=env)
-            with self.lock:
-                self.processes.add(proc)
-            # wait4: the CPU time of the tool (every thread), which a busy shared machine disturbs far
-            # less than the wall clock.
-            _, status, usage = os.wait4(proc.pid, 0)
-            rc = proc.returncode = os.waitstatus_to_exitcode(status)
-            with self.lock:
-                self.processes.discard(proc)
-        wall = time.monotonic() - began
-        cpu = usage.ru_utime + usage.ru_stime
-        text = log.read_text(errors="replace")
-        if rc != 0:
-            tail = "\n".join(text.strip().splitlines()[-6:])
-            raise RuntimeError("%s exited with %d (log %s):\n%s" % (run.tool, rc, log, tail))
-        try:
-            summary = tools.read_summary(summary_path)
-        except (OSError, ValueError) as e:
-            raise RuntimeError("%s wrote no readable summary %s: %s (log %s)" % (run.tool, summary_path, e, log))
-        rows = tools.frame_rows(summary)
-        if len(rows) != count:
-            raise RuntimeError("%s wrote %d frames, expected %d (log %s)" % (run.tool, len(rows), count, log))
-        info = {"wall": wall, "cpu": cpu, "rows": rows, "output": str(output), "printed": tools.mean_psnr(summary),
-                "version": tools.tool_version(summary)}
-        done.write_text(json.dumps(info))
-        return info
+        summary = folder / (stem + ".summary.json")
+        return {"tool": run.tool, "cwd": str(run.scene.folder), "folder": str(folder), "output": str(output),
+                "summary": str(summary), "log": str(folder / (stem + ".log")), "done": str(folder / (stem + ".done")),
+                "count": count, "threads": self.exp.threads,
+                "command": self.command(run, start, count, output, summary)}
+
+    def execute(self, run, index, start, count):
+        """Runs one part (index >= 0) or the verification run of the whole range (index -1)."""
+        spec = self.job_spec(run, index, start, count)
+        return finished_job(spec) or execute_job(spec, self.processes, self.lock)
 
     def join(self, run, infos):
         output = run.output_path(self.exp.work)
@@ -424,8 +402,9 @@ class Runner:
             pixels = int(v.get("SourceWidth", 1280)) * int(v.get("SourceHeight", 960))
             return pixels * n * (4 if run.tool == "MeshRender" else 1)
         jobs.sort(key=cost, reverse=True)
-        self.say("%s: %d runs, %d already in %s, %d to run as %d jobs (-j %d)"
-                 % (self.exp.name, len(runs), skipped, self.results_path, len(todo), len(jobs), self.jobs))
+        self.say("%s: %d runs, %d already in %s, %d to run as %d jobs (%s)"
+                 % (self.exp.name, len(runs), skipped, self.results_path, len(todo), len(jobs),
+                    self.executor.describe(self.jobs)))
         if not jobs:
             return 0, skipped
         self.check_builds({run.tool for run in todo})
@@ -434,61 +413,52 @@ class Runner:
                              "left": len(run.parts) + (1 if run.verify and len(run.parts) > 1 else 0)}
                    for run in todo}
 
-        def work(job):
-            run, index, start, count = job
-            if self.stop.is_set():
-                return job, None, "stopped"
-            progress.started()
-            try:
-                info = self.execute(run, index, start, count)
-            except Exception as e:  # reported, the run is left for a later resume
-                if self.stop.is_set():
-                    return job, None, "stopped"  # terminated by us: not a failure of the tool
-                progress.finished("FAILED %s %s %s %s: %s" % (run.scene.name, run.camera, run.tool,
-                                                              run.settings_text or "(config)", e), failed=True)
-                return job, None, str(e)
-            row = None
-            with self.lock:
-                state = pending[id(run)]
-                if index < 0:
-                    state["whole"] = info
-                else:
-                    state["parts"][index] = info
-                state["left"] -= 1
-                complete = state["left"] == 0
-            if complete:
-                infos = [state["parts"][i] for i in range(len(run.parts))]
-                if getattr(run, "reuse_row", None):
-                    row = self.restore_output(run, infos)
-                else:
-                    row = self.finish(run, infos, state["whole"])
-            what = "%s %s %s %s" % (run.scene.name, run.camera, run.tool, run.settings_text or "(config)")
-            if len(run.parts) > 1 or index < 0:
-                what += " [%s]" % ("whole-range check" if index < 0 else "frames %d-%d" % (start, start + count - 1))
-            if row:
-                what += ": Y %s dB, %.3f s/frame" % (row["psnr_y"], float(row["seconds_per_frame"]))
-                if row.get("split_check"):
-                    what += ", split %s" % row["split_check"].split()[0]
-            progress.finished(what)
-            return job, row, None
-
-        with concurrent.futures.ThreadPoolExecutor(max_workers=self.jobs) as pool:
-            futures = [pool.submit(work, job) for job in jobs]
-            try:
-                for future in concurrent.futures.as_completed(futures):
-                    job, row, error = future.result()
-                    if error and error != "stopped":
-                        self.failures.append((job[0], error))
-            except KeyboardInterrupt:
-                self.stop.set()
-                pool.shutdown(wait=False, cancel_futures=True)
-                with self.lock:
-                    for proc in self.processes:
-                        proc.terminate()
-                progress.close()
-                raise
-        progress.close()
+        self.pending, self.progress = pending, progress
+        try:
+            self.executor.run(self, jobs, progress)
+        finally:
+            progress.close()
         return len(todo), skipped
+
+    @staticmethod
+    def job_name(job):
+        run, index, start, count = job
+        what = "%s %s %s %s" % (run.scene.name, run.camera, run.tool, run.settings_text or "(config)")
+        if len(run.parts) > 1 or index < 0:
+            what += " [%s]" % ("whole-range check" if index < 0 else "frames %d-%d" % (start, start + count - 1))
+        return what
+
+    def job_failed(self, job, error):
+        """A job that failed: one progress line, and its run is reported at the end (left for a resume)."""
+        self.progress.finished("FAILED %s: %s" % (self.job_name(job), error), failed=True)
+        self.failures.append((job[0], str(error)))
+
+    def job_done(self, job, info):
+        """A job that finished (here or on a cluster node): once every job of its run is in, the parts
+        are joined and the run's row written. Returns the row or None."""
+        run, index, start, count = job
+        row = None
+        with self.lock:
+            state = self.pending[id(run)]
+            if index < 0:
+                state["whole"] = info
+            else:
+                state["parts"][index] = info
+            state["left"] -= 1
+            complete = state["left"] == 0
+        if complete:
+            infos = [state["parts"][i] for i in range(len(run.parts))]
+            if getattr(run, "reuse_row", None):
+                row = self.restore_output(run, infos)
+            else:
+                row = self.finish(run, infos, state["whole"])
+        what = self.job_name(job)
+        if row:
+            what += ": Y %s dB, %.3f s/frame" % (row["psnr_y"], float(row["seconds_per_frame"]))
+            if row.get("split_check"):
+                what += ", split %s" % row["split_check"].split()[0]
+        self.progress.finished(what)
+        return row
 
 
 def _same_file(a, b):
