@@ -1,6 +1,8 @@
 #include "Common/SafeOutput.h"
 
 #include <fcntl.h>
+#include <pthread.h>
+#include <signal.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -144,6 +146,16 @@ SafeOutputFile::SafeOutputFile(std::string path, const std::vector<std::string>&
   target_ = target.string();
   const fs::path folder = target.parent_path();
   const std::string stem = target.filename().string();
+  // The signals that remove temporaries wait while one is created and registered: a signal between
+  // the two would leave a file the handler does not know.
+  sigset_t cleanupSignals, previousMask;
+  sigemptyset(&cleanupSignals);
+  for (int signalNumber : {SIGINT, SIGTERM, SIGHUP}) sigaddset(&cleanupSignals, signalNumber);
+  pthread_sigmask(SIG_BLOCK, &cleanupSignals, &previousMask);
+  struct MaskRestorer {
+    const sigset_t& mask;
+    ~MaskRestorer() { pthread_sigmask(SIG_SETMASK, &mask, nullptr); }
+  } restorer{previousMask};
   for (int attempt = 0; attempt < 100 && fd_ < 0; ++attempt) {
     // ".NAME.vs-PID-N", shortened when the name is long (a file name has at most 255 bytes).
     const std::string tag = ".vs-" + std::to_string(::getpid()) + "-" + std::to_string(attempt);
