@@ -100,6 +100,9 @@ void addSynthesisOptions(OptionTable& table) {
                         "Output sequence of the virtual view; never an input file"),
              textOption("ReferenceVirtualViewImageName", OptionType::Path, false, "-",
                         "Optional ground-truth sequence of the virtual camera: PSNR is reported against it per frame"),
+             textOption("QualityMetrics", OptionType::TextList, false, "-",
+                        "Metrics against ReferenceVirtualViewImageName besides PSNR, comma-separated: ivpsnr, "
+                        "wspsnr, ssim, msssim (doc/metrics.md); per frame and as means in the log, ReportFile and SummaryFile"),
          });
   addAll(table, "Reference views (1 to 16, instead of Left and Right)",
          {

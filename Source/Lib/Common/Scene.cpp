@@ -6,6 +6,7 @@
 
 #include "Common/CameraFile.h"
 #include "Common/Error.h"
+#include "Common/QualityReport.h"
 
 namespace vs {
 
@@ -188,6 +189,11 @@ SynthesisSettings readSynthesisSettings(const Config& config) {
   readReferenceViews(config, s, where, problems);
   s.outputPath = config.getPath("OutputVirtualViewImageName");
   s.referenceViewPath = config.getPath("ReferenceVirtualViewImageName");
+  s.qualityMetrics = config.getList("QualityMetrics");
+  std::string metricError;
+  if (!QualityReport::validate(s.qualityMetrics, metricError)) problems.add(where + ": QualityMetrics: " + metricError);
+  else if (!QualityReport(s.qualityMetrics, true).empty() && s.referenceViewPath.empty())
+    problems.add(where + ": QualityMetrics scores against ReferenceVirtualViewImageName, which is not set");
   s.virtualDepthPath = config.getPath("OutputVirtualDepthMapName");
   s.virtualDepthRange.bitDepth = s.depthFormat.bitDepth;
   if (config.isSet("VirtualNearestDepthValue") != config.isSet("VirtualFarthestDepthValue"))

@@ -53,6 +53,7 @@ struct SynthesisSettings {
   std::vector<ReferenceView> references;     // left then right, or the Reference list (1 to 16)
   std::string outputPath;
   std::string referenceViewPath;             // ground truth of the virtual view; empty: none
+  std::vector<std::string> qualityMetrics;   // QualityMetrics: scored against it besides PSNR
   std::string virtualDepthPath;              // output of the virtual depth; empty: none
   DepthRange virtualDepthRange;              // levels of that output
   bool virtualDepthRangeSet = false;         // given by the Virtual*DepthValue keys

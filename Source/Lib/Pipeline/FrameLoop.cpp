@@ -5,6 +5,7 @@
 #include "Common/Error.h"
 #include "Common/Memory.h"
 #include "Common/Metrics.h"
+#include "Common/QualityReport.h"
 #include "Pipeline/SequenceInputs.h"
 #include "Pipeline/SequenceOutputs.h"
 
@@ -22,6 +23,9 @@ RunSummary runSequence(const std::string& toolName, const Scene& scene, FrameRen
   SequenceInputs inputs(s);
   SequenceOutputs outputs(s);
   report.startFrames(log);
+  // Metrics besides PSNR against the reference view (QualityMetrics, doc/metrics.md).
+  QualityReport quality(s.referenceViewPath.empty() ? std::vector<std::string>{} : s.qualityMetrics,
+                        s.textureFormat.chroma != ChromaFormat::Yuv400);
   Frame output;
   for (int64_t f = 0; f < inputs.available(); ++f) try {
       StageTimes times;
@@ -32,8 +36,12 @@ RunSummary runSequence(const std::string& toolName, const Scene& scene, FrameRen
           output, [&](Plane& levels) { return renderer.virtualDepth(frame.references, s.virtualDepthRange, levels); },
           toolName);
       times.write = secondsSince(start);
-      FrameRecord record{s.startFrame + f, frame.truth != nullptr, {}, times};
+      FrameRecord record{s.startFrame + f, frame.truth != nullptr, {}, times, {}};
       if (frame.truth) record.psnr = framePsnr(*frame.truth, output);
+      if (frame.truth && !quality.empty()) {
+        quality.score(*frame.truth, output);
+        record.quality = quality.lastValues();
+      }
       report.addFrame(record, log);
     } catch (const InputError& e) {
       // Say what is on disk: the writers keep whole frames only.

@@ -7,6 +7,7 @@
 #include "Common/BuildInfo.h"
 #include "Common/Error.h"
 #include "Common/Json.h"
+#include "Common/QualityReport.h"
 
 namespace vs {
 
@@ -111,6 +112,14 @@ std::vector<std::string> reportColumns() {
   return names;
 }
 
+double RunReport::qualityMean(size_t column) const {
+  const QualityReport quality(qualityMetrics_, hasChroma_);
+  std::vector<double> values;
+  for (const FrameRecord& record : frames_)
+    if (column < record.quality.size()) values.push_back(record.quality[column]);
+  return QualityReport::mean(values, quality.decibel(column));
+}
+
 RunReport::RunReport(std::string toolName, const Config& config)
     : toolName_(std::move(toolName)),
       config_(config),
@@ -123,6 +132,7 @@ RunReport::~RunReport() {
 
 void RunReport::begin(const Scene& scene, const std::vector<std::string>& plan, std::FILE* log) {
   hasChroma_ = scene.settings.textureFormat.chroma != ChromaFormat::Yuv400;
+  if (!scene.settings.referenceViewPath.empty()) qualityMetrics_ = scene.settings.qualityMetrics;
   plan_ = plan;
   warnings_ = scene.warnings;
   if (!log) return;
@@ -139,6 +149,7 @@ void RunReport::startFrames(std::FILE* log) {
     if (!csv_) throw InputError(csvPath_ + ": cannot create the report file");
     std::string header;
     for (const Column& column : kColumns) header += std::string(header.empty() ? "" : ",") + column.name;
+    header += QualityReport(qualityMetrics_, hasChroma_).csvHeader();  // QualityMetrics' columns last
     std::fprintf(csv_, "%s\n", header.c_str());
   }
   if (log) std::fprintf(log, "\n");
@@ -151,6 +162,9 @@ void RunReport::addFrame(const FrameRecord& record, std::FILE* log) {
     if (record.scored)
       std::fprintf(log, "  PSNR Y %s U %s V %s dB", formatPsnr(record.psnr.y).c_str(),
                    formatPsnr(record.psnr.u).c_str(), formatPsnr(record.psnr.v).c_str());
+    const QualityReport quality(qualityMetrics_, hasChroma_);
+    for (size_t c = 0; c < record.quality.size(); ++c)
+      std::fprintf(log, "  %s %s", quality.keys()[c].c_str(), quality.format(c, record.quality[c]).c_str());
     std::fprintf(log, "\n");
     std::fflush(log);
   }
@@ -165,6 +179,9 @@ void RunReport::addFrame(const FrameRecord& record, std::FILE* log) {
     else std::snprintf(cell, sizeof cell, "%s", record.scored ? formatPsnr(value).c_str() : "");
     row += cell;
   }
+  const QualityReport quality(qualityMetrics_, hasChroma_);
+  for (size_t c = 0; c < quality.keys().size(); ++c)
+    row += "," + (c < record.quality.size() ? quality.format(c, record.quality[c]) : std::string());
   std::fprintf(csv_, "%s\n", row.c_str());
 }
 
@@ -186,11 +203,19 @@ RunSummary RunReport::finish(const std::string& outputPath, std::FILE* log) cons
     std::fprintf(log, "mean PSNR: Y %s U %s V %s YUV %s dB\n", formatPsnr(summary.meanPsnrY).c_str(),
                  hasChroma_ ? formatPsnr(summary.meanPsnrU).c_str() : "-",
                  hasChroma_ ? formatPsnr(summary.meanPsnrV).c_str() : "-", formatPsnr(summary.meanPsnrYuv).c_str());
+  const QualityReport quality(qualityMetrics_, hasChroma_);
+  if (means.scored > 0 && !quality.empty()) {
+    std::fprintf(log, "mean");
+    for (size_t c = 0; c < quality.keys().size(); ++c)
+      std::fprintf(log, "  %s %s", quality.keys()[c].c_str(), quality.format(c, qualityMean(c)).c_str());
+    std::fprintf(log, "\n");
+  }
   return summary;
 }
 
 std::string RunReport::summaryJson(int exitStatus, const std::string& error) const {
   const Means means = computeMeans(frames_, hasChroma_);
+  const QualityReport quality(qualityMetrics_, hasChroma_);
   // A column's value in a frame or in the means: null where it was not measured.
   auto cell = [&](const Column& column, const FrameRecord& record, bool scored) {
     if (column.kind == Column::Index) return std::to_string(record.frame);
@@ -207,6 +232,9 @@ std::string RunReport::summaryJson(int exitStatus, const std::string& error) con
     out << (f ? ",\n    {" : "\n    {");
     for (size_t c = 0; c < std::size(kColumns); ++c)
       out << (c ? ", " : "") << '"' << kColumns[c].name << "\": " << cell(kColumns[c], frames_[f], frames_[f].scored);
+    for (size_t c = 0; c < quality.keys().size(); ++c)
+      out << ", \"" << quality.keys()[c] << "\": "
+          << (c < frames_[f].quality.size() ? jsonValue(frames_[f].quality[c]) : std::string("null"));
     out << "}";
   }
   out << (frames_.empty() ? "]" : "\n  ]") << ",\n  \"frames_written\": " << means.frames << ",\n  \"mean\": {";
@@ -227,6 +255,8 @@ std::string RunReport::summaryJson(int exitStatus, const std::string& error) con
     out << (first ? "" : ", ") << '"' << column.name << "\": " << (measured ? cell(column, mean, true) : "null");
     first = false;
   }
+  for (size_t c = 0; c < quality.keys().size(); ++c)
+    out << ", \"" << quality.keys()[c] << "\": " << (means.scored > 0 ? jsonValue(qualityMean(c)) : std::string("null"));
   out << "},\n  \"exit_status\": " << exitStatus << ",\n  \"error\": " << (error.empty() ? "null" : jsonString(error))
       << "\n}\n";
   return out.str();

@@ -23,6 +23,7 @@ struct FrameRecord {
   bool scored = false;  // PSNR against the reference view was measured
   FramePsnr psnr;
   StageTimes times;
+  std::vector<double> quality;  // QualityMetrics' values, in the order of QualityReport::keys()
 };
 
 // The CSV header's names in order: frame, psnr_y, psnr_u, psnr_v, psnr_yuv, then seconds per stage
@@ -63,11 +64,14 @@ public:
   void writeSummary(int exitStatus, const std::string& error) const;
 
 private:
+  double qualityMean(size_t column) const;  // mean of a QualityMetrics column over the frames
+
   std::string toolName_;
   const Config& config_;
   std::string csvPath_, summaryPath_;
   std::FILE* csv_ = nullptr;
   bool hasChroma_ = true;
+  std::vector<std::string> qualityMetrics_;  // QualityMetrics when a reference view is set (doc/metrics.md)
   std::vector<std::string> plan_, warnings_;
   std::vector<std::pair<std::string, std::string>> decisions_;
   std::vector<FrameRecord> frames_;
