@@ -2,11 +2,12 @@
 # The README's test command: installs what is missing, builds, runs the whole test suite with CTest;
 # then builds the tree once more with AddressSanitizer and UndefinedBehaviorSanitizer (build-asan,
 # whose executables stay in build-asan/Bin so that Bin/ keeps the normal ones) and runs the whole
-# suite again. Any sanitizer report fails the test that triggered it. Between the two, a third build at
-# the x86-64 baseline (build-v1, -DVS_X86_64_LEVEL=1: SSE2 only, so every scalar and SSE2 fallback such
-# as the #else rasteriser of Source/Lib/Synth/Raster.h is what runs) compiles only the tests and tools
-# and runs the golden-output test (the same MD5s as the vector build) and the unit tests of the
-# stages that have fallbacks.
+# suite again. Any sanitizer report fails the test that triggered it. Between the two, a third build
+# with runtime dispatch (build-dispatch, -DVS_X86_64_LEVEL=dispatch: the kernels for every x86-64
+# level, everything else at the baseline, SSE2 only, so every scalar and SSE2 fallback is what runs
+# there) compiles only the tests and tools and runs the golden-output test (the same MD5s as the
+# vector build), the version test and the unit tests of the stages that have fallbacks, once per
+# x86-64 level the machine runs (capped by VS_X86_64_LEVEL).
 # Set VS_DATA_DIR / VS_SAMPLES_DIR to point the data tests elsewhere (default ../shared/...);
 # VS_SKIP_SANITIZE=1 skips the sanitizer run (for a quick local check; CI runs both).
 set -euo pipefail
@@ -20,13 +21,21 @@ start=$(date +%s)
 echo "tests: $(( $(date +%s) - start )) s"
 
 start=$(date +%s)
-cmake -S . -B build-v1 -DCMAKE_BUILD_TYPE=Release -DVS_X86_64_LEVEL=1 -DVS_BIN_OUTPUT_DIR="$PWD/build-v1/Bin" \
-  -DVS_TEST_SOURCES='/(GoldenOutput|Raster|RowWarp|Blend|Synth|HoleFill|Cracks|EdgeAlign|Occlusion)Test\.cpp$' >/dev/null
-cmake --build build-v1 -j"$(nproc)" --target UnitTests RegressionTests
-echo "baseline (x86-64-v1) build: $(( $(date +%s) - start )) s"
+cmake -S . -B build-dispatch -DCMAKE_BUILD_TYPE=Release -DVS_X86_64_LEVEL=dispatch \
+  -DVS_BIN_OUTPUT_DIR="$PWD/build-dispatch/Bin" \
+  -DVS_TEST_SOURCES='/(GoldenOutput|Raster|RowWarp|Blend|Synth|HoleFill|Cracks|EdgeAlign|Occlusion|Version)Test\.cpp$' >/dev/null
+cmake --build build-dispatch -j"$(nproc)" --target UnitTests RegressionTests
+echo "runtime-dispatch build: $(( $(date +%s) - start )) s"
 start=$(date +%s)
-(cd build-v1 && ctest --output-on-failure -j"$(nproc)" -E 'ExperimentRunner|SlurmExecutor|ShardTemporal')
-echo "baseline (x86-64-v1) tests: $(( $(date +%s) - start )) s"
+# The CPU's highest level, as the dispatch build's ViewSyn finds it; then the tests at every level up
+# to it, capped by the environment variable (the tools the golden-output test runs inherit it).
+top=$(build-dispatch/Bin/ViewSyn --version | sed -n 's/^x86-64 level: x86-64-v\([234]\).*/\1/p')
+top=${top:-1}
+for level in $(seq 1 "$top"); do
+  echo "runtime-dispatch build capped at x86-64 level $level"
+  (cd build-dispatch && VS_X86_64_LEVEL=$level ctest --output-on-failure -j"$(nproc)" -E "ExperimentRunner|InstalledConsumer|SlurmExecutor|ShardTemporal")
+done
+echo "runtime-dispatch tests (levels 1 to $top): $(( $(date +%s) - start )) s"
 
 if [[ "${VS_SKIP_SANITIZE:-0}" == 1 ]]; then
   echo "sanitizer run skipped (VS_SKIP_SANITIZE=1)"

@@ -10,7 +10,9 @@
 #include <random>
 #include <vector>
 
+#include "Common/CpuLevel.h"
 #include "PlainRaster.h"
+#include "Synth/Kernels/QuadRow.h"
 #include "Synth/Parallel.h"
 #include "Synth/Raster.h"
 
@@ -278,6 +280,15 @@ TEST(Raster, QuadRowEqualsPlainTrianglesOfEachQuad) {
     const int outWidth = width + 3, outHeight = 6;
     std::vector<double> plain(size_t(outWidth) * outHeight, kEmpty), ours = plain;
     const PlainRaise raise{&ours};
+    // The kernels the binary has for each level this CPU runs (Synth/Kernels/QuadRow.h), into
+    // z-buffers of their own: one thread's and the threads' (atomic) buffer.
+    std::vector<const QuadRowKernels*> kernels;
+    for (int level = 0; level <= cpuX86Level(); ++level)
+      if (quadRowKernelsFor(level)) kernels.push_back(quadRowKernelsFor(level));
+    ASSERT_FALSE(kernels.empty());
+    std::vector<std::vector<double>> lone(kernels.size(), plain);
+    std::vector<AtomicMaxBuffer> shared(kernels.size());
+    for (AtomicMaxBuffer& buffer : shared) buffer.reset(plain.size(), kEmpty);
     for (int t = 0; t < 3000; ++t) {
       std::vector<double> x[2], y[2], w[2];
       const double shift = 3.0 * unit(rng) - 1.0, row = 4.0 * unit(rng);
@@ -314,6 +325,20 @@ TEST(Raster, QuadRowEqualsPlainTrianglesOfEachQuad) {
       }
       rasteriseQuadRow(raise, width, outWidth, outHeight, discontinuity, x[0].data(), y[0].data(), w[0].data(),
                        x[1].data(), y[1].data(), w[1].data());
+      for (size_t k = 0; k < kernels.size(); ++k) {
+        kernels[k]->lone(lone[k].data(), width, outWidth, outHeight, discontinuity, x[0].data(), y[0].data(),
+                         w[0].data(), x[1].data(), y[1].data(), w[1].data());
+        kernels[k]->atomic(shared[k].cells(), width, outWidth, outHeight, discontinuity, x[0].data(), y[0].data(),
+                           w[0].data(), x[1].data(), y[1].data(), w[1].data());
+      }
+    }
+    for (size_t k = 0; k < kernels.size(); ++k) {
+      std::vector<double> fromAtomic(plain.size());
+      shared[k].copyTo(0, plain.size(), fromAtomic.data());
+      for (size_t i = 0; i < plain.size(); ++i) {
+        ASSERT_EQ(bitsOf(plain[i]), bitsOf(lone[k][i])) << "level " << kernels[k]->level << ", cell " << i;
+        ASSERT_EQ(bitsOf(plain[i]), bitsOf(fromAtomic[i])) << "level " << kernels[k]->level << " atomic, cell " << i;
+      }
     }
     size_t raised = 0;
     for (size_t i = 0; i < plain.size(); ++i) {

@@ -176,6 +176,7 @@ TEST(RunReport, AFailedRunWritesItsErrorAndTheFramesItWrote) {
                vs::InputError);
   const JsonValue json = vs::parseJson(readText(dir / "s.json"), "s.json");
   EXPECT_EQ(member(json, "tool").text, "MeshRender");
+  EXPECT_EQ(member(member(json, "build"), "version").text, VS_VERSION);  // the rest: VersionTest
   EXPECT_EQ(member(json, "exit_status").number, 1);
   EXPECT_EQ(member(json, "error").text, "texture.yuv: frame 1 is short");
   EXPECT_EQ(member(json, "frames_written").number, 1);

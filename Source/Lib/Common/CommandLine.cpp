@@ -7,6 +7,8 @@
 #include <filesystem>
 #include <new>
 
+#include "Common/BuildInfo.h"
+#include "Common/CpuLevel.h"
 #include "Common/Error.h"
 #include "Common/Memory.h"
 
@@ -80,8 +82,35 @@ std::vector<int64_t> CommandLine::integerList(const std::string& option, const s
   return values;
 }
 
-std::vector<std::string> parseCommandLine(const std::vector<std::string>& args, const CommandLineTool& tool,
+namespace {
+
+// Options every tool takes, after its own.
+CommandLineTool withCommonOptions(const CommandLineTool& tool) {
+  CommandLineTool front = tool;
+  front.options.push_back({"--x86-64-level", {"N"},
+                           "cap the x86-64 level of the vectorised code, 1 to 4 (as env VS_X86_64_LEVEL)",
+                           integerValues(1, 4)});
+  front.options.push_back({"--version", {}, "print version, commit, build type, x86-64 level, OpenCV; exit"});
+  return front;
+}
+
+// The cap on the x86-64 level applies before anything runs; the option wins over the environment.
+void capLevel(const std::vector<std::string>& args) {
+  for (size_t i = 0; i + 1 < args.size(); ++i)
+    if (args[i] == "--x86-64-level") {
+      int64_t level = 0;
+      if (!parseInt(args[i + 1], level)) level = 0;  // capX86Level() names what was expected
+      capX86Level(int(level), "--x86-64-level " + args[i + 1]);
+      return;
+    }
+  capX86LevelFromEnvironment();
+}
+
+}  // namespace
+
+std::vector<std::string> parseCommandLine(const std::vector<std::string>& args, const CommandLineTool& toolOnly,
                                           CommandLine& parsed) {
+  const CommandLineTool tool = withCommonOptions(toolOnly);
   std::vector<std::string> problems;
   auto find = [&](const std::string& name) -> const CommandOption* {
     for (const CommandOption& option : tool.options)
@@ -123,7 +152,8 @@ std::vector<std::string> parseCommandLine(const std::vector<std::string>& args, 
   return problems;
 }
 
-std::string usageText(const CommandLineTool& tool) {
+std::string usageText(const CommandLineTool& toolOnly) {
+  const CommandLineTool tool = withCommonOptions(toolOnly);
   std::string text = tool.name + " " + VS_VERSION + ": " + tool.description + "\n\nUsage:\n";
   for (const std::string& line : tool.synopsis) text += "  " + tool.name + " " + line + "\n";
   text += "  " + tool.name + " --help" + (tool.keys ? " | --help-markdown" : "") + "\n";
@@ -152,6 +182,18 @@ int runCommandLine(const std::vector<std::string>& args, const CommandLineTool& 
       std::fputs(usageText(tool).c_str(), stdout);
       return 0;
     }
+  // --version needs no other argument (a config-driven tool would ask for its config).
+  for (const std::string& arg : args)
+    if (arg == "--version") {
+      try {
+        capLevel(args);
+      } catch (const InputError& e) {
+        std::fprintf(stderr, "%s: error: %s\n", name, e.what());
+        return 2;
+      }
+      std::fputs(versionText(tool.name).c_str(), stdout);
+      return 0;
+    }
   if (tool.keys && args.size() == 1 && args[0] == "--help-markdown") {
     std::fputs(tool.keys->markdownTable().c_str(), stdout);
     return 0;
@@ -166,6 +208,7 @@ int runCommandLine(const std::vector<std::string>& args, const CommandLineTool& 
   }
   // The one catch: whatever a library throws ends as a message and exit code 1, never as an abort.
   try {
+    capLevel(args);
     const int code = tool.run(parsed);
     // What the tool printed must have reached stdout (a full disk, a closed pipe, /dev/full).
     if (std::fflush(stdout) != 0 || std::ferror(stdout)) {

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "Common/BuildInfo.h"
 #include "Common/Error.h"
 #include "Common/Json.h"
 #include "Common/QualityReport.h"
@@ -230,7 +231,7 @@ std::string RunReport::summaryJson(int exitStatus, const std::string& error) con
   };
   std::ostringstream out;
   out << "{\n  \"tool\": " << jsonString(toolName_) << ",\n  \"version\": " << jsonString(VS_VERSION)
-      << ",\n  \"config_file\": " << (config_.configPath().empty() ? "null" : jsonString(config_.configPath()))
+      << ",\n  \"build\": " << buildJson("  ") << ",\n  \"config_file\": " << (config_.configPath().empty() ? "null" : jsonString(config_.configPath()))
       << ",\n  \"config\": " << configMembers(config_, "  ") << ",\n  \"plan\": " << jsonStrings(plan_)
       << ",\n  \"decisions\": " << decisionMembers(decisions_)
       << ",\n  \"warnings\": " << jsonStrings(warnings_) << ",\n  \"frames\": [";

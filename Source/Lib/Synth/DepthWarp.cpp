@@ -7,6 +7,7 @@
 #include <utility>
 
 #include "Synth/Cracks.h"
+#include "Synth/Kernels/QuadRow.h"
 #include "Synth/Raster.h"
 #include "Synth/Synthesizer.h"
 
@@ -26,7 +27,9 @@ void Synthesizer::warpDepth(ViewState& view, const Plane& depth) {
   // raised as points, and the quads between it and the row above are rasterised while both rows are
   // at hand (two rows of positions, not the whole picture's). A range of rows also projects the row
   // after its last, for the quads between them; that row's points are raised by the range holding it.
-  auto drawInto = [&](const auto& raise) {
+  // The quads go to the rasteriser compiled for the CPU's x86-64 level (Synth/Kernels/QuadRow.h).
+  const QuadRowKernels& kernels = quadRowKernels();
+  auto drawInto = [&](const auto& raise, const auto& rasteriseRow) {
     parallelRanges(h, [&](int y0, int y1) {
       // Locals: the stores below are doubles, which may alias the projection's and the table's.
       const ViewProjection projection = view.projection;
@@ -62,7 +65,7 @@ void Synthesizer::warpDepth(ViewState& view, const Plane& depth) {
           }
         }
         if (y > y0)
-          rasteriseQuadRow(put, width, outWidth, outHeight, discontinuity, xAbove, yAbove, wAbove, xs, ys, ws);
+          rasteriseRow(width, outWidth, outHeight, discontinuity, xAbove, yAbove, wAbove, xs, ys, ws);
         std::swap(xAbove, xs);
         std::swap(yAbove, ys);
         std::swap(wAbove, ws);
@@ -70,10 +73,13 @@ void Synthesizer::warpDepth(ViewState& view, const Plane& depth) {
     });
   };
   if (lone) {
-    drawInto(LoneRaise{view.luma.inverseDepth.data()});
+    double* cells = view.luma.inverseDepth.data();
+    drawInto(LoneRaise{cells}, [&](auto... rows) { kernels.lone(cells, rows...); });
   } else {
     AtomicMaxBuffer& zbuffer = view.zbuffer;
-    drawInto([&zbuffer](size_t i, double value) { zbuffer.raise(i, value); });
+    std::atomic<int64_t>* cells = zbuffer.cells();
+    drawInto([&zbuffer](size_t i, double value) { zbuffer.raise(i, value); },
+             [&](auto... rows) { kernels.atomic(cells, rows...); });
     // The z-buffer becomes the layer's depth, and the rest of the layer is cleared, row by row.
     parallelRanges(outH, [&](int y0, int y1) {
       clearRows(view.luma, y0, y1);

@@ -11,6 +11,8 @@
 
 #include <opencv2/core/utility.hpp>
 
+#include "Synth/Raster.h"
+
 namespace vs {
 
 // Sets the pool's threads from the Threads key (0: every core), once per run before the first frame.
@@ -65,12 +67,9 @@ public:
       for (size_t i = begin; i < end; ++i) cells_[i].store(bits, std::memory_order_relaxed);
     });
   }
-  void raise(size_t i, double value) {
-    const int64_t bits = toBits(value);
-    int64_t current = cells_[i].load(std::memory_order_relaxed);
-    while (bits > current && !cells_[i].compare_exchange_weak(current, bits, std::memory_order_relaxed)) {
-    }
-  }
+  void raise(size_t i, double value) { raiseAtomicCell(cells_[i], value); }
+  // The cells, for the rasteriser's kernels (Synth/Kernels/QuadRow.h: AtomicRaise on them).
+  std::atomic<int64_t>* cells() { return cells_.data(); }
   // Cells [begin, end) as doubles into out[0 .. end - begin).
   void copyTo(size_t begin, size_t end, double* out) const {
     for (size_t i = begin; i < end; ++i) out[i - begin] = fromBits(cells_[i].load(std::memory_order_relaxed));

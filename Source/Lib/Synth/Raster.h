@@ -8,13 +8,28 @@
 #include <cstdint>
 #include <cstring>
 
+#include <atomic>
+
 #if defined(__AVX__)
 #include <immintrin.h>
 #elif defined(__SSE4_1__)
 #include <smmintrin.h>
 #endif
 
+// Synth/Kernels/QuadRow.cpp compiles this header once per x86-64 level, each with its -march and
+// VS_LEVEL_NS (v1 .. v4): everything here then lies in vs::<level>, so that the inline functions
+// and templates of one level are never merged by the linker with another's (which could run AVX-512
+// code on a CPU without it). Everywhere else it is plain vs.
+#if defined(VS_LEVEL_NS)
+#define VS_RASTER_LEVEL_BEGIN inline namespace VS_LEVEL_NS {
+#define VS_RASTER_LEVEL_END }
+#else
+#define VS_RASTER_LEVEL_BEGIN
+#define VS_RASTER_LEVEL_END
+#endif
+
 namespace vs {
+VS_RASTER_LEVEL_BEGIN
 
 // The z-buffer's order: non-negative inverse depths order like their bits read as signed 64-bit
 // integers, and kNoDepth (-1) reads as a negative one. Keeps the larger of the cell and the value in
@@ -33,6 +48,20 @@ inline void raiseCell(double& cell, double value) {
 struct LoneRaise {
   double* cells;
   void operator()(size_t i, double value) const { raiseCell(cells[i], value); }
+};
+
+// raiseCell for a z-buffer that many threads raise at once (AtomicMaxBuffer, Parallel.h): the cell
+// holds the doubles' bits; an integer atomic max is the max in that order, whatever the order of writes.
+inline void raiseAtomicCell(std::atomic<int64_t>& cell, double value) {
+  int64_t bits;
+  std::memcpy(&bits, &value, sizeof bits);
+  int64_t current = cell.load(std::memory_order_relaxed);
+  while (bits > current && !cell.compare_exchange_weak(current, bits, std::memory_order_relaxed)) {
+  }
+}
+struct AtomicRaise {
+  std::atomic<int64_t>* cells;
+  void operator()(size_t i, double value) const { raiseAtomicCell(cells[i], value); }
 };
 
 // Pixel-centre range [first, last] covered by [lo, hi] within [0, size - 1]; false when empty.
@@ -420,4 +449,5 @@ inline void rasteriseQuadRow(const Raise& raise, int width, int outWidth, int ou
 #endif
 }
 
+VS_RASTER_LEVEL_END
 }  // namespace vs
