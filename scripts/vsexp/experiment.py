@@ -86,7 +86,7 @@ class Experiment:
     """The parsed experiment file. Paths in the file are relative to the file's folder."""
 
     TOP = {"name", "title", "description", "data", "work", "threads", "scenes", "methods", "tables", "plot", "crops",
-           "notes", "baseline"}
+           "notes", "baseline", "vsrs_outputs"}
 
     def __init__(self, path, data_override=None, work_override=None):
         self.path = Path(path).resolve()
@@ -111,6 +111,7 @@ class Experiment:
         self.threads = int(spec.get("threads", 1))
         self.notes = spec.get("notes", [])
         self.baseline_file = spec.get("baseline", "vsrs_baseline.csv")
+        self.vsrs_outputs = self.data_dir / spec.get("vsrs_outputs", "vsrs42-outputs")
         self.scenes = self._scenes(spec["scenes"], problems)
         self.methods = self._methods(spec["methods"], problems)
         self.tables = spec.get("tables", [])
