@@ -228,6 +228,13 @@ def plot_section(report):
             number[i], p["tool"], setting, " (%s)" % p["method"].name if p["method"] is not None else "", p["psnr"],
             "%.2f" % p["ivpsnr"] if p.get("ivpsnr") is not None else "–", p["seconds"]))
     out.append("")
+    every = {(m.tool, settings_key(s)) for m in report.exp.methods if m.tool in {p["tool"] for p in points}
+             and (not m.groups or set(m.groups) & set(plot["groups"])) for s in m.settings_list}
+    left_out = len(every - {(p["tool"], p["key"]) for p in points if p["method"] is not None})
+    if left_out > 0:
+        out.append("%d setting%s of the sweeps had not run on all of these scene-views when this report was written "
+                   "and %s left out of the chart; regenerate to add them.\n"
+                   % (left_out, "s" if left_out != 1 else "", "are" if left_out != 1 else "is"))
     out.append("<details><summary>Every setting (%d points)</summary>\n" % len(points))
     out.append("| tool | setting | PSNR-Y | IV-PSNR | CPU s/frame | in-tool s/frame | process s/frame |")
     out.append("|---|---|---:|---:|---:|---:|---:|")
@@ -291,7 +298,7 @@ def gain_section(report, pairs):
         ax.grid(axis="x", alpha=0.3)
     handles, labels = axes[0][0].get_legend_handles_labels()
     fig.legend(handles, labels, loc="lower center", ncol=len(methods), fontsize=7, frameon=False)
-    fig.tight_layout(rect=(0, 0.9 / (0.26 * len(rows) + 1.4), 1, 1))
+    fig.tight_layout(rect=(0, 0.4 / (0.26 * len(rows) + 1.4), 1, 1))
     name = plot.get("gain_file", "gain_over_vsrs.png")
     fig.savefig(report.image_dir / name, dpi=200)
     plt.close(fig)
@@ -317,7 +324,10 @@ def plot_points(report, tool, scenes, cameras=None, pairs=None):
             if key not in [k for _, k, _ in settings]:
                 settings.append((m, key, s))
     if pairs is None:
-        for _, key, _ in settings:
+        # The pairs every single-setting method has (all settings when the tool has no such method): a sweep
+        # setting not run on all of them yet is left out rather than shrinking every point's pairs.
+        fixed = [(m, key, s) for m, key, s in settings if len(m.settings_list) == 1] or settings
+        for _, key, _ in fixed:
             have = {(s.name, c) for s in scenes for c in s.cameras
                     if (not cameras or c in cameras) and report.row(s.name, c, tool, key)}
             if have:  # a setting that never ran on these scenes (a method of other groups) is no point
