@@ -140,6 +140,7 @@ def plot_section(report):
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+    import matplotlib.ticker
     kind = plot.get("seconds", "cpu")
     metrics = [(k, t) for k, t in METRICS if all(p.get(k) is not None for p in points)]
     if len(metrics) < len(METRICS):  # a point without IV-PSNR: plot PSNR alone rather than a partial panel
@@ -192,6 +193,11 @@ def plot_section(report):
         ax.set_ylim(min(ys) - 0.3, max(ys) + 0.3)
         xs = [p["seconds"] for p in points]
         ax.set_xlim(min(xs) / 1.4, max(xs) * 1.4)
+        ticks = [t for t in (0.001, 0.002, 0.005, 0.01, 0.02, 0.05, 0.1, 0.2, 0.5, 1, 2, 5, 10, 20, 50)
+                 if min(xs) / 1.4 <= t <= max(xs) * 1.4]
+        ax.set_xticks(ticks)
+        ax.set_xticklabels(["%g" % t for t in ticks])
+        ax.xaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())
     handles, labels = axes[0][0].get_legend_handles_labels()
     fig.legend(handles, labels, loc="lower center", ncol=3, fontsize=7, frameon=False)
     rows = (len(labels) + 2) // 3
