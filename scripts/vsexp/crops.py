@@ -1,4 +1,4 @@
-"""Zoomed crops of the synthesized views around depth edges, beside the original view."""
+"""Zoomed crops where the methods differ: the truth, VSRS 4.2's output and the tools' outputs side by side."""
 
 import math
 from pathlib import Path
@@ -39,55 +39,6 @@ def yuv_to_rgb(y, u, v, bit_depth=8):
     g = 1.164383 * c - 0.391762 * d - 0.812968 * e
     b = 1.164383 * c + 2.017232 * d
     return np.clip(np.stack([r, g, b], axis=-1), 0, 255).astype(np.uint8)
-
-
-def level_to_z(level, bit_depth, znear, zfar):
-    """Z of a depth level: 1/Z = (L / Lmax) (1/Znear - 1/Zfar) + 1/Zfar (doc/depth.md), with the Znear
-    and Zfar the tool reports for the view ("inf" allowed)."""
-    inv_far = 0.0 if zfar == "inf" else 1.0 / float(zfar)
-    return 1.0 / ((level / float((1 << bit_depth) - 1)) * (1.0 / float(znear) - inv_far) + inv_far)
-
-
-def depth_edge_window(query, tool, cfg_path, settings, frame, size):
-    """Centre (u, v) in the virtual view of the window with the strongest depth gradient of the first
-    reference's depth, found by summing |gradient| over every window and moving the best one into the
-    virtual camera with its nearest depth. Files, depth range and cameras are the tool's
-    (`--print-config`)."""
-    import numpy as np
-    answer = query.print_config(tool, cfg_path.resolve(), settings)
-    values, scene = answer["config"], answer["scene"]
-    reference = scene["references"][0]
-    width, height = scene["width"], scene["height"]
-    bits = int(values["DepthBitDepth"])
-    depth, _, _ = read_yuv_frame(reference["depth"], width, height, frame, values["DepthChromaFormat"], bits)
-    gx = np.zeros_like(depth)
-    gy = np.zeros_like(depth)
-    gx[:, 1:] = np.abs(np.diff(depth, axis=1))
-    gy[1:, :] = np.abs(np.diff(depth, axis=0))
-    grad = np.minimum(gx + gy, float((1 << bits) - 1) / 4)  # a few huge steps should not win alone
-    cw, ch = size
-    integral = np.zeros((height + 1, width + 1))
-    integral[1:, 1:] = grad.cumsum(0).cumsum(1)
-    sums = integral[ch:, cw:] - integral[:-ch, cw:] - integral[ch:, :-cw] + integral[:-ch, :-cw]
-    # Keep the window away from the borders, where warping leaves the frame.
-    margin_x, margin_y = width // 8, height // 8
-    inside = np.zeros(sums.shape, dtype=bool)
-    inside[margin_y:max(margin_y + 1, sums.shape[0] - margin_y),
-           margin_x:max(margin_x + 1, sums.shape[1] - margin_x)] = True
-    sums = np.where(inside, sums, -1)
-    top, left = np.unravel_index(int(np.argmax(sums)), sums.shape)
-    u, v = left + cw / 2.0, top + ch / 2.0
-    if int(values["DepthType"]) != 0:
-        return u, v, (left, top)  # world-z depth: keep the reference position
-    level = float(depth[top:top + ch, left:left + cw].max())  # the foreground's: the edge belongs to the nearer object
-    z = level_to_z(level, bits, reference["znear"], reference["zfar"])
-    source = query.camera(tool, cfg_path.resolve(), reference["camera"], settings)
-    target = scene["virtual_camera"]
-    k_s, r_s, k_t, r_t = (np.array(m, dtype=float) for m in (source["K"], source["R"], target["K"], target["R"]))
-    x_cam = z * np.linalg.solve(k_s, np.array([u, v, 1.0]))
-    world = r_s.T @ x_cam + np.array(source["centre"], dtype=float)
-    p = k_t @ (r_t @ (world - np.array(target["centre"], dtype=float)))
-    return p[0] / p[2], p[1] / p[2], (left, top)
 
 
 # The rule that picks a crop's window (doc: the report's crop captions say it too).
