@@ -73,7 +73,7 @@ def _place_labels(fig, ax, points, labelled, fontsize=7):
             text = ax.annotate(str(number), (x, y), xytext=(dx, dy), textcoords="offset points", fontsize=fontsize,
                                ha="left" if dx > 0 else ("right" if dx < 0 else "center"), color="0.1")
             bb = text.get_window_extent(renderer)
-            box = (bb.x0, bb.y0, bb.x1, bb.y1)
+            box = (bb.x0 - 3, bb.y0 - 2, bb.x1 + 3, bb.y1 + 2)  # a margin: "2" beside "5" must not read "25"
             cost = sum(overlap(box, p) for p in placed) * 10 + sum(overlap(box, m) for m in marks)
             if bb.x0 < box_axes.x0 or bb.x1 > box_axes.x1 or bb.y0 < box_axes.y0 or bb.y1 > box_axes.y1:
                 cost += 1e6
@@ -162,8 +162,8 @@ def plot_section(report):
         if p["series"] not in series:
             series.append(p["series"])
     styles = {}
-    palette = {"VSRS 4.2": ["black", "0.45"], "ViewSyn": ["tab:blue", "tab:cyan", "tab:purple", "tab:olive",
-                                                           "mediumblue", "tab:gray", "navy"],
+    palette = {"VSRS 4.2": ["black", "0.5"], "ViewSyn": ["tab:blue", "tab:cyan", "tab:purple", "tab:olive",
+                                                          "mediumblue", "tab:green", "navy"],
                "MeshRender": ["tab:red", "tab:orange", "tab:brown", "tab:pink", "darkred"]}
     markers = {"VSRS 4.2": "*", "ViewSyn": "osD^v<>", "MeshRender": "sDp^v"}
     used = {}
