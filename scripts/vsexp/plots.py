@@ -312,10 +312,11 @@ def gain_section(report, pairs):
     rel = os.path.relpath(report.image_dir / name, report.path.parent)
     out = ["![Gain over VSRS 4.2 per scene](%s)\n" % rel]
     wins = {m.name: sum(1 for e in rows if e["gain"][m.name]["psnr_y"] > 0) for m in methods}
-    out.append("Per scene (%s), the gain over VSRS 4.2 general's own output, sorted by %s's PSNR-Y gain; above "
-               "zero is better than VSRS. Ahead on PSNR-Y: %s.\n" % (
+    out.append("Per scene (%s), the gain in dB over VSRS 4.2 general (PSNR-Y from `vsrs_baseline.csv`, IV-PSNR "
+               "of its own output), sorted by the PSNR-Y gain of *%s*; above zero is better than VSRS. Ahead of "
+               "VSRS on PSNR-Y: %s.\n" % (
                    ", ".join(sorted({e["camera"] for e in rows})), methods[0].label,
-                   "; ".join("%s %d of %d scenes" % (m.label, wins[m.name], len(rows)) for m in methods)))
+                   "; ".join("*%s* on %d of %d scenes" % (m.label, wins[m.name], len(rows)) for m in methods)))
     return out
 
 
