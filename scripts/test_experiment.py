@@ -10,7 +10,8 @@ twice (one scene group split into 1-frame jobs, one not) plus 1D runs, and check
   - a 1D run with TemporalImprovementOption 1 is not split, and one with 0 is split and verified;
   - resuming runs nothing and leaves the CSV as it was; deleting one row re-runs exactly that run;
   - a misspelt sweep key or a bad value is refused by --list before anything runs;
-  - the report, its plot and its crop are written.
+  - the report, its plot and its crop are written, every figure it names exists, and the chart's points
+    (written beside it as work_precision.json) equal the means of results.csv's rows.
 Exits 77 (CTest SKIP_RETURN_CODE) when python3-matplotlib or python3-numpy is missing.
 """
 
@@ -18,6 +19,7 @@ import argparse
 import csv
 import json
 import os
+import re
 import shutil
 import subprocess
 import sys
@@ -217,6 +219,26 @@ def test(root):
           and (report.parent / "results" / "crop_tiny_whole_cam1.png").is_file(),
           "the report, its plot and its crop are written")
     text = report.read_text() if report.is_file() else ""
+    images = re.findall(r"!\[[^\]]*\]\(([^)]+)\)", text)
+    check(len(images) >= 2 and all((report.parent / i).is_file() for i in images),
+          "every figure the report names exists: %s" % images)
+    # The chart's points are the CSV's means: the plot writes what it plotted beside the image.
+    plotted = report.parent / "results" / "work_precision.json"
+    values = json.loads(plotted.read_text()) if plotted.is_file() else {"pairs": [], "points": []}
+    pairs = {tuple(p) for p in values["pairs"]}
+    whole_rows = [r for r in rows if r["group"] == "whole"]
+    check(pairs == {(r["scene"], r["camera"]) for r in whole_rows},
+          "the chart's points are over the plot group's runs: %s" % sorted(pairs))
+    settings = sorted({r["settings"] for r in whole_rows})
+    check(sorted(p["settings"] for p in values["points"]) == settings,
+          "the chart has one point per setting: %s" % settings)
+    for point in values["points"]:
+        runs = [r for r in whole_rows if r["settings"] == point["settings"] and (r["scene"], r["camera"]) in pairs]
+        for key, column in (("psnr_y", "psnr_y"), ("ivpsnr", "ivpsnr"), ("seconds", "cpu_s_per_frame")):
+            want = sum(float(r[column]) for r in runs) / len(runs) if runs else None
+            check(want is not None and point[key] is not None and abs(point[key] - want) <= 1e-9,
+                  "chart point %s: %s %s equals the mean of results.csv's %s (%s)"
+                  % (point["settings"], key, point[key], column, want))
     check("| general (Precision=4 SynthesisMode=0) |" in text or "| general (Precision=1 SynthesisMode=0) |" in text,
           "the report's table names the best setting")
 

@@ -63,6 +63,7 @@ int main(int argCount, char** arguments) {
       synthesizer.synthesize(references, output);
       writer.append(output);
     }
+    writer.commit();  // the file is renamed into place only once it is whole
     std::printf("%d frames synthesized in memory\n", frames);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "EmbedConsumer: error: %s\n", e.what());

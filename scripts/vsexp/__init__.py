@@ -24,11 +24,14 @@ REPO = Path(__file__).resolve().parent.parent.parent
 TOOLS = ("ViewSyn", "MeshRender")
 STAGES = ("read_s", "depth_warp_s", "texture_warp_s", "blend_s", "hole_fill_s", "write_s")
 RESULT_FIELDS = ("scene", "group", "camera", "tool", "settings", "config", "frames", "jobs", "split", "split_check",
-                 "psnr_y", "psnr_u", "psnr_v", "psnr_yuv", "seconds_per_frame") + STAGES + (
+                 "psnr_y", "psnr_u", "psnr_v", "psnr_yuv", "ivpsnr", "ssim_y", "seconds_per_frame") + STAGES + (
                  "wall_s_per_frame", "cpu_s_per_frame", "output", "finished")
+# Metrics besides PSNR every run scores (QualityMetrics; doc/metrics.md) and the summary columns kept.
+QUALITY_METRICS = "ivpsnr,ssim"
+METRIC_COLUMNS = ("ivpsnr", "ssim_y")
 # Keys the runner sets itself on every command line; an experiment may not set them.
 RUNNER_KEYS = {"StartFrame", "OutputVirtualViewImageName", "ReferenceVirtualViewImageName", "ReportFile",
-               "SummaryFile", "Threads"}
+               "SummaryFile", "Threads", "QualityMetrics"}
 
 
 class ExperimentError(Exception):

@@ -144,7 +144,9 @@ def main(argv=None):
             command = "python3 scripts/experiment.py %s -j %d --report %s" % (
                 os.path.relpath(exp.path, Path.cwd()), args.jobs, os.path.relpath(Path(args.report).resolve(),
                                                                                  Path.cwd()))
-            Report(exp, runs, results, args.report, command, time.monotonic() - began, runner.query).write()
+            report = Report(exp, runs, results, args.report, command, time.monotonic() - began, runner.query)
+            report.vsrs_scores = runner.score_vsrs()
+            report.write()
             runner.say("report: %s" % args.report)
         return 1 if runner.failures else 0
     except ExperimentError as e:

@@ -13,7 +13,7 @@ import sys
 import time
 from pathlib import Path
 
-from . import ExperimentError
+from . import METRIC_COLUMNS, ExperimentError
 from . import tools
 
 
@@ -80,6 +80,7 @@ def execute_job(spec, processes=None, lock=None):
     if len(rows) != spec["count"]:
         raise JobFailed("%s wrote %d frames, expected %d (log %s)" % (tool, len(rows), spec["count"], log), 1)
     info = {"wall": wall, "cpu": cpu, "rows": rows, "output": str(output), "printed": tools.mean_psnr(summary),
+            "metrics": {k: tools.text_value((summary.get("mean") or {}).get(k), 6) for k in METRIC_COLUMNS},
             "version": tools.tool_version(summary)}
     tmp = done.with_suffix(".done.tmp")
     tmp.write_text(json.dumps(info))

@@ -88,7 +88,7 @@ class Experiment:
     """The parsed experiment file. Paths in the file are relative to the file's folder."""
 
     TOP = {"name", "title", "description", "data", "work", "threads", "scenes", "methods", "tables", "plot", "crops",
-           "notes", "baseline", "executor", "slurm"}
+           "notes", "baseline", "executor", "slurm", "vsrs_outputs"}
 
     def __init__(self, path, data_override=None, work_override=None):
         self.path = Path(path).resolve()
@@ -123,6 +123,7 @@ class Experiment:
                 problems.append("slurm.options: a list of sbatch options, e.g. [\"--qos=long\"]")
         else:
             self.slurm = {}
+        self.vsrs_outputs = self.data_dir / spec.get("vsrs_outputs", "vsrs42-outputs")
         self.scenes = self._scenes(spec["scenes"], problems)
         self.methods = self._methods(spec["methods"], problems)
         self.tables = spec.get("tables", [])
@@ -132,7 +133,7 @@ class Experiment:
         groups = {s.group for s in self.scenes}
         for i, table in enumerate(self.tables):
             where = "tables[%d]" % i
-            if check_keys(where, table, {"title", "groups", "rows", "per_scene", "caption"}, ("groups", "rows"),
+            if check_keys(where, table, {"title", "groups", "rows", "per_scene", "caption", "metric_cameras"}, ("groups", "rows"),
                           problems):
                 for g in table["groups"]:
                     if g not in groups:
@@ -144,7 +145,8 @@ class Experiment:
                         problems.append("%s: unknown method '%s'" % (w, row["method"]))
                     if ("method" in row) == ("vsrs" in row):
                         problems.append("%s: give exactly one of 'method' and 'vsrs'" % w)
-        if self.plot is not None and check_keys("plot", self.plot, {"file", "groups", "tools", "title", "seconds"},
+        if self.plot is not None and check_keys("plot", self.plot, {"file", "groups", "tools", "title", "seconds", "cameras", "gain_file",
+                                                        "gain_methods", "vsrs"},
                                                 ("groups",), problems):
             if self.plot.get("seconds", "cpu") not in ("cpu", "tool", "wall"):
                 problems.append("plot.seconds: one of cpu, tool, wall")
@@ -153,7 +155,7 @@ class Experiment:
                     problems.append("plot: unknown group '%s'" % g)
         for i, crop in enumerate(self.crops):
             where = "crops[%d]" % i
-            if check_keys(where, crop, {"scene", "camera", "methods", "size", "zoom", "frame", "file", "at", "caption"},
+            if check_keys(where, crop, {"scene", "camera", "methods", "size", "zoom", "frame", "file", "at", "caption", "vsrs"},
                           ("scene", "camera", "methods"), problems):
                 for m in crop["methods"]:
                     if m not in names:

@@ -10,7 +10,7 @@ import platform
 import subprocess
 from pathlib import Path
 
-from . import REPO, TOOLS
+from . import METRIC_COLUMNS, REPO, TOOLS
 from .experiment import settings_key
 from .crops import make_crop
 from . import plots, tools
@@ -31,6 +31,7 @@ class Report:
         self.command, self.elapsed = command, elapsed
         self.methods = {m.name: m for m in exp.methods}
         self.baseline = self._baseline()
+        self.vsrs_scores = {}  # (scene, camera, mode) -> YuvPsnr's means of VSRS 4.2's own output (runner.score_vsrs)
 
     def _baseline(self):
         path = self.exp.data_dir / self.exp.baseline_file
@@ -96,7 +97,9 @@ class Report:
                     for c in cameras:
                         b = self.baseline.get((s.name, c, spec["vsrs"]))
                         if b:
-                            cells[c].append((s.name, float(b["psnr_y"]), None, None, float(b["seconds"])))
+                            scores = self.vsrs_scores.get((s.name, c, spec["vsrs"]), {})
+                            cells[c].append((s.name, float(b["psnr_y"]), None, None, float(b["seconds"]),
+                                             {k: scores.get(k) for k in METRIC_COLUMNS}))
             elif spec["method"] not in self.methods:
                 label += " (not run: its tool is not built)"
             else:
@@ -111,7 +114,8 @@ class Report:
                         r = self.row(s.name, c, method.tool, settings_key(settings))
                         if r:
                             cells[c].append((s.name, _f(r["psnr_y"]), float(r["cpu_s_per_frame"]),
-                                             float(r["seconds_per_frame"]), float(r["wall_s_per_frame"])))
+                                             float(r["seconds_per_frame"]), float(r["wall_s_per_frame"]),
+                                             {k: _f(r.get(k)) for k in METRIC_COLUMNS}))
             rows.append((label, spec.get("short", spec.get("method", spec.get("vsrs", "?"))), cells))
         return scenes, cameras, rows
 
@@ -212,9 +216,12 @@ class Report:
         out = ["## %s\n" % table.get("title", "Comparison")]
         if table.get("caption"):
             out.append(table["caption"].strip() + "\n")
-        head = "| method | " + " | ".join(cameras) + " | CPU s/frame | in-tool s/frame | process s/frame |"
+        metric_cams = [c for c in table.get("metric_cameras", cameras) if c in cameras]
+        head = ("| method | " + " | ".join("PSNR-Y %s" % c for c in cameras) + " | "
+                + "".join("IV-PSNR %s | " % c for c in metric_cams) + "".join("SSIM-Y %s | " % c for c in metric_cams)
+                + "CPU s/frame | in-tool s/frame | process s/frame |")
         out.append(head)
-        out.append("|---|" + "---:|" * (len(cameras) + 3))
+        out.append("|---|" + "---:|" * (len(cameras) + 2 * len(metric_cams) + 3))
         n = len(scenes)
         for label, short, cells in rows:
             parts = []
@@ -224,16 +231,32 @@ class Report:
                 if values and len(values) < n:
                     text += " (%d/%d)" % (len(values), n)
                 parts.append(text)
+            for key, digits in (("ivpsnr", 2), ("ssim_y", 4)):
+                for c in metric_cams:
+                    values = [v[5][key] for v in cells[c] if v[5].get(key) is not None]
+                    text = fnum(mean(values), digits)
+                    if values and len(values) < n:
+                        text += " (%d/%d)" % (len(values), n)
+                    parts.append(text)
             cpu, tool, wall = (mean([v[k] for c in cameras for v in cells[c]]) for k in (2, 3, 4))
             out.append("| %s | %s | %s | %s | %s |" % (label, " | ".join(parts), fnum(cpu, 3), fnum(tool, 3),
                                                         fnum(wall, 3)))
         out.append("")
-        out.append("Cells: PSNR-Y in dB, mean over the %d scene%s of %s; (k/N) marks a mean over fewer scenes. "
+        out.append("Cells: PSNR-Y%s, mean over the %d scene%s of %s; (k/N) marks a mean over fewer scenes. "
                    "Seconds per frame, mean over the runs: *CPU*, the processes' CPU time (user + system, all "
                    "threads); *in-tool*, the tool's own wall-clock total of its stages; *process*, the processes' "
                    "wall clock. VSRS's figure is its process wall clock on an idle machine, single-threaded, so "
                    "compare it with *CPU* when this machine was busy."
-                   % (n, "s" if n != 1 else "", ", ".join(table["groups"])))
+                   % (" in dB, IV-PSNR (MPEG-I's metric, which forgives shifts of up to 2 samples and small global "
+                      "colour offsets; YUV 4:1:1, [metrics.md](metrics.md)) in dB and SSIM of luma (IV-PSNR "
+                      "software 7.1's convention)" if metric_cams else " in dB",
+                      n, "s" if n != 1 else "", ", ".join(table["groups"])))
+        if metric_cams and any("vsrs" in spec for spec in table["rows"]):
+            out.append("VSRS 4.2's IV-PSNR and SSIM are those of its own outputs for %s (`%s`), scored by "
+                       "`YuvPsnr --metrics psnr,ivpsnr,ssim --json` against the same reference (cached in `%s`); "
+                       "its PSNR-Y as scored so equals `vsrs_baseline.csv`'s." % (
+                           ", ".join(metric_cams), os.path.relpath(self.exp.vsrs_outputs, REPO),
+                           os.path.relpath(self.exp.work / "vsrs", REPO)))
         if any(v[1] is not None and not math.isfinite(v[1]) for _, _, cells in rows for c in cells for v in cells[c]):
             out.append("An exact frame (infinite PSNR) is left out of a mean.")
         out.append("")
@@ -290,7 +313,10 @@ class Report:
         return out
 
     def _crops(self):
-        out = ["## Zoomed crops around depth edges\n"]
+        out = ["## Where the methods differ: crops\n",
+               "Each crop: the truth, VSRS 4.2's own output and the tools' outputs over the same window, zoomed "
+               "without smoothing, colours as the files have them; above each panel its PSNR-Y over the crop. "
+               "The window is picked by a rule, not by hand (each caption says it).\n"]
         for i, crop in enumerate(self.exp.crops):
             try:
                 name, caption = make_crop(self, crop, i)

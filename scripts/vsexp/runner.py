@@ -13,7 +13,7 @@ import threading
 import time
 from pathlib import Path
 
-from . import RESULT_FIELDS, STAGES, TOOLS, ExperimentError
+from . import METRIC_COLUMNS, QUALITY_METRICS, RESULT_FIELDS, STAGES, TOOLS, ExperimentError
 from .experiment import setting_text, settings_key, slug
 from . import tools
 from .executors import LocalExecutor, execute_job, finished_job
@@ -249,6 +249,42 @@ class Runner:
         if missing:
             raise ExperimentError("configs missing after SceneGen: " + ", ".join(missing))
 
+    def score_vsrs(self):
+        """VSRS 4.2's own outputs (experiment key `vsrs_outputs`: a folder of SCENE_CAMERA_MODE.yuv, e.g.
+        Art_view3_general.yuv) scored against each scene's reference with `YuvPsnr --metrics psnr,ivpsnr,ssim
+        --json`; the JSON files are kept in WORK/vsrs/ and reused. Returns {(scene, camera, mode): mean}."""
+        folder = getattr(self.exp, "vsrs_outputs", None)
+        scores = {}
+        if not folder or not folder.is_dir() or not (self.bin_dir / "YuvPsnr").is_file():
+            return scores
+        baseline = {}
+        path = self.exp.data_dir / self.exp.baseline_file
+        if path.is_file():
+            with open(path, newline="") as f:
+                for r in csv.DictReader(f):
+                    baseline[(r["set"] + "/" + r["scene"], r["target"])] = (int(r["width"]), int(r["height"]))
+        cache = self.exp.work / "vsrs"
+        cache.mkdir(parents=True, exist_ok=True)
+        for scene in self.exp.scenes:
+            for camera in scene.cameras:
+                size = baseline.get((scene.name, camera))
+                reference = scene.reference_path(camera, None)
+                for mode in ("general", "1d"):
+                    output = folder / ("%s_%s_%s.yuv" % (scene.name.split("/")[-1], camera, mode))
+                    if not size or reference is None or not output.is_file():
+                        continue
+                    out = cache / ("%s_%s_%s.json" % (slug(scene.name), camera, mode))
+                    if not out.is_file():
+                        cmd = [str(self.bin_dir / "YuvPsnr"), str(reference), str(output), "%dx%d" % size,
+                               "--metrics", "psnr,ivpsnr,ssim", "--json", str(out) + ".tmp"]
+                        done = subprocess.run(cmd, capture_output=True, text=True)
+                        if done.returncode != 0:
+                            raise ExperimentError("%s failed (exit %d): %s" % (" ".join(cmd), done.returncode,
+                                                                               done.stderr.strip()))
+                        os.replace(str(out) + ".tmp", out)
+                    scores[(scene.name, camera, mode)] = json.loads(out.read_text()).get("mean", {})
+        return scores
+
     def say(self, text):
         if not self.quiet:
             print(text, flush=True)
@@ -259,7 +295,7 @@ class Runner:
         cmd += ["%s=%s" % (k, v) for k, v in sorted(run.settings.items())]
         cmd += ["StartFrame=%d" % start, "TotalNumberOfFrames=%d" % count,
                 "OutputVirtualViewImageName=%s" % output, "ReferenceVirtualViewImageName=%s" % run.reference,
-                "SummaryFile=%s" % summary, "Threads=%d" % self.exp.threads]
+                "SummaryFile=%s" % summary, "Threads=%d" % self.exp.threads, "QualityMetrics=%s" % QUALITY_METRICS]
         return cmd
 
     def job_spec(self, run, index, start, count):
@@ -326,6 +362,12 @@ class Runner:
             "output": os.path.relpath(output, self.exp.work) if run.keep_output else "",
             "finished": datetime.datetime.now().isoformat(timespec="seconds"),
         }
+        for k in METRIC_COLUMNS:
+            if len(infos) == 1 and infos[0].get("metrics", {}).get(k):
+                row[k] = infos[0]["metrics"][k]
+            else:
+                m = frame_mean([r.get(k, "") for r in rows])
+                row[k] = "%.6f" % float(m) if m not in ("", "inf") else m
         for stage in STAGES:
             row[stage] = "%.6f" % (sum(float(r[stage]) for r in rows) / frames)
         self.append_row(row)

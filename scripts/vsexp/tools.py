@@ -87,6 +87,11 @@ def frame_rows(summary):
     return rows
 
 
+def text_value(value, digits):
+    """A summary value as the CSV writes it ("" when absent)."""
+    return _text(value, digits) if value is not None else ""
+
+
 def mean_psnr(summary):
     """(Y, U, V, YUV) frame-mean PSNR texts as the run's last lines print them ("-" where none)."""
     mean = summary.get("mean") or {}
