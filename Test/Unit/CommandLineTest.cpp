@@ -88,6 +88,27 @@ TEST(CommandLine, AMissingValueIsNamedAndAnOptionIsNeverTakenAsAValue) {
   EXPECT_TRUE(parsed.has("--quiet"));
 }
 
+TEST(CommandLine, AnEqualsSignJoinsAnOptionToItsFirstValue) {
+  // "--opt=value" must parse exactly as "--opt value", for one value and for the first of several.
+  vs::CommandLine joined, separate;
+  EXPECT_TRUE(vs::parseCommandLine({"in", "--runs=7", "--size=640", "480", "--range=1", "inf", "out"}, exampleTool(),
+                                   joined)
+                  .empty());
+  EXPECT_TRUE(vs::parseCommandLine({"in", "--runs", "7", "--size", "640", "480", "--range", "1", "inf", "out"},
+                                   exampleTool(), separate)
+                  .empty());
+  EXPECT_EQ(joined.options, separate.options);
+  EXPECT_EQ(joined.positional, separate.positional);
+  EXPECT_EQ(joined.text("--runs"), "7");
+  // Only the first '=' splits; the rest belongs to the value (checked like any value).
+  vs::CommandLine parsed;
+  EXPECT_EQ(vs::parseCommandLine({"in", "out", "--runs=1=2", "--quiet=yes", "--frob=1", "--size=3"}, exampleTool(),
+                                 parsed),
+            (std::vector<std::string>{"--runs N: expected an integer in [1, 100], got '1=2'",
+                                      "--quiet takes no value, got '--quiet=yes'", "unknown option '--frob=1'",
+                                      "--size needs W H"}));
+}
+
 TEST(CommandLine, UsageListsEveryOption) {
   const vs::CommandLineTool tool = exampleTool();
   const std::string usage = vs::usageText(tool);

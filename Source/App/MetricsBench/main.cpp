@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "Common/CommandLine.h"
 #include "Common/Error.h"
 #include "Common/Frame.h"
 #include "Common/IvPsnr.h"
@@ -31,24 +32,6 @@ struct BenchOptions {
   int threads = 0;
   std::string referenceBinary;  // IV-PSNR 7.1's IVPSNR executable
 };
-
-void printUsage() {
-  std::printf(
-      "MetricsBench %s: milliseconds per frame of each quality metric, ours and (optionally) the\n"
-      "IV-PSNR reference software's, with both values.\n\n"
-      "usage: MetricsBench [REF.yuv TEST.yuv WxH] [options]\n"
-      "  without files: a generated 1920x1080 4:2:0 8-bit pair (a smooth texture and the same shifted\n"
-      "  by one sample, offset by 2 levels and noisy), written to /tmp for the reference software\n\n"
-      "options:\n"
-      "  --bitdepth B     8..16 (default 8)\n"
-      "  --chroma F       420|444|400 (default 420)\n"
-      "  --repeat N       timed runs per metric; the fastest and the median are printed (default 5)\n"
-      "  --threads T      threads per metric, 0 = all hardware threads (default 0)\n"
-      "  --reference BIN  the IV-PSNR reference software's IVPSNR binary: run it on the same frame with\n"
-      "                   one thread and with its default threads (-v 3) and print its times and values\n"
-      "  --help           print this help and exit\n",
-      VS_VERSION);
-}
 
 // A smooth random texture (sum of a few sinusoids) plus the same shifted, offset and noisy.
 void generatePair(vs::Frame& ref, vs::Frame& test, const vs::FrameFormat& format) {
@@ -255,57 +238,52 @@ bool parseSize(const std::string& text, int& width, int& height) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  BenchOptions options;
-  options.format.width = 1920;
-  options.format.height = 1080;
-  std::vector<std::string> positional, errors;
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    if (a == "--help" || a == "-h") {
-      printUsage();
-      return 0;
+  vs::CommandLineTool tool;
+  tool.name = "MetricsBench";
+  tool.description =
+      "milliseconds per frame of each quality metric, ours and (optionally) the\n"
+      "IV-PSNR reference software's, with both values. Without files: a generated 1920x1080 4:2:0 8-bit pair\n"
+      "(a smooth texture and the same shifted by one sample, offset by 2 levels and noisy), written to /tmp\n"
+      "for the reference software.";
+  tool.synopsis = {"[REF.yuv TEST.yuv WxH] [options]"};
+  tool.options = {
+      {"--bitdepth", {"B"}, "8..16 (default 8)", vs::integerValues(8, 16)},
+      {"--chroma", {"F"}, "420|444|400 (default 420)",
+       [](const std::vector<std::string>& values) {
+         vs::ChromaFormat chroma;
+         return vs::parseChromaFormat(values[0], chroma) ? std::string()
+                                                         : "expected one of 420, 444, 400, got '" + values[0] + "'";
+       }},
+      {"--repeat", {"N"}, "timed runs per metric; the fastest and the median are printed (default 5)",
+       vs::integerValues(1, 1000)},
+      {"--threads", {"T"}, "threads per metric, 0 = all hardware threads (default 0)", vs::integerValues(0, 256)},
+      {"--reference", {"BIN"},
+       "IV-PSNR reference software's IVPSNR binary: its times (1 thread, default) and values"},
+  };
+  tool.notes = "Exit codes: 0 done, 1 file error, 2 bad arguments.";
+  tool.runsWithoutArguments = true;
+  tool.checkPositional = [](const vs::CommandLine& line) -> std::string {
+    int width = 0, height = 0;
+    if (line.positional.empty()) return "";
+    if (line.positional.size() != 3)
+      return "expected REF.yuv TEST.yuv WxH or no arguments, got " + std::to_string(line.positional.size());
+    return parseSize(line.positional[2], width, height) ? "" : "size '" + line.positional[2] + "' is not WIDTHxHEIGHT";
+  };
+  tool.run = [](const vs::CommandLine& line) {
+    BenchOptions options;
+    options.format.width = 1920;
+    options.format.height = 1080;
+    if (line.positional.size() == 3) {
+      options.refPath = line.positional[0];
+      options.testPath = line.positional[1];
+      parseSize(line.positional[2], options.format.width, options.format.height);
     }
-    auto value = [&](int& out, int lo, int hi) {
-      if (i + 1 >= argc) return errors.push_back(a + " needs a value");
-      const std::string v = argv[++i];
-      char* end = nullptr;
-      const long n = std::strtol(v.c_str(), &end, 10);
-      if (v.empty() || *end != '\0' || n < lo || n > hi)
-        return errors.push_back(a + " '" + v + "' is not an integer in " + std::to_string(lo) + ".." +
-                                std::to_string(hi));
-      out = int(n);
-    };
-    if (a == "--bitdepth") value(options.format.bitDepth, 8, 16);
-    else if (a == "--repeat") value(options.repeat, 1, 1000);
-    else if (a == "--threads") value(options.threads, 0, 256);
-    else if (a == "--chroma") {
-      if (i + 1 >= argc || !vs::parseChromaFormat(argv[++i], options.format.chroma))
-        errors.push_back("--chroma needs one of 420, 444, 400");
-    } else if (a == "--reference") {
-      if (i + 1 >= argc) errors.push_back("--reference needs a path");
-      else options.referenceBinary = argv[++i];
-    } else if (a.size() > 1 && a[0] == '-') {
-      errors.push_back("unknown option '" + a + "'");
-    } else {
-      positional.push_back(a);
-    }
-  }
-  if (positional.size() == 3) {
-    options.refPath = positional[0];
-    options.testPath = positional[1];
-    if (!parseSize(positional[2], options.format.width, options.format.height))
-      errors.push_back("size '" + positional[2] + "' is not WIDTHxHEIGHT");
-  } else if (!positional.empty()) {
-    errors.push_back("expected REF.yuv TEST.yuv WxH or no arguments, got " + std::to_string(positional.size()));
-  }
-  if (!errors.empty()) {
-    for (const std::string& e : errors) std::fprintf(stderr, "MetricsBench: error: %s\n", e.c_str());
-    return 2;
-  }
-  try {
+    options.format.bitDepth = int(line.integer("--bitdepth", options.format.bitDepth));
+    if (line.has("--chroma")) vs::parseChromaFormat(line.text("--chroma"), options.format.chroma);
+    options.repeat = int(line.integer("--repeat", options.repeat));
+    options.threads = int(line.integer("--threads", options.threads));
+    options.referenceBinary = line.text("--reference");
     return run(options);
-  } catch (const vs::InputError& error) {
-    std::fprintf(stderr, "MetricsBench: error: %s\n", error.what());
-    return 1;
-  }
+  };
+  return vs::runCommandLine(argc, argv, tool);
 }

@@ -118,14 +118,16 @@ std::vector<std::string> parseCommandLine(const std::vector<std::string>& args, 
     return nullptr;
   };
   for (size_t i = 0; i < args.size(); ++i) {
-    const std::string& arg = args[i];
-    if (arg.size() <= 2 || arg.compare(0, 2, "--") != 0) {
-      parsed.positional.push_back(arg);
+    if (args[i].size() <= 2 || args[i].compare(0, 2, "--") != 0) {
+      parsed.positional.push_back(args[i]);
       continue;
     }
+    // "--opt=value" is "--opt value": the text after the first '=' is the option's first value.
+    const size_t equals = args[i].find('=');
+    const std::string arg = args[i].substr(0, equals);
     const CommandOption* option = find(arg);
     if (!option) {
-      problems.push_back("unknown option '" + arg + "'");
+      problems.push_back("unknown option '" + args[i] + "'");
       continue;
     }
     if (option->action) {
@@ -133,6 +135,13 @@ std::vector<std::string> parseCommandLine(const std::vector<std::string>& args, 
       parsed.action = arg;
     }
     std::vector<std::string> values;
+    if (equals != std::string::npos) {
+      if (option->valueNames.empty()) {
+        problems.push_back(arg + " takes no value, got '" + args[i] + "'");
+        continue;
+      }
+      values.push_back(args[i].substr(equals + 1));
+    }
     while (values.size() < option->valueNames.size() && i + 1 < args.size() && !find(args[i + 1]))
       values.push_back(args[++i]);
     std::string valueNames;
