@@ -8,6 +8,8 @@
 
 #include <gtest/gtest.h>
 
+#include "TestFormat.h"
+
 #include "Common/Frame.h"
 #include "Common/IvPsnr.h"
 #include "Common/Metrics.h"
@@ -17,14 +19,7 @@ namespace {
 const double kInf = std::numeric_limits<double>::infinity();
 const double kPi = 3.14159265358979323846;
 
-vs::FrameFormat makeFormat(int width, int height, int bitDepth, vs::ChromaFormat chroma) {
-  vs::FrameFormat format;
-  format.width = width;
-  format.height = height;
-  format.bitDepth = bitDepth;
-  format.chroma = chroma;
-  return format;
-}
+using test::makeFormat;
 
 // A smooth texture with detail: no two neighbouring samples alike, so a shift shows in PSNR.
 void texture(vs::Frame& frame, unsigned seed) {

@@ -7,6 +7,8 @@
 
 #include <gtest/gtest.h>
 
+#include "TestFormat.h"
+
 #include "Common/Frame.h"
 #include "Common/Metrics.h"
 
@@ -27,14 +29,7 @@ double referencePsnr(double mse, int bitDepth) {
   return 20.0 * std::log10(std::pow(2.0, bitDepth) - 1.0) - 10.0 * std::log10(mse);
 }
 
-vs::FrameFormat makeFormat(int width, int height, int bitDepth, vs::ChromaFormat chroma) {
-  vs::FrameFormat format;
-  format.width = width;
-  format.height = height;
-  format.bitDepth = bitDepth;
-  format.chroma = chroma;
-  return format;
-}
+using test::makeFormat;
 
 void randomize(vs::Plane& plane, int maxValue, std::mt19937& random) {
   std::uniform_int_distribution<int> sample(0, maxValue);

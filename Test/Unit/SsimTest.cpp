@@ -9,6 +9,8 @@
 
 #include <gtest/gtest.h>
 
+#include "TestFormat.h"
+
 #include "Common/Frame.h"
 #include "Common/Ssim.h"
 
@@ -16,14 +18,7 @@ namespace {
 
 using vs::SsimConvention;
 
-vs::FrameFormat makeFormat(int width, int height, int bitDepth, vs::ChromaFormat chroma) {
-  vs::FrameFormat format;
-  format.width = width;
-  format.height = height;
-  format.bitDepth = bitDepth;
-  format.chroma = chroma;
-  return format;
-}
+using test::makeFormat;
 
 // A picture with structure at several scales plus noise, and a distorted copy of it.
 void makePair(vs::Frame& ref, vs::Frame& test, unsigned seed) {

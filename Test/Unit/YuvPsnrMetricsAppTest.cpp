@@ -13,6 +13,8 @@
 
 #include <gtest/gtest.h>
 
+#include "TestFormat.h"
+
 #include "Common/Frame.h"
 #include "Common/IvPsnr.h"
 #include "Common/Json.h"
@@ -32,14 +34,7 @@ ToolResult runTool(const std::string& arguments, const fs::path& scratch) {
   return vs::test::runTool("YuvPsnr", arguments, scratch);
 }
 
-vs::FrameFormat makeFormat(int width, int height, int bitDepth, vs::ChromaFormat chroma) {
-  vs::FrameFormat format;
-  format.width = width;
-  format.height = height;
-  format.bitDepth = bitDepth;
-  format.chroma = chroma;
-  return format;
-}
+using test::makeFormat;
 
 // Three frames: random texture with repeated first and last columns, and the test clip the same
 // shifted left by one sample in every plane (4:4:4) plus, in frame 2, noise.

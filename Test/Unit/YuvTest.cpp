@@ -8,6 +8,8 @@
 
 #include <gtest/gtest.h>
 
+#include "TestFormat.h"
+
 #include "Common/Error.h"
 #include "Common/Frame.h"
 #include "Common/Yuv.h"
@@ -24,14 +26,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-vs::FrameFormat makeFormat(int width, int height, int bitDepth, vs::ChromaFormat chroma) {
-  vs::FrameFormat format;
-  format.width = width;
-  format.height = height;
-  format.bitDepth = bitDepth;
-  format.chroma = chroma;
-  return format;
-}
+using test::makeFormat;
 
 // Frame bytes computed here from the layout rules, not with FrameFormat::frameBytes().
 uint64_t expectedFrameBytes(int width, int height, int bitDepth, vs::ChromaFormat chroma) {
