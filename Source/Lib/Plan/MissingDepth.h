@@ -27,7 +27,7 @@ struct FarEvidence {
 // Luma difference, as a fraction of the largest sample value, beyond which two views see different
 // surfaces; and the share of tested samples that must contradict Zfar for level 0 to be missing.
 constexpr double kFarColourTolerance = 0.08;
-constexpr double kFarContradictedShare = 0.5;
+constexpr double kFarContradictedShare = 0.65;
 
 // Tests level 0's far reading in every reference view against the others (every second sample in
 // both directions). `references`: the first frame's inputs, in the scene's order.
