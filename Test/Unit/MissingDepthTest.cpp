@@ -107,5 +107,48 @@ TEST(MissingDepthAuto, HolesCutIntoDepthAreFilled) {
             << exactResult.psnr << " dB; " << result.plan.missingDepthEvidence[0] << "\n";
 }
 
+// A mix in one picture: the plane behind the square truly at Zfar (level 0, most of the picture) and
+// holes cut into the square, also coded as level 0. The reading is one per scene: the plane's
+// agreeing samples outweigh the square's contradicted ones, so level 0 stays far, and that is the
+// better of the two readings here (taking level 0 as missing would drop the whole plane).
+TEST(MissingDepthAuto, MixedPictureTakesTheReadingMostSamplesSupport) {
+  Rig rig(200.0);
+  test::RenderedReferences mixed = test::renderReferences(rig.analytic, rig.scene);
+  const int squareLevel = zToLevelRounded(rig.analytic.squareZ, rig.analytic.range);
+  size_t holes = 0;
+  for (size_t k = 0; k < mixed.depths.size(); ++k) {
+    Plane& depth = mixed.depths[k];
+    for (int y = 0; y < depth.height; ++y)
+      for (int x = 0; x < depth.width; ++x)
+        if (depth.at(x, y) == squareLevel && ((x + 5 * int(k)) / 4) % 3 == 0 && (y / 4) % 2 == 0) {
+          depth.at(x, y) = 0;
+          ++holes;
+        }
+  }
+  ASSERT_GT(holes, 100u);
+  const std::vector<FarEvidence> evidence = testFarReading(rig.scene, mixed.frames());
+  for (const FarEvidence& e : evidence) {
+    EXPECT_GT(e.contradicted, 0u) << "the square's holes contradict Zfar";
+    EXPECT_LT(e.contradictedFraction(), kFarContradictedShare);
+  }
+  const AutoResult result = synthesizeAuto(rig.analytic, rig.scene, mixed);
+  EXPECT_EQ(result.plan.missingDepthLevel, -1);
+
+  Scene missingScene = rig.scene;
+  missingScene.settings.missingDepthLevel = 0;
+  missingScene.settings.missingDepthFill = true;
+  Synthesizer missing(missingScene, test::planOnPath(missingScene));
+  Frame missingOutput, truth;
+  Plane unused;
+  StageTimes times;
+  missing.synthesize(mixed.frames(), missingOutput, times);
+  rig.analytic.render(rig.scene.virtualCamera, truth, unused);
+  const double missingPsnr = framePsnr(truth, missingOutput).y;
+  EXPECT_GT(result.psnr, missingPsnr + 1.0) << "missing and filled " << missingPsnr;
+  EXPECT_GT(result.psnr, 25.0);
+  std::cout << "[ figure   ] mix: PSNR-Y auto (far) " << result.psnr << ", missing and filled " << missingPsnr << " dB; "
+            << result.plan.missingDepthEvidence[0] << "\n";
+}
+
 }  // namespace
 }  // namespace vs
