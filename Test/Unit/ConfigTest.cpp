@@ -96,6 +96,23 @@ TEST(Config, DefaultsApplyWhenUnset) {
   EXPECT_EQ(config.getString("Precision"), "2");
 }
 
+// `auto` is a value only of the Int keys that allow it (MissingDepthLevel, MissingDepthFill); an
+// explicit level keeps its meaning.
+TEST(Config, AutoOnlyWhereAllowed) {
+  const OptionTable table = viewSynOptionTable();
+  const Config autoConfig = Config::fromText(table, "MissingDepthLevel auto\nMissingDepthFill auto\n", "a.cfg", "/x");
+  EXPECT_TRUE(autoConfig.isAuto("MissingDepthLevel"));
+  EXPECT_TRUE(autoConfig.isAuto("MissingDepthFill"));
+  const Config explicitConfig = Config::fromText(table, "MissingDepthLevel 0\n", "a.cfg", "/x");
+  EXPECT_FALSE(explicitConfig.isAuto("MissingDepthLevel"));
+  EXPECT_EQ(explicitConfig.getInt("MissingDepthLevel"), 0);
+  EXPECT_FALSE(explicitConfig.isAuto("MissingDepthFill"));
+  const std::string error = errorOf([&] { Config::fromText(table, "DepthBlendDifference auto\n", "a.cfg", "/x"); });
+  EXPECT_NE(error.find("a.cfg:1: DepthBlendDifference = 'auto'"), std::string::npos) << error;
+  const std::string level = errorOf([&] { Config::fromText(table, "MissingDepthLevel automatic\n", "a.cfg", "/x"); });
+  EXPECT_NE(level.find("or auto"), std::string::npos) << level;
+}
+
 TEST(Config, InfinityOnlyWhereAllowed) {
   const OptionTable table = smallTable();
   const Config config = Config::fromText(table, "LeftFarthestDepthValue inf\n", "a.cfg", "/x");

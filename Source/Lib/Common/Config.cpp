@@ -75,7 +75,8 @@ std::string formatNumber(double v) {
 std::string typeDescription(const OptionSpec& spec) {
   switch (spec.type) {
     case OptionType::Int:
-      return "integer in [" + formatNumber(spec.minValue) + ", " + formatNumber(spec.maxValue) + "]";
+      return "integer in [" + formatNumber(spec.minValue) + ", " + formatNumber(spec.maxValue) + "]" +
+             (spec.allowAuto ? " or auto" : "");
     case OptionType::Double: {
       std::string text = spec.minValue <= -1e300 && spec.maxValue >= 1e300
                              ? std::string("finite number")
@@ -419,6 +420,7 @@ void Config::validateValues(ProblemList& problems) const {
     switch (s.type) {
       case OptionType::Int: {
         int64_t v = 0;
+        if (s.allowAuto && value == "auto") break;
         if (!parseInt(value, v) || double(v) < s.minValue || double(v) > s.maxValue)
           problems.add(prefix + "expected an " + typeDescription(s));
         break;
@@ -472,6 +474,8 @@ int64_t Config::getInt(const std::string& key) const {
   VS_CHECK_MSG(parseInt(raw(key), v), key.c_str());  // values were validated in load()
   return v;
 }
+
+bool Config::isAuto(const std::string& key) const { return spec(key).allowAuto && raw(key) == "auto"; }
 
 double Config::getDouble(const std::string& key) const {
   const OptionSpec& s = spec(key);

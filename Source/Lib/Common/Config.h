@@ -42,6 +42,7 @@ struct OptionSpec {
   double minValue = -1e300;        // Int and Double range, inclusive
   double maxValue = 1e300;
   bool allowInfinity = false;      // Double: `inf` accepted (Zfar)
+  bool allowAuto = false;          // Int: `auto` accepted (the plan decides; Config::isAuto)
   std::vector<std::string> choices;  // Choice
   std::string help;                // one line: what it means
   std::string vsrsDefault;         // VSRS 4.2's default, for the manual; "-" when VSRS has no such key
@@ -94,7 +95,9 @@ public:
 
   bool isSet(const std::string& key) const;  // given in the file or on the command line
   std::string raw(const std::string& key) const;  // effective text value (default when unset)
-  int64_t getInt(const std::string& key) const;
+  int64_t getInt(const std::string& key) const;  // not for a value `auto` (isAuto first)
+  // The value is `auto` (an Int option with allowAuto).
+  bool isAuto(const std::string& key) const;
   double getDouble(const std::string& key) const;
   std::string getString(const std::string& key) const;
   // File name with `\` turned into `/`, resolved against the folder of the config that set it

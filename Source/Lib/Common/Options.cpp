@@ -17,6 +17,11 @@ OptionSpec intOption(const char* key, long long defaultValue, double lo, double 
   return s;
 }
 
+OptionSpec autoIntOption(OptionSpec spec) {
+  spec.allowAuto = true;
+  return spec;
+}
+
 OptionSpec depthValueOption(const char* key, bool farthest, const char* help, bool required = true) {
   OptionSpec s;
   s.key = key;
@@ -143,11 +148,14 @@ void addSynthesisOptions(OptionTable& table) {
                        "Two warped depths closer than this (in depth levels) are blended; otherwise the nearer wins"),
              intOption("IvsrsInpaint", 1, 0, 1, "1",
                        "1: fill remaining holes from the background side, then inpaint (iVSRS); 0: plain Telea inpainting of the holes, as VSRS (OpenCV's, reproduced exactly)"),
-             intOption("MissingDepthLevel", -1, -1, 65535, "-",
-                       "Depth level meaning 'no depth' (MPEG-I uses 0); such samples are not warped. -1: off, as in VSRS"),
-             intOption("MissingDepthFill", 0, 0, 1, "-",
+             autoIntOption(intOption("MissingDepthLevel", -1, -1, 65535, "-",
+                       "Depth level meaning 'no depth' (MPEG-I uses 0); such samples are not warped. -1: off, as in VSRS "
+                       "(level 0 is Zfar); auto: the plan tests level 0's far reading against the other reference views "
+                       "on the first frame and decides (doc/algorithms.md)")),
+             autoIntOption(intOption("MissingDepthFill", 0, 0, 1, "-",
                        "1: a run of MissingDepthLevel samples along a row between two valid samples takes the "
-                       "farther one's level and is warped (marked unreliable); 0: missing samples are not warped"),
+                       "farther one's level and is warped (marked unreliable); 0: missing samples are not warped; "
+                       "auto: 1 when MissingDepthLevel auto finds level 0 missing, else as 0")),
              intOption("DepthEdgeAlignment", 4, 0, 64, "-",
                        "Samples by which a reference depth edge may move onto its texture edge: the nearer "
                        "surface's depth grows onto its colour (doc/algorithms.md); 0: off, as in VSRS"),

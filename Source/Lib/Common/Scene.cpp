@@ -219,8 +219,10 @@ SynthesisSettings readSynthesisSettings(const Config& config) {
   s.viewBlending = int(config.getInt("ViewBlending"));
   s.depthBlendDifference = int(config.getInt("DepthBlendDifference"));
   s.ivsrsInpaint = config.getInt("IvsrsInpaint") != 0;
-  s.missingDepthLevel = int(config.getInt("MissingDepthLevel"));
-  s.missingDepthFill = config.getInt("MissingDepthFill") != 0;
+  s.missingDepthAuto = config.isAuto("MissingDepthLevel");
+  s.missingDepthLevel = s.missingDepthAuto ? -1 : int(config.getInt("MissingDepthLevel"));
+  s.missingDepthFillAuto = config.isAuto("MissingDepthFill");
+  s.missingDepthFill = !s.missingDepthFillAuto && config.getInt("MissingDepthFill") != 0;
   s.depthEdgeAlignment = int(config.getInt("DepthEdgeAlignment"));
   if (s.missingDepthLevel > s.depthFormat.maxValue())
     problems.add(where + ": MissingDepthLevel " + std::to_string(s.missingDepthLevel) + " is above the largest " +

@@ -67,6 +67,8 @@ struct SynthesisSettings {
   int depthBlendDifference = 5;              // depth levels
   bool ivsrsInpaint = true;
   int missingDepthLevel = -1;                // -1 off
+  bool missingDepthAuto = false;             // MissingDepthLevel auto: the plan decides on the first frame
+  bool missingDepthFillAuto = false;         // MissingDepthFill auto: filled when auto finds level 0 missing
   bool missingDepthFill = false;             // MissingDepthFill: runs between valid samples take the farther level
   int depthEdgeAlignment = 4;                // DepthEdgeAlignment: reach in samples; 0 off
   OneDOptions oneD;

@@ -6,6 +6,7 @@
 
 #include "Common/Error.h"
 #include "Mesh/MeshPly.h"
+#include "Plan/MissingDepth.h"
 #include "Synth/Colour.h"
 #include "Pipeline/FrameLoop.h"
 #include "Synth/Parallel.h"
@@ -20,6 +21,9 @@ public:
       : synthesizer_(scene, plan, settings) {}
   void render(const std::vector<ReferenceFrame>& references, Frame& output, StageTimes& times) override {
     synthesizer_.synthesize(references, output, times);
+  }
+  std::vector<std::string> prepare(const std::vector<ReferenceFrame>& firstFrame) override {
+    return synthesizer_.decideMissingDepth(firstFrame);
   }
   std::vector<std::string> plan() const override { return synthesizer_.plan(); }
   std::vector<std::pair<std::string, std::string>> decisions() const override { return synthesizer_.decisions().fields(); }
@@ -48,9 +52,8 @@ MeshSynthesizer::MeshSynthesizer(const Scene& scene, const Plan& plan, const Mes
       outputFormat_(scene.settings.textureFormat),
       rgb_(plan.rgb),
       hasChroma_(plan.chroma),
-      aligner_(scene.settings) {
+      aligner_(scene.settings, plan.missingDepthLevel) {
   VS_CHECK(plan_.tool == Tool::MeshRender && plan_.blending.weights.size() == scene.settings.references.size());
-  const SynthesisSettings& s = scene.settings;
   lumaGrid_ = lumaGrid(scene.virtualCamera, outputFormat_.width, outputFormat_.height);
   if (hasChroma_ && !rgb_) {
     chromaGrid_ = chromaGrid(scene.virtualCamera, outputFormat_.width, outputFormat_.height, outputFormat_.chroma);
@@ -58,11 +61,27 @@ MeshSynthesizer::MeshSynthesizer(const Scene& scene, const Plan& plan, const Mes
   }
   const SubPixelSampler sampler(plan.precision, plan.filter);
   renderer_.setSampling(&sampler);
+  buildViews();
+}
+
+std::vector<std::string> MeshSynthesizer::decideMissingDepth(const std::vector<ReferenceFrame>& firstFrame) {
+  if (!plan_.missingDepthAuto || plan_.missingDepthDecided) return {};
+  vs::decideMissingDepth(scene_, firstFrame, plan_);
+  aligner_ = DepthEdgeAligner(scene_.settings, plan_.missingDepthLevel);
+  buildViews();  // the meshes drop the missing level's vertices
+  return plan_.missingDepthEvidence;
+}
+
+void MeshSynthesizer::buildViews() {
+  const SynthesisSettings& s = scene_.settings;
+  const MeshSettings& settings = settings_;
+  const Scene& scene = scene_;
+  views_.clear();
   MeshOptions options;
   options.depthType = s.depthType;
   options.gridStep = settings.gridStep;
   options.discontinuityThreshold = settings.discontinuityThreshold;
-  options.missingDepthLevel = plan.missingDepthLevel;
+  options.missingDepthLevel = plan_.missingDepthLevel;
   for (const ReferenceView& reference : s.references) {
     ViewState view{DepthMeshBuilder(reference.camera, reference.depthRange, s.depthFormat.width, s.depthFormat.height, options),
                    false, {}, {}, {}, {}, {}, {}};

@@ -52,6 +52,9 @@ public:
   std::vector<NamedOutput> plyOutputs() const;
   // Renames the PLY files written with the first frame into place (the run ended well).
   void commitPlyFiles();
+  // MissingDepthLevel auto: the plan's decision on the first frame (Plan/MissingDepth.h); the meshes
+  // are rebuilt with it. Returns the decision's lines; none when there is nothing to decide.
+  std::vector<std::string> decideMissingDepth(const std::vector<ReferenceFrame>& firstFrame);
 
   // Lines for the plan printed before the first frame: the plan's, and what the renderer adds (the
   // OpenGL renderer, the mesh, each view's depth-buffer planes, PLY files).
@@ -70,6 +73,8 @@ public:
   size_t alignedDepthSamples() const { return alignedDepthSamples_; }
 
 private:
+  void buildViews();  // the per-view mesh builders and depth-buffer planes, from plan_
+
   struct ViewState {
     DepthMeshBuilder builder;
     bool depthRangeBounded = false;  // the scene's depth range bounds q in the virtual camera
@@ -82,7 +87,7 @@ private:
   };
 
   const Scene& scene_;
-  const Plan plan_;
+  Plan plan_;  // changed only by decideMissingDepth
   MeshSettings settings_;
   FrameFormat outputFormat_;
   bool rgb_;        // plan_.rgb

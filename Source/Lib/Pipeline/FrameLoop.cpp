@@ -38,6 +38,12 @@ RunSummary runSequence(const std::string& toolName, const Scene& scene, FrameRen
   for (int64_t f = 0; f < inputs.available(); ++f) try {
       StageTimes times;
       const SequenceInputs::FrameInputs frame = inputs.next(times.read);
+      if (f == 0) {
+        const std::vector<std::string> decided = renderer.prepare(frame.references);
+        if (!decided.empty()) report.recordDecisions(renderer.decisions());
+        if (log)
+          for (const std::string& line : decided) std::fprintf(log, "plan, first frame: %s\n", line.c_str());
+      }
       renderer.render(frame.references, output, times);
       const int64_t uncovered = renderer.uncoveredSamples();
       if (uncovered >= 0) {

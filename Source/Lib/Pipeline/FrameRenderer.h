@@ -19,6 +19,9 @@ public:
   virtual ~FrameRenderer() = default;
   // Renders the virtual view of one frame; adds its stage times to `times`.
   virtual void render(const std::vector<ReferenceFrame>& references, Frame& output, StageTimes& times) = 0;
+  // Called with the first frame's inputs before it is rendered, for decisions that need the pictures
+  // (MissingDepthLevel auto); returns the lines that say what was decided (none: nothing to decide).
+  virtual std::vector<std::string> prepare(const std::vector<ReferenceFrame>& /*firstFrame*/) { return {}; }
   // Lines describing what this renderer will do (the plan), printed before the first frame.
   virtual std::vector<std::string> plan() const = 0;
   // The plan's decisions as key/value pairs (Plan::fields), for the JSON summary; none by default.

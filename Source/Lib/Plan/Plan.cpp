@@ -101,6 +101,8 @@ Plan makePlan(const Scene& scene, Tool tool) {
   plan.filter = s.filter;
   plan.missingDepthLevel = s.missingDepthLevel;
   plan.missingDepthFill = s.missingDepthLevel >= 0 && s.missingDepthFill;
+  plan.missingDepthAuto = s.missingDepthAuto;
+  plan.missingDepthFillAuto = s.missingDepthFillAuto || s.missingDepthFill;
   plan.depthEdgeAlignment = std::max(0, s.depthEdgeAlignment);
 
   // What the tool cannot do is refused before anything else is looked at.

@@ -48,6 +48,12 @@ struct Plan {
   int edgeLevelStep = 1;      // depth-level step that marks a reference depth edge
   int missingDepthLevel = -1; // MissingDepthLevel: such samples carry no depth; -1: none
   bool missingDepthFill = false;  // runs of it between valid samples along a row take the farther level
+  // MissingDepthLevel auto: level 0's reading is decided on the first frame (Plan/MissingDepth.h),
+  // which sets the two fields above and says why, one line per reference view.
+  bool missingDepthAuto = false;
+  bool missingDepthFillAuto = true;      // MissingDepthFill auto or 1: filled when auto finds level 0 missing
+  bool missingDepthDecided = false;      // decideMissingDepth has run
+  std::vector<std::string> missingDepthEvidence;  // "depth1: 6.5 % at level 0, far contradicted for 93 %: ..."
   int depthEdgeAlignment = 0; // DepthEdgeAlignment: reach in samples, 0: off; runs with two views or more
 
   // Stages switched on or off by the path and the keys.

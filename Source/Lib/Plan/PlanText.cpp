@@ -33,6 +33,17 @@ std::string weightList(const Plan& plan, const char* pattern, const char* separa
   return text;
 }
 
+// MissingDepthLevel auto: before the first frame, that it will be decided; after, the decision with
+// its evidence, one line per reference view.
+void addMissingDepthAutoLines(const Plan& plan, std::vector<std::string>& lines) {
+  if (!plan.missingDepthAuto) return;
+  if (!plan.missingDepthDecided) {
+    lines.push_back("depth level 0: far or missing, decided on the first frame (MissingDepthLevel auto)");
+    return;
+  }
+  for (const std::string& line : plan.missingDepthEvidence) lines.push_back(line);
+}
+
 std::vector<std::string> viewSynLines(const Plan& plan) {
   std::vector<std::string> lines;
   if (plan.copyOf >= 0) {
@@ -59,6 +70,7 @@ std::vector<std::string> viewSynLines(const Plan& plan) {
                                     : "background-side fill (directional; not along rows: the rig is not rectified) "
                                       "and depth-aware inpainting") +
                   ", on frames that have holes");
+  addMissingDepthAutoLines(plan, lines);
   if (plan.missingDepthLevel >= 0)
     lines.push_back("depth level " + std::to_string(plan.missingDepthLevel) + " is missing depth: " +
                     (plan.missingDepthFill ? "runs between valid samples along a row take the farther level "
@@ -79,6 +91,7 @@ std::vector<std::string> viewSynLines(const Plan& plan) {
 
 std::vector<std::string> meshRenderLines(const Plan& plan) {
   std::vector<std::string> lines;
+  addMissingDepthAutoLines(plan, lines);
   if (plan.missingDepthLevel >= 0)
     lines.push_back("depth level " + std::to_string(plan.missingDepthLevel) + " is missing depth: " +
                     (plan.missingDepthFill ? "runs between valid samples take the farther level, the rest are dropped"
@@ -124,6 +137,10 @@ std::vector<std::pair<std::string, std::string>> Plan::fields() const {
   f.emplace_back("edge_level_step", std::to_string(edgeLevelStep));
   f.emplace_back("missing_depth_level", std::to_string(missingDepthLevel));
   f.emplace_back("missing_depth_fill", flag(missingDepthFill));
+  f.emplace_back("missing_depth_auto", flag(missingDepthAuto));
+  std::string evidence;
+  for (const std::string& line : missingDepthEvidence) evidence += (evidence.empty() ? "" : "; ") + line;
+  f.emplace_back("missing_depth_evidence", evidence);
   f.emplace_back("depth_edge_alignment", std::to_string(viewLabels.size() < 2 ? 0 : depthEdgeAlignment));
   f.emplace_back("reference_edge_flags", flag(referenceEdgeFlags));
   f.emplace_back("clean_noise", flag(cleanNoise));

@@ -154,7 +154,7 @@ size_t alignDepthEdges(const Plane& depth, const Plane& luma, const EdgeAlignOpt
   return changed;
 }
 
-DepthEdgeAligner::DepthEdgeAligner(const SynthesisSettings& s) {
+DepthEdgeAligner::DepthEdgeAligner(const SynthesisSettings& s, int missingLevel) {
   if (s.depthEdgeAlignment <= 0 || s.references.size() < 2) return;
   views_.resize(s.references.size());
   for (size_t k = 0; k < views_.size(); ++k) {
@@ -174,12 +174,12 @@ DepthEdgeAligner::DepthEdgeAligner(const SynthesisSettings& s) {
     VS_CHECK(view.witness >= 0 && size_t(view.witness) < views_.size() && size_t(view.witness) != k);
     view.projection.emplace(reference.camera, s.references[size_t(view.witness)].camera, s.depthType);
     view.inverseDepth = inverseZTable(reference.depthRange);
-    if (s.missingDepthLevel >= 0 && size_t(s.missingDepthLevel) < view.inverseDepth.size())
-      view.inverseDepth[size_t(s.missingDepthLevel)] = std::nan("");
+    if (missingLevel >= 0 && size_t(missingLevel) < view.inverseDepth.size())
+      view.inverseDepth[size_t(missingLevel)] = std::nan("");
     view.options.reach = s.depthEdgeAlignment;
     view.options.minStep = depthEdgeStep(s.depthFormat.maxValue());
     view.options.minContrast = 16 << std::max(0, s.textureFormat.bitDepth - 8);
-    view.options.missingLevel = s.missingDepthLevel;
+    view.options.missingLevel = missingLevel;
   }
 }
 

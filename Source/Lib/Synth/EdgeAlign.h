@@ -50,7 +50,11 @@ size_t alignDepthEdges(const Plane& depth, const Plane& luma, const EdgeAlignOpt
 // (camera centres). Off with one reference view (nothing to judge by) or DepthEdgeAlignment 0.
 class DepthEdgeAligner {
 public:
-  explicit DepthEdgeAligner(const SynthesisSettings& settings);
+  // `missingLevel`: the level that carries no depth (the plan's; MissingDepthLevel auto decides it on
+  // the first frame), -1: none. Without it: the settings' MissingDepthLevel.
+  DepthEdgeAligner(const SynthesisSettings& settings, int missingLevel);
+  explicit DepthEdgeAligner(const SynthesisSettings& settings)
+      : DepthEdgeAligner(settings, settings.missingDepthLevel) {}
   bool enabled() const { return !views_.empty(); }
   int witness(size_t view) const { return enabled() ? views_[view].witness : -1; }
   // View k's depth map aligned, given every view's texture luma this frame; `depth` itself when off.

@@ -17,7 +17,7 @@ Synthesizer::Synthesizer(const Scene& scene, const Plan& plan)
       rowPath_(plan.mode == SynthesisMode::Parallel1D),
       outputFormat_(scene.settings.textureFormat),
       sampler_(plan.precision, plan.filter),
-      aligner_(scene.settings) {
+      aligner_(scene.settings, plan.missingDepthLevel) {
   VS_CHECK(plan_.tool == Tool::ViewSyn && plan_.mode != SynthesisMode::Auto);
   VS_CHECK(plan_.blending.weights.size() == scene.settings.references.size());
   const SynthesisSettings& s = scene.settings;

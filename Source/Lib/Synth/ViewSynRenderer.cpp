@@ -5,6 +5,7 @@
 
 #include "Common/Depth.h"
 #include "Pipeline/FrameLoop.h"
+#include "Plan/MissingDepth.h"
 #include "Plan/Plan.h"
 #include "Synth/Parallel.h"
 #include "Synth/Synthesizer.h"
@@ -17,7 +18,14 @@ namespace {
 class ViewSynRenderer : public FrameRenderer {
 public:
   explicit ViewSynRenderer(const Scene& scene) : scene_(scene), plan_(makePlan(scene)) {
-    if (plan_.copyOf < 0) synthesizer_ = std::make_unique<Synthesizer>(scene, plan_);
+    if (plan_.copyOf < 0 && !plan_.missingDepthAuto) synthesizer_ = std::make_unique<Synthesizer>(scene, plan_);
+  }
+  // MissingDepthLevel auto: the plan decides on the first frame, then the synthesizer is built.
+  std::vector<std::string> prepare(const std::vector<ReferenceFrame>& firstFrame) override {
+    if (plan_.copyOf >= 0 || !plan_.missingDepthAuto || synthesizer_) return {};
+    decideMissingDepth(scene_, firstFrame, plan_);
+    synthesizer_ = std::make_unique<Synthesizer>(scene_, plan_);
+    return plan_.missingDepthEvidence;
   }
   void render(const std::vector<ReferenceFrame>& references, Frame& output, StageTimes& times) override {
     if (plan_.copyOf >= 0) {

@@ -1,0 +1,40 @@
+#pragma once
+// MissingDepthLevel auto (doc/algorithms.md, "Depth level 0: far or missing"): depth level 0 is read
+// as Zfar by VSRS and as "no depth" by MPEG-I's RVS and by our real data sets. The first frame's views
+// tell which: each level-0 sample of a reference view is taken at Zfar and projected into the other
+// reference views. Where such a view sees a valid, nearer surface there, or also level 0 but a colour
+// that differs by more than the tolerance, "far" is contradicted. The plan then reads level 0 as
+// missing and filled when most tested samples contradict it, and keeps VSRS's far reading otherwise.
+#include <string>
+#include <vector>
+
+#include "Common/Frame.h"
+#include "Common/Scene.h"
+#include "Plan/Plan.h"
+
+namespace vs {
+
+// The evidence against the far reading in one reference view.
+struct FarEvidence {
+  size_t samples = 0;       // samples of the view
+  size_t level0 = 0;        // of them at level 0
+  size_t tested = 0;        // level-0 samples (on the test grid) seen by another reference view at Zfar
+  size_t contradicted = 0;  // of those, hidden behind a nearer valid surface or of another colour
+  double level0Fraction() const { return samples ? double(level0) / double(samples) : 0.0; }
+  double contradictedFraction() const { return tested ? double(contradicted) / double(tested) : 0.0; }
+};
+
+// Luma difference, as a fraction of the largest sample value, beyond which two views see different
+// surfaces; and the share of tested samples that must contradict Zfar for level 0 to be missing.
+constexpr double kFarColourTolerance = 0.08;
+constexpr double kFarContradictedShare = 0.65;
+
+// Tests level 0's far reading in every reference view against the others (every second sample in
+// both directions). `references`: the first frame's inputs, in the scene's order.
+std::vector<FarEvidence> testFarReading(const Scene& scene, const std::vector<ReferenceFrame>& references);
+
+// With plan.missingDepthAuto: sets plan.missingDepthLevel, missingDepthFill and missingDepthEvidence
+// from testFarReading on the first frame, and marks the plan decided. Without it: nothing.
+void decideMissingDepth(const Scene& scene, const std::vector<ReferenceFrame>& references, Plan& plan);
+
+}  // namespace vs

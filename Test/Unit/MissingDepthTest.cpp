@@ -1,0 +1,154 @@
+// MissingDepthLevel auto (Plan/MissingDepth.h): the plan reads depth level 0 as Zfar or as missing from
+// the first frame's views. Truth: analytic scenes (Test/SynthTestScene.h) where level 0 is a real far
+// plane, or where holes are cut into exact depth maps and coded as level 0.
+#include <gtest/gtest.h>
+
+#include <iostream>
+
+#include "Common/Metrics.h"
+#include "Plan/MissingDepth.h"
+#include "SynthTestScene.h"
+#include "TestPlan.h"
+
+namespace vs {
+namespace {
+
+using test::AnalyticScene;
+
+struct AutoResult {
+  Plan plan;
+  double psnr = 0;  // PSNR-Y against the exact virtual view
+};
+
+AutoResult synthesizeAuto(const AnalyticScene& analytic, const Scene& scene, test::RenderedReferences& references) {
+  Scene configured = scene;
+  configured.settings.missingDepthAuto = true;
+  configured.settings.missingDepthFillAuto = true;
+  AutoResult result;
+  result.plan = test::planOnPath(configured);
+  decideMissingDepth(configured, references.frames(), result.plan);
+  Synthesizer synthesizer(configured, result.plan);
+  Frame output, truth;
+  Plane unused;
+  StageTimes times;
+  synthesizer.synthesize(references.frames(), output, times);
+  analytic.render(configured.virtualCamera, truth, unused);
+  result.psnr = framePsnr(truth, output).y;
+  return result;
+}
+
+struct Rig {
+  AnalyticScene analytic;
+  Scene scene;
+  explicit Rig(double planeZ) {
+    analytic.square = true;
+    analytic.width = 96;
+    analytic.height = 72;
+    analytic.squareHalf = 14.0;
+    analytic.range = DepthRange{50.0, 200.0, 8};
+    analytic.planeZ = planeZ;
+    scene = analytic.scene(analytic.camera("left", -3), analytic.camera("virtual", 0), analytic.camera("right", 3));
+  }
+};
+
+// The plane behind the square lies exactly at Zfar, so its exact depth is level 0: far is true, and
+// the other view sees the same colour there; auto keeps VSRS's reading.
+TEST(MissingDepthAuto, TrueFarPlaneAtLevelZeroStaysFar) {
+  Rig rig(200.0);
+  test::RenderedReferences references = test::renderReferences(rig.analytic, rig.scene);
+  size_t level0 = 0;
+  for (uint16_t level : references.depths[0].samples) level0 += level == 0;
+  ASSERT_GT(level0, references.depths[0].samples.size() / 2);
+  const std::vector<FarEvidence> evidence = testFarReading(rig.scene, references.frames());
+  for (const FarEvidence& e : evidence) {
+    EXPECT_GT(e.tested, 0u);
+    EXPECT_LT(e.contradictedFraction(), 0.1);
+  }
+  const AutoResult result = synthesizeAuto(rig.analytic, rig.scene, references);
+  EXPECT_EQ(result.plan.missingDepthLevel, -1);
+  EXPECT_FALSE(result.plan.missingDepthFill);
+  EXPECT_EQ(result.plan.missingDepthEvidence.size(), 2u);
+  EXPECT_GT(result.psnr, 35.0);
+  std::cout << "[ figure   ] far plane: PSNR-Y " << result.psnr << " dB; " << result.plan.missingDepthEvidence[0] << "\n";
+}
+
+// Exact maps of a plane at Z 150 with holes cut into them (blocks at level 0, other blocks in each
+// view): taken as far, they warp the plane's colour to the wrong place; auto finds far contradicted,
+// reads level 0 as missing and fills the holes, and gets close to the exact maps' result.
+TEST(MissingDepthAuto, HolesCutIntoDepthAreFilled) {
+  Rig rig(150.0);
+  test::RenderedReferences exact = test::renderReferences(rig.analytic, rig.scene);
+  test::RenderedReferences holed = exact;
+  // Holes in other places in each view, as missing data is (occlusions, failed matches).
+  for (size_t k = 0; k < holed.depths.size(); ++k) {
+    Plane& depth = holed.depths[k];
+    for (int y = 4; y < depth.height - 4; ++y)
+      for (int x = 0; x < depth.width; ++x)
+        if (((x + 9 * int(k)) / 6) % 3 == 1 && (y / 6) % 2 == 0) depth.at(x, y) = 0;
+  }
+  const AutoResult exactResult = synthesizeAuto(rig.analytic, rig.scene, exact);
+  EXPECT_EQ(exactResult.plan.missingDepthLevel, -1) << "no level 0 in exact maps: nothing contradicts far";
+
+  Scene farScene = rig.scene;
+  Synthesizer far(farScene, test::planOnPath(farScene));
+  Frame farOutput, truth;
+  Plane unused;
+  StageTimes times;
+  far.synthesize(holed.frames(), farOutput, times);
+  rig.analytic.render(rig.scene.virtualCamera, truth, unused);
+  const double farPsnr = framePsnr(truth, farOutput).y;
+
+  const AutoResult result = synthesizeAuto(rig.analytic, rig.scene, holed);
+  EXPECT_EQ(result.plan.missingDepthLevel, 0);
+  EXPECT_TRUE(result.plan.missingDepthFill);
+  EXPECT_GT(result.psnr, farPsnr + 3.0) << "far " << farPsnr;
+  EXPECT_GT(result.psnr, exactResult.psnr - 6.0) << "exact " << exactResult.psnr;
+  std::cout << "[ figure   ] holes: PSNR-Y auto " << result.psnr << ", far " << farPsnr << ", exact maps "
+            << exactResult.psnr << " dB; " << result.plan.missingDepthEvidence[0] << "\n";
+}
+
+// A mix in one picture: the plane behind the square truly at Zfar (level 0, most of the picture) and
+// holes cut into the square, also coded as level 0. The reading is one per scene: the plane's
+// agreeing samples outweigh the square's contradicted ones, so level 0 stays far, and that is the
+// better of the two readings here (taking level 0 as missing would drop the whole plane).
+TEST(MissingDepthAuto, MixedPictureTakesTheReadingMostSamplesSupport) {
+  Rig rig(200.0);
+  test::RenderedReferences mixed = test::renderReferences(rig.analytic, rig.scene);
+  const int squareLevel = zToLevelRounded(rig.analytic.squareZ, rig.analytic.range);
+  size_t holes = 0;
+  for (size_t k = 0; k < mixed.depths.size(); ++k) {
+    Plane& depth = mixed.depths[k];
+    for (int y = 0; y < depth.height; ++y)
+      for (int x = 0; x < depth.width; ++x)
+        if (depth.at(x, y) == squareLevel && ((x + 5 * int(k)) / 4) % 3 == 0 && (y / 4) % 2 == 0) {
+          depth.at(x, y) = 0;
+          ++holes;
+        }
+  }
+  ASSERT_GT(holes, 100u);
+  const std::vector<FarEvidence> evidence = testFarReading(rig.scene, mixed.frames());
+  for (const FarEvidence& e : evidence) {
+    EXPECT_GT(e.contradicted, 0u) << "the square's holes contradict Zfar";
+    EXPECT_LT(e.contradictedFraction(), kFarContradictedShare);
+  }
+  const AutoResult result = synthesizeAuto(rig.analytic, rig.scene, mixed);
+  EXPECT_EQ(result.plan.missingDepthLevel, -1);
+
+  Scene missingScene = rig.scene;
+  missingScene.settings.missingDepthLevel = 0;
+  missingScene.settings.missingDepthFill = true;
+  Synthesizer missing(missingScene, test::planOnPath(missingScene));
+  Frame missingOutput, truth;
+  Plane unused;
+  StageTimes times;
+  missing.synthesize(mixed.frames(), missingOutput, times);
+  rig.analytic.render(rig.scene.virtualCamera, truth, unused);
+  const double missingPsnr = framePsnr(truth, missingOutput).y;
+  EXPECT_GT(result.psnr, missingPsnr + 1.0) << "missing and filled " << missingPsnr;
+  EXPECT_GT(result.psnr, 25.0);
+  std::cout << "[ figure   ] mix: PSNR-Y auto (far) " << result.psnr << ", missing and filled " << missingPsnr << " dB; "
+            << result.plan.missingDepthEvidence[0] << "\n";
+}
+
+}  // namespace
+}  // namespace vs
