@@ -9,12 +9,6 @@ namespace vs {
 
 namespace {
 
-std::string formatNumber(const char* format, double value) {
-  char buffer[64];
-  std::snprintf(buffer, sizeof buffer, format, value);
-  return buffer;
-}
-
 std::string prefix(const Camera& camera, const std::string& where) {
   return (where.empty() ? std::string() : where + ": ") + "camera '" + camera.name + "': ";
 }

@@ -12,4 +12,10 @@ void checkFailed(const char* expression, const char* file, int line, const char*
   std::abort();
 }
 
+std::string formatNumber(const char* pattern, double value) {
+  char text[128];
+  std::snprintf(text, sizeof text, pattern, value);
+  return text;
+}
+
 }  // namespace vs

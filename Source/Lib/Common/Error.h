@@ -13,6 +13,9 @@ public:
   explicit InputError(const std::string& message) : std::runtime_error(message) {}
 };
 
+// One number formatted by a printf pattern with one double ("%g", "%.17g"), for messages and printouts.
+std::string formatNumber(const char* pattern, double value);
+
 [[noreturn]] void checkFailed(const char* expression, const char* file, int line, const char* message);
 
 }  // namespace vs

@@ -3,20 +3,15 @@
 #include <cstdio>
 #include <string>
 
+#include "Common/Error.h"
 #include "Plan/Plan.h"
 
 namespace vs {
 
 namespace {
 
-std::string format(const char* pattern, double value) {
-  char text[128];
-  std::snprintf(text, sizeof text, pattern, value);
-  return text;
-}
-
-std::string exact(double value) { return format("%.17g", value); }
-std::string exact(float value) { return format("%.9g", double(value)); }
+std::string exact(double value) { return formatNumber("%.17g", value); }
+std::string exact(float value) { return formatNumber("%.9g", double(value)); }
 std::string flag(bool value) { return value ? "true" : "false"; }
 
 const char* modeName(SynthesisMode mode) {
@@ -101,7 +96,7 @@ std::vector<std::string> meshRenderLines(const Plan& plan) {
                   (plan.rgb ? ", processed in RGB" : (plan.chroma ? "; chroma rendered at chroma resolution" : "")));
   lines.push_back("blend weights: " + weightList(plan, "%s%s %.4f", ", ") + " (" +
                   (plan.blending.nearestViewOnly ? "nearer view only" : "weighted blending") + "), depth tolerance " +
-                  format("%.4g", plan.blending.depthTolerance) + " (1/depth)");
+                  formatNumber("%.4g", plan.blending.depthTolerance) + " (1/depth)");
   lines.push_back(std::string("holes: ") + (plan.lumaFill.backgroundFirst
                                                 ? "background-side fill, then Telea inpainting"
                                                 : "plain Telea inpainting, as VSRS (identical to OpenCV's)"));

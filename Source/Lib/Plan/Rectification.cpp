@@ -1,3 +1,4 @@
+#include "Common/Error.h"
 #include "Plan/Rectification.h"
 
 #include <algorithm>
@@ -15,11 +16,6 @@ constexpr double kMaxFyDifference = 1e-9;
 constexpr double kMaxCyDifference = 1e-6;
 constexpr double kMaxSkew = 1e-9;
 
-std::string format(const char* pattern, double value) {
-  char text[128];
-  std::snprintf(text, sizeof text, pattern, value);
-  return text;
-}
 
 }  // namespace
 
@@ -29,10 +25,10 @@ bool Rectification::rectified() const {
 }
 
 std::string Rectification::describe() const {
-  std::string text = format("rotation differs by %.3g deg", rotationDegrees) +
-                     format(", centre off the x axis by %.3g of the baseline", offAxis) +
-                     format(", fy differs by %.3g (relative)", fyDifference) + format(", cy differs by %.3g px", cyDifference) +
-                     format(", skew %.3g px", skew);
+  std::string text = formatNumber("rotation differs by %.3g deg", rotationDegrees) +
+                     formatNumber(", centre off the x axis by %.3g of the baseline", offAxis) +
+                     formatNumber(", fy differs by %.3g (relative)", fyDifference) + formatNumber(", cy differs by %.3g px", cyDifference) +
+                     formatNumber(", skew %.3g px", skew);
   if (!depthTypeOk) text += ", DepthType 1 with a camera z axis that is not the world z axis";
   return text;
 }
