@@ -325,7 +325,7 @@ std::vector<Column> makeColumns(const PsnrOptions& options, bool hasChroma) {
 
 // The values of one frame, in the order of makeColumns().
 std::vector<double> frameValues(const PsnrOptions& options, bool hasChroma, const vs::Frame& refFrame,
-                                const vs::Frame& testFrame, vs::FramePsnr& psnr) {
+                                const vs::Frame& testFrame, vs::IvPsnrScratch& ivpsnrScratch, vs::FramePsnr& psnr) {
   std::vector<double> values;
   auto addPlanes = [&](const vs::FrameQuality& quality) {
     for (int p = 0; p < (hasChroma ? 3 : 1); ++p) values.push_back(quality.plane[p]);
@@ -336,7 +336,7 @@ std::vector<double> frameValues(const PsnrOptions& options, bool hasChroma, cons
     values.push_back(psnr.y);
     if (hasChroma) values.insert(values.end(), {psnr.u, psnr.v, psnr.yuv});
   }
-  if (options.metrics[kIvPsnr]) values.push_back(vs::ivPsnr(refFrame, testFrame, options.ivpsnr).ivpsnr);
+  if (options.metrics[kIvPsnr]) values.push_back(vs::ivPsnr(refFrame, testFrame, options.ivpsnr, ivpsnrScratch).ivpsnr);
   if (options.metrics[kWsPsnr])
     addPlanes(vs::wsPsnr(refFrame, testFrame, options.latitudeRange, options.ivpsnr.averageWeights));
   if (options.metrics[kSsim]) addPlanes(vs::ssim(refFrame, testFrame, options.ssim));
@@ -408,6 +408,7 @@ int run(const PsnrOptions& options) {
   std::printf("\n");
 
   vs::Frame refFrame, testFrame;
+  vs::IvPsnrScratch ivpsnrScratch;  // kept over the frames
   vs::PsnrAccumulator accumulator(format.bitDepth, hasChroma);
   std::vector<std::vector<double>> rows;
   std::vector<int64_t> frameIndices;
@@ -415,7 +416,7 @@ int run(const PsnrOptions& options) {
     ref.read(frameIndex, refFrame);
     test.read(frameIndex, testFrame);
     vs::FramePsnr psnr;
-    const std::vector<double> values = frameValues(options, hasChroma, refFrame, testFrame, psnr);
+    const std::vector<double> values = frameValues(options, hasChroma, refFrame, testFrame, ivpsnrScratch, psnr);
     accumulator.add(psnr);
     std::printf("%7lld", static_cast<long long>(frameIndex));
     for (size_t c = 0; c < columns.size(); ++c) {
