@@ -385,6 +385,49 @@ void writeReports(const PsnrOptions& options, const std::vector<Column>& columns
   }
 }
 
+// The means after the table: PSNR's two ways (frame-mean, mean-MSE), then every other column's.
+void printMeans(const PsnrOptions& options, bool hasChroma, const vs::PsnrAccumulator& accumulator,
+                const std::vector<Column>& columns, int64_t count) {
+  if (options.metrics[kPsnr]) {
+    std::printf("mean over %lld frames [dB]\n  %-5s %12s %12s\n", static_cast<long long>(count), "plane",
+                "frame-mean", "mean-MSE");
+    printMean("Y", accumulator.y(), count);
+    if (hasChroma) {
+      printMean("U", accumulator.u(), count);
+      printMean("V", accumulator.v(), count);
+      printMean("YUV", accumulator.yuv(), count);
+    }
+  }
+  bool others = false;
+  for (const Column& column : columns) {
+    if (column.key.rfind("psnr", 0) == 0) continue;
+    if (!others) std::printf("mean of the per-frame values over %lld frames\n", static_cast<long long>(count));
+    others = true;
+    std::string note;
+    if (column.decibel && column.identical > 0)
+      note = "  (" + std::to_string(column.identical) + " identical frame" + (column.identical > 1 ? "s" : "") +
+             (column.identical == count ? ", all)" : " left out)");
+    std::printf("  %-11s %12s%s\n", column.name.c_str(), formatValue(column, column.mean(count)).c_str(),
+                note.c_str());
+  }
+}
+
+// Prints one frame's row and adds its values to the columns' sums.
+void printFrame(int64_t frameIndex, const std::vector<double>& values, std::vector<Column>& columns) {
+  std::printf("%7lld", static_cast<long long>(frameIndex));
+  for (size_t c = 0; c < columns.size(); ++c) {
+    Column& column = columns[c];
+    std::printf(" %10s", formatValue(column, values[c]).c_str());
+    if (column.decibel && std::isinf(values[c])) {
+      ++column.identical;
+    } else {
+      column.sum += values[c];
+      ++column.finite;
+    }
+  }
+  std::printf("\n");
+}
+
 int run(const PsnrOptions& options) {
   vs::YuvReader ref(options.referencePath, options.format);
   vs::YuvReader test(options.testPath, options.format);
@@ -418,46 +461,13 @@ int run(const PsnrOptions& options) {
     vs::FramePsnr psnr;
     const std::vector<double> values = frameValues(options, hasChroma, refFrame, testFrame, ivpsnrScratch, psnr);
     accumulator.add(psnr);
-    std::printf("%7lld", static_cast<long long>(frameIndex));
-    for (size_t c = 0; c < columns.size(); ++c) {
-      Column& column = columns[c];
-      std::printf(" %10s", formatValue(column, values[c]).c_str());
-      if (column.decibel && std::isinf(values[c])) {
-        ++column.identical;
-      } else {
-        column.sum += values[c];
-        ++column.finite;
-      }
-    }
-    std::printf("\n");
+    printFrame(frameIndex, values, columns);
     if (!options.csvPath.empty() || !options.jsonPath.empty()) {
       rows.push_back(values);
       frameIndices.push_back(frameIndex);
     }
   }
-
-  if (options.metrics[kPsnr]) {
-    std::printf("mean over %lld frames [dB]\n  %-5s %12s %12s\n", static_cast<long long>(count), "plane",
-                "frame-mean", "mean-MSE");
-    printMean("Y", accumulator.y(), count);
-    if (hasChroma) {
-      printMean("U", accumulator.u(), count);
-      printMean("V", accumulator.v(), count);
-      printMean("YUV", accumulator.yuv(), count);
-    }
-  }
-  bool others = false;
-  for (const Column& column : columns) {
-    if (column.key.rfind("psnr", 0) == 0) continue;
-    if (!others) std::printf("mean of the per-frame values over %lld frames\n", static_cast<long long>(count));
-    others = true;
-    std::string note;
-    if (column.decibel && column.identical > 0)
-      note = "  (" + std::to_string(column.identical) + " identical frame" + (column.identical > 1 ? "s" : "") +
-             (column.identical == count ? ", all)" : " left out)");
-    std::printf("  %-11s %12s%s\n", column.name.c_str(), formatValue(column, column.mean(count)).c_str(),
-                note.c_str());
-  }
+  printMeans(options, hasChroma, accumulator, columns, count);
   writeReports(options, columns, frameIndices, rows);
   return 0;
 }
