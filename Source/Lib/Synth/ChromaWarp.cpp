@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <type_traits>
 
+#include "Synth/Kernels/Rows.h"
 #include "Synth/Synthesizer.h"
 
 namespace vs {
@@ -101,10 +102,8 @@ void Synthesizer::warpChroma(ViewState& view, const Frame& texture) {
         if (rows) {
           // backward() on a rectified pair: u = rowSource(x, wv), v = y; then cv is the integer j.
           projection.rowSources(blockDepth, chromaW, sources, kBlock, offset);
-          for (int i = 0; i < chromaW; ++i) {
-            sources[i] = (sources[i] - offset) / kBlock;
-            grid[i] = sampledU.gridIndex(sources[i]);
-          }
+          // sources[i] = (sources[i] - offset) / kBlock, grid[i] = sampledU.gridIndex(sources[i]).
+          rowKernels().chromaGridIndices(sources, chromaW, offset, kBlock, sampler.precision(), grid);
         } else {
           projection.backwardRow(blockDepth, chromaW, double(j * kBlock) + offset, sources, sourcesV, sourceOk, kBlock,
                                  offset);

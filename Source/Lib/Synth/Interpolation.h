@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "Common/Frame.h"
+#include "Synth/Kernels/Rows.h"
 
 namespace vs {
 
@@ -182,6 +183,7 @@ class SampledRow {
 public:
   template <int TAPS>
   void build(const SubPixelSampler& sampler, const Plane& plane, long long y, long long first, long long last) {
+    static_assert(TAPS == 2 || TAPS == 4 || TAPS == 6, "the kernels' tap counts");
     sampler_ = &sampler;
     row_ = plane.row(int(std::clamp(y, 0LL, (long long)plane.height - 1)));
     width_ = plane.width;
@@ -213,11 +215,11 @@ public:
           // (the samples are finite and non-negative): the sample itself.
           for (long long n = 0; n < count; ++n) to[n] = float(taps[n - offset]);
         } else {
-          for (long long n = 0; n < count; ++n) {
-            float sum = 0.0f;
-            for (int t = 0; t < TAPS; ++t) sum += k[t] * float(taps[n + t]);
-            to[n] = sum;
-          }
+          // The sum over the taps, k[t] * taps[n + t] in that order from 0, in a loop compiled for
+          // the CPU's x86-64 level (Synth/Kernels/Rows.h).
+          const RowKernels& kernels = rowKernels();
+          (TAPS == 2 ? kernels.sampleRowPhase2 : TAPS == 4 ? kernels.sampleRowPhase4 : kernels.sampleRowPhase6)(
+              taps, k, count, to);
         }
         ix = innerLast + 1;
       }

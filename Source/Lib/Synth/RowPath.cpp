@@ -10,6 +10,7 @@
 
 #include "Synth/Cracks.h"
 #include "Synth/Flags.h"
+#include "Synth/Kernels/Rows.h"
 #include "Synth/Synthesizer.h"
 
 namespace vs {
@@ -144,11 +145,13 @@ void Synthesizer::warpTextureRows(ViewState& view, const std::vector<const Plane
       gridRow.resize(size_t(width));
       double* sources = sourceRow.data();
       double* grid = gridRow.data();
+      const double precision = sampler.precision();
       for (int y = y0; y < y1; ++y) {
         const uint8_t* edges = view.referenceEdge.data() + size_t(y) * referenceWidth;
         for (int c = 0; c < kChannels; ++c) sampledRows[c].build<kTaps>(sampler, *planes[size_t(c)], y, -1, referenceWidth);
         projection.rowSources(depth + size_t(y) * width, width, sources);
-        for (int x = 0; x < width; ++x) grid[x] = sampledRows[0].gridIndex(sources[x]);
+        // sampledRows[0].gridIndex(sources[x]) for every x, in a loop compiled for the CPU's x86-64 level.
+        rowKernels().gridIndices(sources, width, precision, grid);
         for (int x = 0; x < width; ++x) {
           const size_t i = size_t(y) * width + x;
           if (depth[i] < 0) continue;

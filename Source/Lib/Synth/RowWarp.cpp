@@ -4,10 +4,13 @@
 #include <cmath>
 #include <cstring>
 
+#include "Synth/Kernels/Rows.h"
 #include "Synth/Layer.h"
 #include "Synth/Raster.h"
 
 namespace vs {
+
+static_assert(kKernelNoDepth == kNoDepth, "the row kernels' hole is the layers' hole");
 
 namespace {
 
@@ -61,22 +64,18 @@ inline TwoInts addsNothingTwice(const double* xs, const double* ws) {
 RowDepthWarp::RowDepthWarp(const ViewProjection& projection, const std::vector<double>& levelToRowDepth,
                            double discontinuity, int splatting)
     : projection_(projection), discontinuity_(discontinuity), splatting_(splatting) {
-  levels_.reserve(levelToRowDepth.size() + 1);
+  levels_.reserve(2 * (levelToRowDepth.size() + 1));
   for (double depth : levelToRowDepth) {
-    if (std::isnan(depth))
-      levels_.push_back({depth, kNoDepth});
-    else
-      levels_.push_back({projection.rowDisplacement(depth), depth});
+    levels_.push_back(std::isnan(depth) ? depth : projection.rowDisplacement(depth));
+    levels_.push_back(std::isnan(depth) ? kNoDepth : depth);
   }
-  levels_.push_back({std::nan(""), kNoDepth});
+  levels_.push_back(std::nan(""));
+  levels_.push_back(kNoDepth);
 }
 
 void RowDepthWarp::warp(const uint16_t* levels, int width, const uint8_t* nearBoundary, double* z, int outWidth,
                         Scratch& scratch) const {
   // Locals for everything the loops read: their stores (doubles) could alias members.
-  const ViewProjection projection = projection_;
-  const Level* table = levels_.data();
-  const size_t beyond = levels_.size() - 1;
   const double discontinuity = discontinuity_;
   const int splatting = splatting_;
   // One row's positions and depths, and the segments left to draw, kept by the caller between rows.
@@ -88,13 +87,10 @@ void RowDepthWarp::warp(const uint16_t* levels, int width, const uint8_t* nearBo
   double* xs = xsRow.data();
   double* ws = wsRow.data();
   // The level's displacement is rowTarget's second term: this is rowTarget(x, depth), bit for bit; a
-  // level that is not warped has a NaN displacement, so its position is not finite either.
-  for (int x = 0; x < width; ++x) {
-    const Level level = table[std::min(size_t(levels[x]), beyond)];
-    const double target = ViewProjection::snapPosition(projection.rowBase(x) + level.displacement);
-    ws[x] = std::isfinite(target) ? level.depth : kNoDepth;
-    xs[x] = target;
-  }
+  // level that is not warped has a NaN displacement, so its position is not finite either. A loop
+  // compiled for the CPU's x86-64 level (Synth/Kernels/Rows.h).
+  rowKernels().rowTargets(levels, width, levels_.data(), levels_.size() / 2 - 1, projection_.rowScale(),
+                          projection_.rowOffset(), xs, ws);
   // Every sample lands as a point, so thin foreground keeps its width.
   for (int x = 0; x < width; ++x) {
     if (ws[x] < 0) continue;
