@@ -91,13 +91,9 @@ void RowDepthWarp::warp(const uint16_t* levels, int width, const uint8_t* nearBo
   // compiled for the CPU's x86-64 level (Synth/Kernels/Rows.h).
   rowKernels().rowTargets(levels, width, levels_.data(), levels_.size() / 2 - 1, projection_.rowScale(),
                           projection_.rowOffset(), xs, ws);
-  // Every sample lands as a point, so thin foreground keeps its width.
-  for (int x = 0; x < width; ++x) {
-    if (ws[x] < 0) continue;
-    const double px = std::floor(xs[x] + 0.5);
-    if (px < 0 || px >= outWidth) continue;
-    raiseCell(z[size_t(px)], ws[x]);
-  }
+  // Every sample lands as a point, so thin foreground keeps its width (raiseCell at its nearest pixel
+  // centre, in the kernel).
+  rowKernels().rowPoints(xs, ws, width, z, outWidth);
   if (splatting == 0) return;
   // The segments between horizontal neighbours on one surface (within BoundaryGrowth samples of a
   // reference depth edge with SplattingOption 2), rasterised at the pixel centres they cover. Those

@@ -89,6 +89,21 @@ void rowTargets(const uint16_t* levels, int width, const double* table, size_t b
   }
 }
 
+void rowPoints(const double* xs, const double* ws, int width, double* z, int outWidth) {
+  for (int x = 0; x < width; ++x) {
+    if (ws[x] < 0) continue;
+    const double px = std::floor(xs[x] + 0.5);
+    if (px < 0 || px >= outWidth) continue;
+    // Synth/Raster.h's raiseCell: the larger of the two as signed 64-bit integers, stored either way.
+    double& cell = z[size_t(px)];
+    int64_t a, b;
+    std::memcpy(&a, &ws[x], sizeof a);
+    std::memcpy(&b, &cell, sizeof b);
+    const int64_t larger = a > b ? a : b;
+    std::memcpy(&cell, &larger, sizeof larger);
+  }
+}
+
 void gridIndices(const double* x, int n, double precision, double* g) {
   for (int i = 0; i < n; ++i) g[i] = std::floor(x[i] * precision + 0.5);
 }
@@ -275,6 +290,7 @@ const RowKernels rowKernelsOfLevel = {forwardRow,
                                       backwardRow,
                                       rowSources,
                                       rowTargets,
+                                      rowPoints,
                                       gridIndices,
                                       textureLookups,
                                       chromaGridIndices,

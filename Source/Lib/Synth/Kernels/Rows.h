@@ -58,6 +58,10 @@ struct RowKernels {
   // depth where xs[x] is finite, else -1.
   void (*rowTargets)(const uint16_t* levels, int width, const double* table, size_t beyond, double scale,
                      double offset, double* xs, double* ws);
+  // The 1D depth warp's points (Synth/RowWarp.cpp): each sample x with ws[x] >= 0 raises z at its
+  // nearest pixel centre floor(xs[x] + 0.5) when that lies in [0, outWidth) (the larger inverse depth,
+  // compared as signed 64-bit integers, as Synth/Raster.h's raiseCell does).
+  void (*rowPoints)(const double* xs, const double* ws, int width, double* z, int outWidth);
   // The grid indices of Interpolation.h's SampledRow::gridIndex: g[i] = floor(x[i] * precision + 0.5).
   void (*gridIndices)(const double* x, int n, double precision, double* g);
   // The general texture warp's look-ups (Synth/TextureWarp.cpp) of reference positions (u[i], v[i]):
