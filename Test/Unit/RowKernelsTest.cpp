@@ -180,13 +180,14 @@ TEST(RowKernels, RowSourcesAndTargetsAreThePlainRowFormulas) {
       }
 }
 
-TEST(RowKernels, GridIndicesRoundToTheNearestGridPosition) {
+TEST(RowKernels, RowLookupsAndChromaPositionsRoundToTheNearestGridPosition) {
   std::mt19937 rng(8);
+  const int width = 41;
   for (const RowKernels* kernels : levels())
     for (const int n : kWidths)
       for (const double precision : {1.0, 2.0, 4.0}) {
-        std::vector<double> x = awkwardRow(rng, n, 40.0), g(size_t(n));
-        kernels->gridIndices(x.data(), n, precision, g.data());
+        std::vector<double> x = awkwardRow(rng, n, 40.0), g(size_t(n)), nearest(size_t(n));
+        kernels->rowLookups(x.data(), n, precision, width, g.data(), nearest.data());
         std::vector<double> chroma = x, chromaGrid(size_t(n));
         kernels->chromaGridIndices(chroma.data(), n, 0.5, 2.0, precision, chromaGrid.data());
         for (int i = 0; i < n; ++i) {
@@ -197,6 +198,10 @@ TEST(RowKernels, GridIndicesRoundToTheNearestGridPosition) {
             EXPECT_LE(g[size_t(i)], p + 0.5);
             EXPECT_GT(g[size_t(i)] + 1.0, p + 0.5);
           }
+          if (x[size_t(i)] >= -0.5 && x[size_t(i)] <= width - 0.5)
+            ASSERT_EQ(nearest[size_t(i)], double(std::clamp(int(std::floor(x[size_t(i)] + 0.5)), 0, width - 1)));
+          ASSERT_GE(nearest[size_t(i)], 0.0);
+          ASSERT_LE(nearest[size_t(i)], double(width - 1));
           const double position = (x[size_t(i)] - 0.5) / 2.0;
           ASSERT_EQ(bitsOf(chroma[size_t(i)]), bitsOf(position));
           ASSERT_EQ(bitsOf(chromaGrid[size_t(i)]), bitsOf(std::floor(position * precision + 0.5)));

@@ -142,16 +142,18 @@ void Synthesizer::warpTextureRows(ViewState& view, const std::vector<const Plane
       std::vector<double>& sourceRow = scratch->sourceU;
       std::vector<double>& gridRow = scratch->grid;
       sourceRow.resize(size_t(width));
-      gridRow.resize(size_t(width));
+      gridRow.resize(2 * size_t(width));  // the grid indices, then the nearest samples
       double* sources = sourceRow.data();
       double* grid = gridRow.data();
+      double* nearest = grid + width;
       const double precision = sampler.precision();
       for (int y = y0; y < y1; ++y) {
         const uint8_t* edges = view.referenceEdge.data() + size_t(y) * referenceWidth;
         for (int c = 0; c < kChannels; ++c) sampledRows[c].build<kTaps>(sampler, *planes[size_t(c)], y, -1, referenceWidth);
         projection.rowSources(depth + size_t(y) * width, width, sources);
-        // sampledRows[0].gridIndex(sources[x]) for every x, in a loop compiled for the CPU's x86-64 level.
-        rowKernels().gridIndices(sources, width, precision, grid);
+        // sampledRows[0].gridIndex(sources[x]) and the nearest reference sample for every x, in a loop
+        // compiled for the CPU's x86-64 level.
+        rowKernels().rowLookups(sources, width, precision, referenceWidth, grid, nearest);
         for (int x = 0; x < width; ++x) {
           const size_t i = size_t(y) * width + x;
           if (depth[i] < 0) continue;
@@ -161,7 +163,7 @@ void Synthesizer::warpTextureRows(ViewState& view, const std::vector<const Plane
             continue;
           }
           for (int c = 0; c < kChannels; ++c) colour[c][i] = sampledRows[c].atGrid<kTaps>(u, grid[x]);
-          edgeOut[i] = edges[std::clamp(int(std::floor(u + 0.5)), 0, referenceWidth - 1)];
+          edgeOut[i] = edges[size_t(nearest[x])];
         }
       }
     });

@@ -1,10 +1,12 @@
 // Compiled once per x86-64 level (Source/Lib/Synth/area.cmake): -march=x86-64[-vN], VS_LEVEL_NS=vN,
-// VS_KERNEL_LEVEL=N. Only Rows.h (plain structs) and standard headers are included, and nothing here
-// is a template or inline function of a shared header: all of it lies in vs::vN (CTest
-// KernelSymbols_vN). The loops are those of the files that call them (Rows.h names each), with the
+// VS_KERNEL_LEVEL=N. Only Rows.h (plain structs), Raster.h (whose code then lies in vs::vN) and
+// standard headers are included: nothing of a shared header is compiled here at a level another
+// file could pick up (CTest KernelSymbols_vN). The loops are those of the files that call them (Rows.h names each), with the
 // same operations in the same order: the compiler vectorises them as wide as the level allows, and
 // from x86-64-v2 on floor() and nearbyint() are single instructions.
 #include "Synth/Kernels/Rows.h"
+
+#include "Synth/Raster.h"  // its code lies in vs::vN here (VS_LEVEL_NS)
 
 #include <cmath>
 #include <cstring>
@@ -94,18 +96,89 @@ void rowPoints(const double* xs, const double* ws, int width, double* z, int out
     if (ws[x] < 0) continue;
     const double px = std::floor(xs[x] + 0.5);
     if (px < 0 || px >= outWidth) continue;
-    // Synth/Raster.h's raiseCell: the larger of the two as signed 64-bit integers, stored either way.
-    double& cell = z[size_t(px)];
-    int64_t a, b;
-    std::memcpy(&a, &ws[x], sizeof a);
-    std::memcpy(&b, &cell, sizeof b);
-    const int64_t larger = a > b ? a : b;
-    std::memcpy(&cell, &larger, sizeof larger);
+    raiseCell(z[size_t(px)], ws[x]);
   }
 }
 
-void gridIndices(const double* x, int n, double precision, double* g) {
-  for (int i = 0; i < n; ++i) g[i] = std::floor(x[i] * precision + 0.5);
+// Whether the segment between neighbours (x0, a) and (x1, b) adds nothing to their two points: true
+// when both have the same inverse depth a (not -0) and lie at most one pixel apart, as neighbours of
+// one level do; most segments are such. Every centre c the segment covers then gets a + t * 0 = a
+// (t is finite), and c is one of the points' pixels floor(x0 + 0.5), floor(x1 + 0.5), which get a
+// too. Positions lie on the 2^-30 grid (snapPosition), and below 2^22 a double's step is at most
+// 2^-30, so (x0 <= x1) the covered centres are the whole c in [x0 - 2^-30, x1 + 2^-30]: the 1e-9
+// margin is just over one grid step. A c below x0 or above x1 lies within a step of it and is that
+// point's pixel; a c between them is the first point's when c - x0 <= 0.5 and else the second's,
+// as x1 - c < 0.5. Clipping to the row and coveredRange's early returns only take centres away, and
+// a point inside the row always lands. (-0 is left out: -0 + t * 0 can be +0, a larger value.)
+inline bool addsNothing(double x0, double x1, double a, double b) {
+  int64_t bitsA, bitsB;
+  std::memcpy(&bitsA, &a, sizeof bitsA);
+  std::memcpy(&bitsB, &b, sizeof bitsB);
+  // Bitwise operators: one test of the whole condition, no branch per term.
+  return (bitsA == bitsB) & (bitsA >= 0) & (std::fabs(x1 - x0) <= 1.0) & (std::fabs(x0) < 4194304.0);
+}
+
+// Two doubles, and two 64-bit integers, in one register (GCC's and Clang's vector extensions).
+typedef double TwoDoubles __attribute__((vector_size(16)));
+typedef int64_t TwoInts __attribute__((vector_size(16)));
+
+// addsNothing for the pairs (x, x + 1) and (x + 1, x + 2) at once, from the row's positions and depths
+// at x: all-ones in a lane where it holds. The same operations lane by lane (fabs clears the sign
+// bit), in half the instructions.
+inline TwoInts addsNothingTwice(const double* xs, const double* ws) {
+  TwoDoubles x0, x1;
+  TwoInts a, b;
+  std::memcpy(&x0, xs, sizeof x0);
+  std::memcpy(&x1, xs + 1, sizeof x1);
+  std::memcpy(&a, ws, sizeof a);
+  std::memcpy(&b, ws + 1, sizeof b);
+  const TwoDoubles span = x1 - x0, one = {1.0, 1.0}, limit = {4194304.0, 4194304.0};
+  const TwoInts magnitude = {INT64_MAX, INT64_MAX};
+  TwoInts spanBits, x0Bits;
+  std::memcpy(&spanBits, &span, sizeof spanBits);
+  std::memcpy(&x0Bits, &x0, sizeof x0Bits);
+  spanBits &= magnitude;
+  x0Bits &= magnitude;
+  TwoDoubles spanSize, x0Size;
+  std::memcpy(&spanSize, &spanBits, sizeof spanSize);
+  std::memcpy(&x0Size, &x0Bits, sizeof x0Size);
+  return (a == b) & (a >= 0) & (spanSize <= one) & (x0Size < limit);
+}
+
+
+void rowSegments(const double* xs, const double* ws, int width, const uint8_t* nearBoundary, int splatting,
+                 double discontinuity, double* z, int outWidth, int* segments) {
+  if (splatting == 0) return;
+  // Those that add nothing to the points are dropped first in a branch-free pass: the rest, about one
+  // in ten on real depth maps, are drawn with the branches of the full test.
+  int count = 0, pair = 0;
+  for (; pair + 2 < width; pair += 2) {
+    const TwoInts nothing = addsNothingTwice(xs + pair, ws + pair);
+    segments[count] = pair;
+    count += nothing[0] == 0;
+    segments[count] = pair + 1;
+    count += nothing[1] == 0;
+  }
+  for (; pair + 1 < width; ++pair) {
+    segments[count] = pair;
+    count += !addsNothing(xs[pair], xs[pair + 1], ws[pair], ws[pair + 1]);
+  }
+  for (int k = 0; k < count; ++k) {
+    const int x = segments[k];
+    const double w0 = ws[x], w1 = ws[x + 1];
+    const bool near = splatting == 1 || nearBoundary[x] || nearBoundary[x + 1];
+    if (w0 < 0 || w1 < 0 || std::fabs(w0 - w1) > discontinuity || !near) continue;
+    const bool reversed = xs[x + 1] < xs[x];
+    const double x0 = reversed ? xs[x + 1] : xs[x], x1 = reversed ? xs[x] : xs[x + 1];
+    const double a = reversed ? w1 : w0, b = reversed ? w0 : w1;
+    int first, last;
+    if (!coveredRange(x0, x1, outWidth, first, last)) continue;
+    const double span = x1 - x0;
+    for (int px = first; px <= last; ++px) {
+      const double t = span > 0 ? (px - x0) / span : 0.0;
+      raiseCell(z[px], a + t * (b - a));
+    }
+  }
 }
 
 // floor(x + 0.5) clamped to [0, last]; 0 for NaN.
@@ -121,6 +194,14 @@ void textureLookups(const double* u, const double* v, int n, double precision, i
     gridU[i] = std::floor(u[i] * precision + 0.5);
     gridV[i] = std::floor(v[i] * precision + 0.5);
     nearest[i] = nearestClamped(v[i], lastRow) * rowLength + nearestClamped(u[i], lastColumn);
+  }
+}
+
+void rowLookups(const double* u, int n, double precision, int width, double* gridU, double* nearest) {
+  const double lastColumn = width - 1;
+  for (int i = 0; i < n; ++i) {
+    gridU[i] = std::floor(u[i] * precision + 0.5);
+    nearest[i] = nearestClamped(u[i], lastColumn);
   }
 }
 
@@ -291,8 +372,9 @@ const RowKernels rowKernelsOfLevel = {forwardRow,
                                       rowSources,
                                       rowTargets,
                                       rowPoints,
-                                      gridIndices,
+                                      rowSegments,
                                       textureLookups,
+                                      rowLookups,
                                       chromaGridIndices,
                                       sampleRowPhase<2>,
                                       sampleRowPhase<4>,

@@ -62,16 +62,25 @@ struct RowKernels {
   // nearest pixel centre floor(xs[x] + 0.5) when that lies in [0, outWidth) (the larger inverse depth,
   // compared as signed 64-bit integers, as Synth/Raster.h's raiseCell does).
   void (*rowPoints)(const double* xs, const double* ws, int width, double* z, int outWidth);
-  // The grid indices of Interpolation.h's SampledRow::gridIndex: g[i] = floor(x[i] * precision + 0.5).
-  void (*gridIndices)(const double* x, int n, double precision, double* g);
+  // Its segments between neighbours x, x + 1 on one surface (both ws >= 0, at most discontinuity
+  // apart; with splatting 2 only where nearBoundary flags one of them, with 0 none), rasterised at the
+  // pixel centres they cover (z raised as rowPoints does, with the depth interpolated along the
+  // segment), but for those that add nothing to the points. segments: width ints of working space.
+  void (*rowSegments)(const double* xs, const double* ws, int width, const uint8_t* nearBoundary, int splatting,
+                      double discontinuity, double* z, int outWidth, int* segments);
   // The general texture warp's look-ups (Synth/TextureWarp.cpp) of reference positions (u[i], v[i]):
-  // their grid indices gridU[i], gridV[i] as gridIndices gives, and the index of their nearest
+  // their grid indices gridU[i] = floor(u[i] * precision + 0.5) (Interpolation.h's
+  // SampledRow::gridIndex) and gridV[i] likewise, and the index of their nearest
   // reference sample, (clamp(floor(v + 0.5), 0, height - 1) * width + clamp(floor(u + 0.5), 0,
   // width - 1), as a double (exact); 0 for a position that is not a number.
   void (*textureLookups)(const double* u, const double* v, int n, double precision, int width, int height,
                          double* gridU, double* gridV, double* nearest);
+  // The 1D texture warp's look-ups (Synth/RowPath.cpp) of reference positions u[i] along a row: their
+  // grid indices gridU[i], as textureLookups gives, and their nearest reference sample clamp(floor(u +
+  // 0.5), 0, width - 1), as a double; 0 for a position that is not a number.
+  void (*rowLookups)(const double* u, int n, double precision, int width, double* gridU, double* nearest);
   // The chroma look-up positions on the 1D path (Synth/ChromaWarp.cpp): x[i] = (x[i] - offset) / block,
-  // then g[i] as gridIndices gives.
+  // then its grid index g[i] = floor(x[i] * precision + 0.5).
   void (*chromaGridIndices)(double* x, int n, double offset, double block, double precision, double* g);
   // A row table's interior for one phase (Interpolation.h's SampledRow::build): out[n] = the sum over
   // the TAPS kernel weights k[t] * taps[n + t], in that order, from 0, for n in [0, count); TAPS 2, 4, 6.
