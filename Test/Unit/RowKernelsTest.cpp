@@ -56,7 +56,8 @@ std::vector<double> awkwardRow(std::mt19937& rng, int n, double scale) {
             : u < 0.12 ? -0.0
             : u < 0.14 ? 0.0
             : u < 0.16 ? 1e300
-            : u < 0.20 ? std::round(scale * unit(rng)) + 0.5  // a tie of floor(x + 0.5)
+            : u < 0.18 ? std::round(scale * unit(rng)) + 0.5  // a tie of floor(x + 0.5)
+            : u < 0.20 ? -0.5 - 0.5 * unit(rng)  // x + 0.5 in [-0.5, 0]: floor -1 (or -0 at 0)
                        : scale * (2.0 * unit(rng) - 0.5);
   }
   return row;

@@ -31,6 +31,20 @@ inline double snap(double position) {
   return std::nearbyint(position * grid) * cell;
 }
 
+// std::floor(y), bit for bit. GCC 12 vectorises nearbyint() but not floor(): from SSE4.1 on, floor is
+// taken from the nearest integer r (ties to even: the rounding mode every computation here assumes),
+// one less where r lies above y. r is within 1/2 of y, so r - 1 <= y < r there, and r - 1 is exact
+// (an r of 2^52 or more is y itself, never above it); NaN and the infinities come back as they are,
+// and -0.0 too (it is not below its r), while a y in [-1/2, 0) gets -0 - 1 = -1.
+inline double floorOf(double y) {
+#if defined(__SSE4_1__)
+  const double r = std::nearbyint(y);
+  return r > y ? r - 1.0 : r;
+#else
+  return std::floor(y);  // inline SSE2 code at the baseline, where nearbyint() is a call
+#endif
+}
+
 constexpr double kFarthest = std::numeric_limits<double>::max();
 constexpr double kMaxPixelRadius = 1e9;  // ViewProjection::kMaxPixelRadius
 
@@ -183,7 +197,7 @@ void rowSegments(const double* xs, const double* ws, int width, const uint8_t* n
 
 // floor(x + 0.5) clamped to [0, last]; 0 for NaN.
 inline double nearestClamped(double x, double last) {
-  const double nearest = std::floor(x + 0.5);
+  const double nearest = floorOf(x + 0.5);
   return nearest >= 0.0 ? (nearest <= last ? nearest : last) : 0.0;
 }
 
@@ -191,8 +205,8 @@ void textureLookups(const double* u, const double* v, int n, double precision, i
                     double* gridV, double* nearest) {
   const double lastColumn = width - 1, lastRow = height - 1, rowLength = width;
   for (int i = 0; i < n; ++i) {
-    gridU[i] = std::floor(u[i] * precision + 0.5);
-    gridV[i] = std::floor(v[i] * precision + 0.5);
+    gridU[i] = floorOf(u[i] * precision + 0.5);
+    gridV[i] = floorOf(v[i] * precision + 0.5);
     nearest[i] = nearestClamped(v[i], lastRow) * rowLength + nearestClamped(u[i], lastColumn);
   }
 }
@@ -200,7 +214,7 @@ void textureLookups(const double* u, const double* v, int n, double precision, i
 void rowLookups(const double* u, int n, double precision, int width, double* gridU, double* nearest) {
   const double lastColumn = width - 1;
   for (int i = 0; i < n; ++i) {
-    gridU[i] = std::floor(u[i] * precision + 0.5);
+    gridU[i] = floorOf(u[i] * precision + 0.5);
     nearest[i] = nearestClamped(u[i], lastColumn);
   }
 }
@@ -209,7 +223,7 @@ void chromaGridIndices(double* x, int n, double offset, double block, double pre
   for (int i = 0; i < n; ++i) {
     const double position = (x[i] - offset) / block;
     x[i] = position;
-    g[i] = std::floor(position * precision + 0.5);
+    g[i] = floorOf(position * precision + 0.5);
   }
 }
 
