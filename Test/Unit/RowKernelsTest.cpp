@@ -47,7 +47,7 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 // Inverse depths and positions with the values that test each branch of the kernels.
 std::vector<double> awkwardRow(std::mt19937& rng, int n, double scale) {
   std::uniform_real_distribution<double> unit(0.0, 1.0);
-  std::vector<double> row(size_t(n));
+  std::vector<double> row(static_cast<size_t>(n));
   for (double& value : row) {
     const double u = unit(rng);
     value = u < 0.05   ? -1.0
@@ -94,7 +94,7 @@ TEST(RowKernels, ForwardRowIsThePlainProjection) {
         const ProjectionCoefficients c = randomProjection(rng);
         const double v = double(trial) - 3.0;
         const std::vector<double> w = awkwardRow(rng, n, 0.5);
-        std::vector<double> x(size_t(n)), y(size_t(n)), wv(size_t(n));
+        std::vector<double> x(static_cast<size_t>(n)), y(static_cast<size_t>(n)), wv(static_cast<size_t>(n));
         kernels->forwardRow(c, w.data(), n, v, x.data(), y.data(), wv.data());
         for (int u = 0; u < n; ++u) {
           const double px = (c.m[0][0] * u + c.m[0][1] * v + c.m[0][2]) + c.o[0] * w[size_t(u)];
@@ -122,8 +122,8 @@ TEST(RowKernels, BackwardRowIsThePlainProjection) {
           const ProjectionCoefficients c = randomProjection(rng);
           const double y = 2.5 * trial, start = step == 2 ? 0.5 : 0.0;
           const std::vector<double> w = awkwardRow(rng, n, 0.5);
-          std::vector<double> u(size_t(n)), v(size_t(n));
-          std::vector<uint8_t> ok(size_t(n));
+          std::vector<double> u(static_cast<size_t>(n)), v(static_cast<size_t>(n));
+          std::vector<uint8_t> ok(static_cast<size_t>(n));
           kernels->backwardRow(c, w.data(), n, y, u.data(), v.data(), ok.data(), step, start);
           for (int i = 0; i < n; ++i) {
             const double x = i * step + start, wi = w[size_t(i)];
@@ -152,7 +152,7 @@ TEST(RowKernels, RowSourcesAndTargetsAreThePlainRowFormulas) {
         const double offset = 10.0 * unit(rng) - 5.0, shift = 200.0 * unit(rng) - 100.0;
         const double inverse = scale == 0.75 ? 0.0 : 1.0 / scale;
         const std::vector<double> w = awkwardRow(rng, n, 0.5);
-        std::vector<double> u(size_t(n));
+        std::vector<double> u(static_cast<size_t>(n));
         kernels->rowSources(offset, shift, inverse, scale, w.data(), n, u.data(), 2, 0.5);
         for (int i = 0; i < n; ++i) {
           const double shifted = double(i * 2) + 0.5 - offset - shift * w[size_t(i)];
@@ -168,9 +168,9 @@ TEST(RowKernels, RowSourcesAndTargetsAreThePlainRowFormulas) {
         }
         table.push_back(std::nan(""));
         table.push_back(kKernelNoDepth);
-        std::vector<uint16_t> levels(size_t(n));
+        std::vector<uint16_t> levels(static_cast<size_t>(n));
         for (uint16_t& level : levels) level = uint16_t(unit(rng) < 0.1 ? 60000 : 12 * unit(rng));
-        std::vector<double> xs(size_t(n)), ws(size_t(n));
+        std::vector<double> xs(static_cast<size_t>(n)), ws(static_cast<size_t>(n));
         kernels->rowTargets(levels.data(), n, table.data(), 10, scale, offset, xs.data(), ws.data());
         for (int x = 0; x < n; ++x) {
           const size_t level = std::min<size_t>(levels[size_t(x)], 10);
@@ -187,9 +187,9 @@ TEST(RowKernels, RowLookupsAndChromaPositionsRoundToTheNearestGridPosition) {
   for (const RowKernels* kernels : levels())
     for (const int n : kWidths)
       for (const double precision : {1.0, 2.0, 4.0}) {
-        std::vector<double> x = awkwardRow(rng, n, 40.0), g(size_t(n)), nearest(size_t(n));
+        std::vector<double> x = awkwardRow(rng, n, 40.0), g(static_cast<size_t>(n)), nearest(static_cast<size_t>(n));
         kernels->rowLookups(x.data(), n, precision, width, g.data(), nearest.data());
-        std::vector<double> chroma = x, chromaGrid(size_t(n));
+        std::vector<double> chroma = x, chromaGrid(static_cast<size_t>(n));
         kernels->chromaGridIndices(chroma.data(), n, 0.5, 2.0, precision, chromaGrid.data());
         for (int i = 0; i < n; ++i) {
           // floor(p + 0.5): the grid position at or below p + 1/2 (ties go up).
@@ -199,8 +199,9 @@ TEST(RowKernels, RowLookupsAndChromaPositionsRoundToTheNearestGridPosition) {
             EXPECT_LE(g[size_t(i)], p + 0.5);
             EXPECT_GT(g[size_t(i)] + 1.0, p + 0.5);
           }
-          if (x[size_t(i)] >= -0.5 && x[size_t(i)] <= width - 0.5)
+          if (x[size_t(i)] >= -0.5 && x[size_t(i)] <= width - 0.5) {
             ASSERT_EQ(nearest[size_t(i)], double(std::clamp(int(std::floor(x[size_t(i)] + 0.5)), 0, width - 1)));
+          }
           ASSERT_GE(nearest[size_t(i)], 0.0);
           ASSERT_LE(nearest[size_t(i)], double(width - 1));
           const double position = (x[size_t(i)] - 0.5) / 2.0;
@@ -217,7 +218,7 @@ TEST(RowKernels, TextureLookupsAreTheGridIndicesAndTheNearestSample) {
     for (const int n : kWidths)
       for (const double precision : {1.0, 2.0, 4.0}) {
         const std::vector<double> u = awkwardRow(rng, n, width), v = awkwardRow(rng, n, height);
-        std::vector<double> gridU(size_t(n)), gridV(size_t(n)), nearest(size_t(n));
+        std::vector<double> gridU(static_cast<size_t>(n)), gridV(static_cast<size_t>(n)), nearest(static_cast<size_t>(n));
         kernels->textureLookups(u.data(), v.data(), n, precision, width, height, gridU.data(), gridV.data(),
                                 nearest.data());
         for (int i = 0; i < n; ++i) {
@@ -247,7 +248,7 @@ TEST(RowKernels, SampleRowPhaseIsTheWeightedSumInTapOrder) {
         for (uint16_t& s : row) s = uint16_t(sample(rng));
         float k[6];
         for (float& w : k) w = weight(rng);
-        std::vector<float> out(size_t(n));
+        std::vector<float> out(static_cast<size_t>(n));
         auto phase = taps == 2 ? kernels->sampleRowPhase2 : taps == 4 ? kernels->sampleRowPhase4 : kernels->sampleRowPhase6;
         phase(row.data(), k, n, out.data());
         for (int i = 0; i < n; ++i) {
