@@ -249,6 +249,9 @@ TEST(RowKernels, SampleRowPhaseIsTheWeightedSumInTapOrder) {
         float k[6];
         for (float& w : k) w = weight(rng);
         std::vector<float> out(static_cast<size_t>(n));
+        std::vector<float> copy(static_cast<size_t>(n));
+        kernels->sampleRowPhase0(row.data(), n, copy.data());
+        for (int i = 0; i < n; ++i) ASSERT_EQ(copy[size_t(i)], float(row[size_t(i)]));
         auto phase = taps == 2 ? kernels->sampleRowPhase2 : taps == 4 ? kernels->sampleRowPhase4 : kernels->sampleRowPhase6;
         phase(row.data(), k, n, out.data());
         for (int i = 0; i < n; ++i) {
@@ -260,6 +263,39 @@ TEST(RowKernels, SampleRowPhaseIsTheWeightedSumInTapOrder) {
           ASSERT_EQ(bitsOf(out[size_t(i)]), bitsOf(sum)) << "level " << kernels->level << " taps " << taps;
         }
       }
+}
+
+TEST(RowKernels, HoleCountsAndTheWindowCountHolesAroundEachSample) {
+  std::mt19937 rng(12);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  for (const RowKernels* kernels : levels())
+    for (const int width : kWidths) {
+      // Seven rows of depths, a hole in about half the samples; their counts, then the window's sum.
+      const int rows = 7;
+      std::vector<double> depth(size_t(rows) * width);
+      for (double& d : depth) d = unit(rng) < 0.5 ? -1.0 : unit(rng);
+      std::vector<uint8_t> counts(depth.size()), padded(size_t(width) + 6, 0), sum(size_t(width), 0);
+      for (int r = 0; r < rows; ++r)
+        kernels->holeCounts(depth.data() + size_t(r) * width, width, padded.data(), counts.data() + size_t(r) * width);
+      for (int r = 0; r < rows; ++r)
+        for (int x = 0; x < width; ++x) {
+          int holes = 0;
+          for (int k = std::max(0, x - 3); k <= std::min(width - 1, x + 3); ++k) holes += depth[size_t(r) * width + k] < 0;
+          ASSERT_EQ(counts[size_t(r) * width + x], holes) << "level " << kernels->level;
+        }
+      // Rows 0 .. 5 entered, then row 6 enters and row 0 leaves: the sum of rows 1 .. 6, marked above 20.
+      for (int r = 0; r < 6; ++r) kernels->windowStep(sum.data(), counts.data() + size_t(r) * width, nullptr, nullptr, width, 20);
+      std::vector<uint8_t> edge(static_cast<size_t>(width));
+      for (int x = 0; x < width; ++x) edge[size_t(x)] = uint8_t(x % 5 == 0);
+      const std::vector<uint8_t> before = edge;
+      kernels->windowStep(sum.data(), counts.data() + 6 * size_t(width), counts.data(), edge.data(), width, 20);
+      for (int x = 0; x < width; ++x) {
+        int total = 0;
+        for (int r = 1; r < rows; ++r) total += counts[size_t(r) * width + x];
+        ASSERT_EQ(sum[size_t(x)], total);
+        ASSERT_EQ(edge[size_t(x)], uint8_t(before[size_t(x)] | (total > 20)));
+      }
+    }
 }
 
 // The two-view blend against blendViews' rule written plainly: the nearest valid view's surface,

@@ -213,7 +213,7 @@ public:
         if (phase == 0) {
           // Every kernel is (0, .., 1, .., 0) at phase 0, and 0 + 0 * a + 1 * b + 0 * c .. is b exactly
           // (the samples are finite and non-negative): the sample itself.
-          for (long long n = 0; n < count; ++n) to[n] = float(taps[n - offset]);
+          rowKernels().sampleRowPhase0(taps - offset, count, to);  // a loop compiled for the CPU's level
         } else {
           // The sum over the taps, k[t] * taps[n + t] in that order from 0, in a loop compiled for
           // the CPU's x86-64 level (Synth/Kernels/Rows.h).

@@ -227,6 +227,26 @@ void chromaGridIndices(double* x, int n, double offset, double block, double pre
   }
 }
 
+void sampleRowPhase0(const uint16_t* taps, long long count, float* out) {
+  for (long long n = 0; n < count; ++n) out[n] = float(taps[n]);
+}
+
+void holeCounts(const double* depth, int width, uint8_t* padded, uint8_t* count) {
+  for (int x = 0; x < width; ++x) padded[x + 3] = uint8_t(depth[x] < 0);
+  for (int x = 0; x < width; ++x)
+    count[x] = uint8_t(padded[x] + padded[x + 1] + padded[x + 2] + padded[x + 3] + padded[x + 4] + padded[x + 5] +
+                       padded[x + 6]);
+}
+
+void windowStep(uint8_t* sum, const uint8_t* entering, const uint8_t* leaving, uint8_t* edge, int width, int most) {
+  if (entering)
+    for (int x = 0; x < width; ++x) sum[x] = uint8_t(sum[x] + entering[x]);
+  if (leaving)
+    for (int x = 0; x < width; ++x) sum[x] = uint8_t(sum[x] - leaving[x]);
+  if (edge)
+    for (int x = 0; x < width; ++x) edge[x] |= uint8_t(sum[x] > most);
+}
+
 template <int TAPS>
 void sampleRowPhase(const uint16_t* taps, const float* kernel, long long count, float* out) {
   float k[TAPS];
@@ -390,9 +410,12 @@ const RowKernels rowKernelsOfLevel = {forwardRow,
                                       textureLookups,
                                       rowLookups,
                                       chromaGridIndices,
+                                      sampleRowPhase0,
                                       sampleRowPhase<2>,
                                       sampleRowPhase<4>,
                                       sampleRowPhase<6>,
+                                      holeCounts,
+                                      windowStep,
                                       {{blendTwoViews<1, false>, blendTwoViews<1, true>},
                                        {blendTwoViews<2, false>, blendTwoViews<2, true>},
                                        {blendTwoViews<3, false>, blendTwoViews<3, true>}},

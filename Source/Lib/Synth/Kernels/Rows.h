@@ -84,9 +84,18 @@ struct RowKernels {
   void (*chromaGridIndices)(double* x, int n, double offset, double block, double precision, double* g);
   // A row table's interior for one phase (Interpolation.h's SampledRow::build): out[n] = the sum over
   // the TAPS kernel weights k[t] * taps[n + t], in that order, from 0, for n in [0, count); TAPS 2, 4, 6.
+  // Phase 0 of a row table: out[n] = taps[n] (every kernel is (0, .., 1, .., 0) there).
+  void (*sampleRowPhase0)(const uint16_t* taps, long long count, float* out);
   void (*sampleRowPhase2)(const uint16_t* taps, const float* k, long long count, float* out);
   void (*sampleRowPhase4)(const uint16_t* taps, const float* k, long long count, float* out);
   void (*sampleRowPhase6)(const uint16_t* taps, const float* k, long long count, float* out);
+  // MergingOption 2's hole counting (Synth/RowPath.cpp's flagCrowdedHoles). holeCounts: count[x] = the
+  // holes (depth < 0) among depth[x - 3 .. x + 3] of a row of width samples, none beyond its ends;
+  // padded: width + 6 bytes of working space whose first and last three are 0. windowStep: sum[x] +=
+  // entering[x], then sum[x] -= leaving[x] (byte arithmetic; either may be null: skipped), then, unless
+  // edge is null, edge[x] |= sum[x] > most.
+  void (*holeCounts)(const double* depth, int width, uint8_t* padded, uint8_t* count);
+  void (*windowStep)(uint8_t* sum, const uint8_t* entering, const uint8_t* leaving, uint8_t* edge, int width, int most);
   // The two-view blend of samples [begin, end), for 1, 2 or 3 channels, each with and without
   // NearestViewOnly ([channels - 1][nearestViewOnly]); true where the general blend finds no bestView.
   bool (*blendTwoViews[3][2])(const TwoViewBlendRows& blend, size_t begin, size_t end);
