@@ -27,7 +27,8 @@ void Synthesizer::warpDepth(ViewState& view, const Plane& depth) {
   // raised as points, and the quads between it and the row above are rasterised while both rows are
   // at hand (two rows of positions, not the whole picture's). A range of rows also projects the row
   // after its last, for the quads between them; that row's points are raised by the range holding it.
-  // The quads go to the rasteriser compiled for the CPU's x86-64 level (Synth/Kernels/QuadRow.h).
+  // The points and the quads go to the kernels compiled for the CPU's x86-64 level
+  // (Synth/Kernels/QuadRow.h).
   const QuadRowKernels& kernels = quadRowKernels();
   auto drawInto = [&](const auto& raisePoints, const auto& rasteriseRow) {
     parallelRanges(h, [&](int y0, int y1) {

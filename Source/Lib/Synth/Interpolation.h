@@ -178,7 +178,8 @@ inline float SubPixelSampler::sampleTaps(const Plane& plane, double x, double y)
 // bit, for any x; positions whose integer part lies outside [first, last] are computed directly.
 // The table holds precision() planes of (last - first + 1) values, phase by phase, so that the
 // interior of each phase is one loop over consecutive samples that the compiler vectorises (each lane
-// does the scalar float arithmetic in the same order).
+// does the scalar float arithmetic in the same order), compiled for the CPU's x86-64 level
+// (Synth/Kernels/Rows.h).
 class SampledRow {
 public:
   template <int TAPS>
