@@ -20,6 +20,7 @@ namespace vs {
   X(PFNGLENABLEPROC, Enable)                                                           \
   X(PFNGLDISABLEPROC, Disable)                                                         \
   X(PFNGLDEPTHFUNCPROC, DepthFunc)                                                     \
+  X(PFNGLDEPTHRANGEPROC, DepthRange)                                                   \
   X(PFNGLVIEWPORTPROC, Viewport)                                                       \
   X(PFNGLPIXELSTOREIPROC, PixelStorei)                                                 \
   X(PFNGLFINISHPROC, Finish)                                                           \

@@ -49,6 +49,7 @@ in vec2 inverseDepthRatio;
 in float edge;
 flat in vec2 pointClipZW;
 uniform int drawingPoints;  // 1: a point; its fragments look up where their own centre looks
+uniform float drawnMark;    // 1: drawn; 2: a locally farthest orphan (kept only in a lone hole)
 uniform mat4 referenceFromClip;
 uniform vec2 viewportSize;
 uniform sampler2D referenceTexture;
@@ -100,7 +101,7 @@ void main() {
   }
   float inverseDepth = max(inverseDepthRatio.x / inverseDepthRatio.y, 0.0);
   colourAndDepth = vec4(sampleTexture(reference * texelMap.x + texelMap.y).rgb, inverseDepth);
-  referenceAndFlags = vec4(reference, edge > 0.0 ? 1.0 : 0.0, 1.0);
+  referenceAndFlags = vec4(reference, edge > 0.0 ? 1.0 : 0.0, drawnMark);
 }
 )";
 
@@ -162,7 +163,8 @@ struct GlMeshRenderer::Impl {
   GLuint framebuffer = 0, colourBuffers[2] = {0, 0}, depthBuffer = 0;
   GLint clipLocation = -1, referenceFromClipLocation = -1, viewportLocation = -1, drawingPointsLocation = -1,
         texelMapLocation = -1, exactBilinearLocation = -1, precisionLocation = -1, tapsLocation = -1,
-        firstTapLocation = -1, kernelLocation = -1;
+        firstTapLocation = -1, kernelLocation = -1, drawnMarkLocation = -1;
+  GLsizei orphanCount = 0;  // locally farthest orphans, after the points in `indices`
   int framebufferWidth = 0, framebufferHeight = 0;
   GLsizei triangleIndexCount = 0;  // indices of the triangles at the start of `indices`
   int textureChannels = 0;
@@ -202,9 +204,10 @@ struct GlMeshRenderer::Impl {
     tapsLocation = gl.GetUniformLocation(program, "taps");
     firstTapLocation = gl.GetUniformLocation(program, "firstTap");
     kernelLocation = gl.GetUniformLocation(program, "kernel");
+    drawnMarkLocation = gl.GetUniformLocation(program, "drawnMark");
     VS_CHECK(clipLocation >= 0 && referenceFromClipLocation >= 0 && viewportLocation >= 0 && drawingPointsLocation >= 0 &&
              texelMapLocation >= 0 && exactBilinearLocation >= 0 && precisionLocation >= 0 &&
-             tapsLocation >= 0 && firstTapLocation >= 0 && kernelLocation >= 0);
+             tapsLocation >= 0 && firstTapLocation >= 0 && kernelLocation >= 0 && drawnMarkLocation >= 0);
     gl.UseProgram(program);
     gl.Uniform1i(exactBilinearLocation, 1);
 
@@ -330,7 +333,8 @@ void GlMeshRenderer::uploadMesh(const DepthMesh& mesh) {
   const GlFunctions& gl = s.gl;
   s.context.makeCurrent();
   VS_CHECK(mesh.vertices.size() == mesh.vertexCount() * 4 && mesh.boundary.size() == mesh.vertexCount());
-  VS_CHECK(mesh.triangles.size() + mesh.points.size() <= size_t(std::numeric_limits<GLsizei>::max()));
+  VS_CHECK(mesh.triangles.size() + mesh.points.size() + mesh.farthestOrphans.size() <=
+           size_t(std::numeric_limits<GLsizei>::max()));
   gl.BindVertexArray(s.vertexArray);
   gl.BindBuffer(GL_ARRAY_BUFFER, s.vertexBuffer);
   gl.BufferData(GL_ARRAY_BUFFER, GLsizeiptr(mesh.vertices.size() * sizeof(float)), mesh.vertices.data(), GL_STREAM_DRAW);
@@ -338,10 +342,12 @@ void GlMeshRenderer::uploadMesh(const DepthMesh& mesh) {
   gl.BufferData(GL_ARRAY_BUFFER, GLsizeiptr(mesh.boundary.size() * sizeof(float)), mesh.boundary.data(), GL_STREAM_DRAW);
   s.indices = mesh.triangles;
   s.indices.insert(s.indices.end(), mesh.points.begin(), mesh.points.end());
+  s.indices.insert(s.indices.end(), mesh.farthestOrphans.begin(), mesh.farthestOrphans.end());
   gl.BufferData(GL_ELEMENT_ARRAY_BUFFER, GLsizeiptr(s.indices.size() * sizeof(uint32_t)), s.indices.data(),
                 GL_STREAM_DRAW);
   s.triangleIndexCount = GLsizei(mesh.triangles.size());
   s.pointCount = GLsizei(mesh.points.size());
+  s.orphanCount = GLsizei(mesh.farthestOrphans.size());
   s.checkErrors("uploading the mesh");
 }
 
@@ -406,6 +412,7 @@ void GlMeshRenderer::render(const Mat4& clip, const RenderGrid& grid, const Texe
   gl.UniformMatrix4fv(s.referenceFromClipLocation, 1, GL_FALSE, matrix);
   gl.Uniform2f(s.viewportLocation, float(grid.width), float(grid.height));
   gl.Uniform1i(s.drawingPointsLocation, 0);
+  gl.Uniform1f(s.drawnMarkLocation, 1.0f);
   gl.Uniform2f(s.texelMapLocation, float(texelMap.scale), float(texelMap.offset));
   gl.ActiveTexture(GL_TEXTURE0);
   gl.BindTexture(GL_TEXTURE_2D, s.texture);
@@ -416,6 +423,17 @@ void GlMeshRenderer::render(const Mat4& clip, const RenderGrid& grid, const Texe
   if (s.pointCount > 0)
     gl.DrawElements(GL_POINTS, s.pointCount, GL_UNSIGNED_INT,
                     reinterpret_cast<const void*>(size_t(s.triangleIndexCount) * sizeof(uint32_t)));
+  // Locally farthest orphans last, only where nothing is drawn: every fragment's window depth is 1, the
+  // cleared value, and passes GL_LEQUAL there only. Marked 2; kept below only in a lone hole.
+  if (s.orphanCount > 0) {
+    gl.Uniform1f(s.drawnMarkLocation, 2.0f);
+    gl.DepthRange(1.0, 1.0);
+    gl.DepthFunc(GL_LEQUAL);
+    gl.DrawElements(GL_POINTS, s.orphanCount, GL_UNSIGNED_INT,
+                    reinterpret_cast<const void*>(size_t(s.triangleIndexCount + s.pointCount) * sizeof(uint32_t)));
+    gl.DepthRange(0.0, 1.0);
+    gl.DepthFunc(GL_LESS);
+  }
 
   // Framebuffer row 0 is image row 0 (MeshProjection.h): read back as it lies.
   const size_t n = size_t(grid.width) * size_t(grid.height);
@@ -434,10 +452,18 @@ void GlMeshRenderer::render(const Mat4& clip, const RenderGrid& grid, const Texe
   }
   const float* colour = s.readBack.data();
   const float* reference = s.readBack.data() + n * 4;
+  // A locally farthest orphan (mark 2) stays only in a hole of its own: a sample whose 4 neighbours
+  // in the grid are drawn. In a disocclusion it would be a speck of background (DepthMesh.h).
+  const int width = grid.width, height = grid.height;
+  auto drawn = [&](int x, int y) { return x < 0 || y < 0 || x >= width || y >= height || reference[(size_t(y) * width + x) * 4 + 3] != 0.0f; };
   for (size_t i = 0; i < n; ++i) {
     const float* c = colour + i * 4;
     const float* r = reference + i * 4;
-    if (r[3] != 1.0f) continue;  // nothing drawn
+    if (r[3] == 0.0f) continue;  // nothing drawn
+    if (r[3] == 2.0f) {
+      const int x = int(i % size_t(width)), y = int(i / size_t(width));
+      if (!(drawn(x - 1, y) && drawn(x + 1, y) && drawn(x, y - 1) && drawn(x, y + 1))) continue;
+    }
     layer.inverseDepth[i] = double(c[3]);
     for (int k = 0; k < channels; ++k) layer.colour[k][i] = c[k];
     layer.edge[i] = r[2] > 0.5f ? 1 : 0;

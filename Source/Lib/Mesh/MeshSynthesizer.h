@@ -11,6 +11,7 @@
 // ColorSpace 1 renders R, G, B at luma resolution instead of Y and U, V, as ViewSyn does.
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "Common/Config.h"
@@ -32,6 +33,7 @@ namespace vs {
 struct MeshSettings {
   double discontinuityThreshold = MeshOptions{}.discontinuityThreshold;  // MeshDiscontinuityThreshold
   int gridStep = 1;                      // MeshGridStep: 1, 2, 4 or 8
+  double maxError = MeshOptions{}.maxError;  // MeshMaxError: virtual-camera pixels; adaptive mesh bound
   std::string plyPath;                   // MeshPlyOutput; empty: none
 };
 
@@ -56,6 +58,13 @@ public:
   // are rebuilt with it. Returns the decision's lines; none when there is nothing to decide.
   std::vector<std::string> decideMissingDepth(const std::vector<ReferenceFrame>& firstFrame);
 
+  // Builds the meshes of these references now; the next synthesize() uses them (and counts their time).
+  void buildMeshes(const std::vector<ReferenceFrame>& references);
+  // The triangles of each view's last mesh, after and before the adaptive merge: a line for the plan,
+  // and fields for the JSON summary (mesh_triangles_<label>, mesh_grid_triangles_<label>).
+  std::string meshSizeLine() const;
+  std::vector<std::pair<std::string, std::string>> meshSizeFields() const;
+
   // Lines for the plan printed before the first frame: the plan's, and what the renderer adds (the
   // OpenGL renderer, the mesh, each view's depth-buffer planes, PLY files).
   std::vector<std::string> plan() const;
@@ -73,7 +82,8 @@ public:
   size_t alignedDepthSamples() const { return alignedDepthSamples_; }
 
 private:
-  void buildViews();  // the per-view mesh builders and depth-buffer planes, from plan_
+  void buildViews();
+  void buildMeshesNow(const std::vector<ReferenceFrame>& references);  // depth maps prepared, meshes built  // the per-view mesh builders and depth-buffer planes, from plan_
 
   struct ViewState {
     DepthMeshBuilder builder;
@@ -103,6 +113,8 @@ private:
   size_t holesAfterBlend_ = 0;
   size_t alignedDepthSamples_ = 0;
   bool plyWritten_ = false;
+  bool meshesPrebuilt_ = false;  // buildMeshes() ran for the next frame
+  double prebuildSeconds_ = 0.0;
   std::vector<std::unique_ptr<SafeOutputFile>> plyFiles_;  // temporary until commitPlyFiles()
 };
 
