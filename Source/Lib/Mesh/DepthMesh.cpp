@@ -1,7 +1,10 @@
 #include "Mesh/DepthMesh.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <functional>
 #include <limits>
 #include <utility>
@@ -230,6 +233,20 @@ void DepthMeshBuilder::build(const Plane& depth, DepthMesh& mesh) const {
       }
     }
 
+  // The edge mask: border vertices' pixels, widened by MeshGridStep - 1 (the cells around them).
+  mesh.maskWidth = width_;
+  mesh.maskHeight = height_;
+  mesh.edgeMask.assign(size_t(width_) * size_t(height_), 0);
+  const int reach = options_.gridStep - 1;
+  for (int r = 0; r < rows; ++r)
+    for (int c = 0; c < columns; ++c) {
+      if (mesh.boundary[size_t(r) * columns + c] == 0.0f) continue;
+      const int px = pixelU_[size_t(c)], py = pixelV_[size_t(r)];
+      for (int y = std::max(py - reach, 0); y <= std::min(py + reach, height_ - 1); ++y)
+        std::fill_n(&mesh.edgeMask[size_t(y) * width_ + size_t(std::max(px - reach, 0))],
+                    std::min(px + reach, width_ - 1) - std::max(px - reach, 0) + 1, uint8_t(1));
+    }
+
   // Border vertices of kept triangles, and valid vertices without a kept triangle unless nothing
   // around them is farther, are also drawn as points (see the header).
   // True when no valid vertex among the 8 around vertex i is farther.
@@ -254,7 +271,9 @@ void DepthMeshBuilder::build(const Plane& depth, DepthMesh& mesh) const {
   mesh.gridTriangles = mesh.triangleCount();
   if (rate_) {
     cellStart.push_back(uint32_t(mesh.triangles.size()));
+    auto T0 = std::chrono::steady_clock::now();
     merge(mesh, cameraInverseZ, cellStart);
+    if (getenv("MESH_PROFILE")) fprintf(stderr, "merge %.4f\n", std::chrono::duration<double>(std::chrono::steady_clock::now()-T0).count());
   }
 }
 
@@ -263,17 +282,13 @@ void DepthMeshBuilder::merge(DepthMesh& mesh, const std::vector<double>& inverse
   const int columns = mesh.columns, rows = mesh.rows;
   const int cellsX = columns - 1, cellsY = rows - 1;
   constexpr int kMaxLevel = 7;  // blocks of at most 128 x 128 cells
-  // ok[k][block]: block (bx, by) of 2^k x 2^k cells is merged as a whole. Level 0: a cell whose four
-  // corners are valid and on no dropped triangle (so both its triangles are kept, and it is no edge).
+  // ok[k][block]: block (bx, by) of 2^k x 2^k cells is merged as a whole. Level 0: a cell both of
+  // whose triangles are kept.
   std::vector<std::vector<uint8_t>> ok(1);
   std::vector<int> blocksX(1, cellsX), blocksY(1, cellsY);
   ok[0].assign(size_t(cellsX) * size_t(cellsY), 0);
   auto vertexIndex = [&](int x, int y) { return size_t(y) * size_t(columns) + size_t(x); };
-  auto clean = [&](size_t i) { return mesh.valid[i] && mesh.boundary[i] == 0.0f; };
-  for (int y = 0; y < cellsY; ++y)
-    for (int x = 0; x < cellsX; ++x)
-      ok[0][size_t(y) * cellsX + x] = clean(vertexIndex(x, y)) && clean(vertexIndex(x + 1, y)) &&
-                                      clean(vertexIndex(x, y + 1)) && clean(vertexIndex(x + 1, y + 1));
+  for (size_t cell = 0; cell < ok[0].size(); ++cell) ok[0][cell] = cellStart[cell + 1] - cellStart[cell] == 6;
   const double halfBound = 0.5 * std::max(options_.maxError, 0.0);
   // Whether every vertex of the block lies within the tolerance of the two triangles through its corners
   // (split along the diagonal from (x0, y0) to (x1, y1)). The tolerance in q is the bound over the
@@ -383,6 +398,14 @@ void DepthMeshBuilder::merge(DepthMesh& mesh, const std::vector<double>& inverse
     const uint32_t centre = uint32_t(vertexIndex(x0 + size / 2, y0 + size / 2));
     for (size_t k = 0; k < ring.size(); ++k)
       triangles.insert(triangles.end(), {centre, ring[k], ring[(k + 1) % ring.size()]});
+  }
+  if (getenv("MESH_PROFILE")) {
+    size_t perLevel[8] = {0}, trisLevel[8] = {0};
+    for (const Leaf& leaf : leaves) ++perLevel[leaf.level];
+    (void)trisLevel;
+    size_t zeroTris = 0;
+    for (const Leaf& leaf : leaves) if (leaf.level == 0) { const size_t cell = size_t(leaf.y) * size_t(cellsX) + size_t(leaf.x); zeroTris += (cellStart[cell+1]-cellStart[cell])/3; }
+    fprintf(stderr, "leaves:"); for (int k = 0; k < 8; ++k) fprintf(stderr, " %zu", perLevel[k]); fprintf(stderr, " level0 tris %zu total %zu points %zu orphans %zu\n", zeroTris, triangles.size()/3, mesh.points.size(), mesh.farthestOrphans.size());
   }
   mesh.triangles.swap(triangles);
 }

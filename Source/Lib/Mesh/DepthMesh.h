@@ -46,8 +46,9 @@
 // within the bound of the two triangles through the block's corners are merged (bottom-up, as a
 // region quadtree), at most 128 cells wide. A merged block is drawn as two triangles, or as a fan
 // around its centre vertex through every vertex of a smaller neighbour on its sides, so the mesh has
-// no T-junctions and no cracks. Blocks with a border vertex (a depth edge) or an invalid one are never
-// merged: there the mesh keeps full resolution.
+// no T-junctions and no cracks. A cell with a dropped triangle (a depth edge) or an invalid vertex is
+// never merged: it stays as it is, and the merged blocks beside it pass through all its vertices, so
+// the mesh's outline keeps full resolution.
 #include <cstddef>
 #include <cstdint>
 #include <functional>
@@ -78,6 +79,10 @@ struct DepthMesh {
   std::vector<double> gridU, gridV;    // reference pixel position of each grid column and row
   std::vector<float> vertices;         // 4 floats a vertex, row-major over the grid: (a u, a v, a, w)
   std::vector<float> boundary;         // 1 float a vertex: 1 where it belongs to a dropped triangle
+  // Edge flag per reference pixel: 1 within MeshGridStep - 1 pixels of a border vertex's pixel. A
+  // sample that shows reference position (u, v) is on an edge when one of the 4 pixels around it is.
+  std::vector<uint8_t> edgeMask;
+  int maskWidth = 0, maskHeight = 0;
   std::vector<uint8_t> valid;          // 1 a vertex: a finite point in front of the reference camera
   std::vector<uint32_t> triangles;     // 3 vertex indices a triangle
   std::vector<uint32_t> points;        // border vertices of kept triangles and orphans, drawn as points

@@ -30,6 +30,7 @@ namespace vs {
   X(PFNGLGENBUFFERSPROC, GenBuffers)                                                   \
   X(PFNGLBINDBUFFERPROC, BindBuffer)                                                   \
   X(PFNGLBUFFERDATAPROC, BufferData)                                                   \
+  X(PFNGLBUFFERSUBDATAPROC, BufferSubData)                                             \
   X(PFNGLDELETEBUFFERSPROC, DeleteBuffers)                                             \
   X(PFNGLVERTEXATTRIBPOINTERPROC, VertexAttribPointer)                                 \
   X(PFNGLENABLEVERTEXATTRIBARRAYPROC, EnableVertexAttribArray)                         \

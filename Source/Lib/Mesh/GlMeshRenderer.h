@@ -5,8 +5,11 @@
 // reference pixel position the sample shows; and whether its triangle touches a dropped one (a depth
 // edge of the reference).
 //
-// Render targets: two RGBA32F colour attachments (colour and q; reference position and flags) and a
-// GL_DEPTH_COMPONENT32F depth buffer, in one framebuffer object sized for the largest grid so far.
+// Render target: one RGBA32F colour attachment (reference position, q, flags) and a
+// GL_DEPTH_COMPONENT32F depth buffer, in one framebuffer object sized for the largest grid so far. The
+// colour is looked up on the CPU from the read-back reference positions with ViewSyn's sampler, so each
+// sample is coloured once (not once per overlapping fragment) and 4:2:0 chroma comes from the same
+// render (sampleChroma420). Buffers and the framebuffer are kept across frames.
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -51,7 +54,8 @@ public:
 
   // Uploads the mesh's vertices and triangles (kept until the next call).
   void uploadMesh(const DepthMesh& mesh);
-  // Uploads 1 to 3 planes of one size as one float texture (kept until the next call).
+  // Keeps a copy of 1 to 3 planes of one size: the texture the next renders are coloured with
+  // (looked up on the CPU, where each render's fragments say).
   void uploadTexture(const std::vector<const Plane*>& planes);
   // Renders the uploaded mesh, textured with the uploaded planes, into `grid` through `clip`
   // (meshClipMatrix). `layer` is reset to the grid's size with as many channels as planes were
@@ -59,6 +63,15 @@ public:
   // a vertex on a dropped triangle). Throws InputError when the grid exceeds the GL limits.
   void render(const Mat4& clip, const RenderGrid& grid, const TexelMap& texelMap, WarpedLayer& layer,
               RenderExtras* extras = nullptr);
+  // The last render's samples coloured from other planes (4:4:4 chroma at luma resolution, texel map
+  // as given): `layer` gets the render's q and edges and the planes' colours.
+  void sampleRender(const std::vector<Plane>& planes, const TexelMap& texelMap, WarpedLayer& layer) const;
+  // 4:2:0 chroma from the last render at luma resolution, without a render of its own: chroma sample
+  // (i, j) at luma (2i + 0.5, 2j + 0.5) shows the front surface of its 2 x 2 luma samples (the nearest
+  // one and those within `sameSurface`, 1 - q / q_front); its reference position is the four's mean
+  // when all four are on that surface, else the front sample's, moved half a luma pixel along the
+  // reference positions of its neighbours on that surface. U and V are sampled there.
+  void sampleChroma420(const std::vector<const Plane*>& planes, double sameSurface, WarpedLayer& layer) const;
 
 private:
   struct Impl;

@@ -66,8 +66,7 @@ MeshSynthesizer::MeshSynthesizer(const Scene& scene, const Plan& plan, const Mes
   VS_CHECK(plan_.tool == Tool::MeshRender && plan_.blending.weights.size() == scene.settings.references.size());
   lumaGrid_ = lumaGrid(scene.virtualCamera, outputFormat_.width, outputFormat_.height);
   if (hasChroma_ && !rgb_) {
-    chromaGrid_ = chromaGrid(scene.virtualCamera, outputFormat_.width, outputFormat_.height, outputFormat_.chroma);
-    if (outputFormat_.chroma == ChromaFormat::Yuv420) chromaTexels_ = TexelMap{0.5, -0.25};
+    VS_CHECK(outputFormat_.chroma == ChromaFormat::Yuv420 || outputFormat_.chroma == ChromaFormat::Yuv444);
   }
   const SubPixelSampler sampler(plan.precision, plan.filter);
   renderer_.setSampling(&sampler);
@@ -166,6 +165,7 @@ void MeshSynthesizer::synthesize(const std::vector<ReferenceFrame>& references, 
     times.depthWarp += secondsSince(start);
 
     start = std::chrono::steady_clock::now();
+    // One render per view at luma resolution; U and V come from the same render.
     if (rgb_) {
       yuvToRgb(texture, rgbReference_);
       renderer_.uploadTexture({&rgbReference_.planes[0], &rgbReference_.planes[1], &rgbReference_.planes[2]});
@@ -175,9 +175,10 @@ void MeshSynthesizer::synthesize(const std::vector<ReferenceFrame>& references, 
     renderer_.render(meshClipMatrix(reference.camera, scene_.virtualCamera, lumaGrid_, planes), lumaGrid_, TexelMap{},
                      view.luma);
     if (hasChroma_ && !rgb_) {
-      renderer_.uploadTexture({&texture.planes[1], &texture.planes[2]});
-      renderer_.render(meshClipMatrix(reference.camera, scene_.virtualCamera, chromaGrid_, planes), chromaGrid_,
-                       chromaTexels_, view.chroma);
+      if (outputFormat_.chroma == ChromaFormat::Yuv420)
+        renderer_.sampleChroma420({&texture.planes[1], &texture.planes[2]}, settings_.discontinuityThreshold, view.chroma);
+      else
+        renderer_.sampleRender({texture.planes[1], texture.planes[2]}, TexelMap{}, view.chroma);
     }
     times.textureWarp += secondsSince(start);
 
@@ -219,6 +220,7 @@ void MeshSynthesizer::buildMeshesNow(const std::vector<ReferenceFrame>& referenc
   VS_CHECK(references.size() == views_.size());
   const SynthesisSettings& s = scene_.settings;
   alignedDepthSamples_ = 0;
+  auto T0 = std::chrono::steady_clock::now();
   std::vector<const Plane*> lumas, depths;
   for (const ReferenceFrame& reference : references) lumas.push_back(&reference.texture->planes[0]);
   for (size_t k = 0; k < views_.size(); ++k) {
@@ -231,6 +233,7 @@ void MeshSynthesizer::buildMeshesNow(const std::vector<ReferenceFrame>& referenc
     }
     depths.push_back(&aligner_.align(k, *depth, lumas, alignedDepthSamples_));
   }
+  auto T1 = std::chrono::steady_clock::now();
   // The views' meshes on the worker threads, one view each.
   parallelRanges(
       int(views_.size()),
@@ -238,6 +241,7 @@ void MeshSynthesizer::buildMeshesNow(const std::vector<ReferenceFrame>& referenc
         for (int k = first; k < last; ++k) views_[size_t(k)].builder.build(*depths[size_t(k)], views_[size_t(k)].mesh);
       },
       double(views_.size()));
+  if (getenv("MESH_PROFILE")) fprintf(stderr, "prepare %.4f build %.4f\n", std::chrono::duration<double>(T1-T0).count(), secondsSince(T1));
 }
 
 std::string MeshSynthesizer::meshSizeLine() const {

@@ -1,10 +1,11 @@
 #pragma once
 // MeshRender's per-frame pipeline (doc/meshrender.md):
 //   1. mesh from depth: each reference view's depth map becomes a triangle mesh (DepthMesh.h)
-//   2. render: each mesh, textured with its own reference frame, is rendered separately into the
-//      virtual camera with OpenGL (GlMeshRenderer.h): luma at luma resolution, U and V in a second
-//      render at chroma resolution whose pixel centres are the chroma sample centres; colour and
-//      inverse depth are read back as ViewSyn's WarpedLayers
+//   2. render: each mesh is rendered separately into the virtual camera with OpenGL at luma
+//      resolution (GlMeshRenderer.h); the reference position and inverse depth of each sample are
+//      read back, the colour is looked up in the view's own frame with ViewSyn's sampler, and 4:2:0
+//      U and V come from the same render (each chroma sample from its 2 x 2 luma samples): ViewSyn's
+//      WarpedLayers
 //   3. blend the views and 4. fill the holes with ViewSyn's blendLayers and fillHoles, with the
 //      options the plan decides for the scene (makePlan(scene, Tool::MeshRender): ViewSyn's general
 //      path's), 5. round into the output frame
@@ -103,8 +104,7 @@ private:
   bool rgb_;        // plan_.rgb
   bool hasChroma_;  // plan_.chroma
   GlMeshRenderer renderer_;
-  RenderGrid lumaGrid_, chromaGrid_;
-  TexelMap chromaTexels_;
+  RenderGrid lumaGrid_;
   DepthEdgeAligner aligner_;  // DepthEdgeAlignment, as ViewSyn does it
   std::vector<ViewState> views_;
   BlendedLayer blendedLuma_, blendedChroma_;
