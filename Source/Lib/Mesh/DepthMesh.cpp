@@ -1,10 +1,7 @@
 #include "Mesh/DepthMesh.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
-#include <cstdio>
-#include <cstdlib>
 #include <functional>
 #include <limits>
 #include <utility>
@@ -98,6 +95,7 @@ void DepthMeshBuilder::build(const Plane& depth, DepthMesh& mesh) const {
   mesh.vertices.assign(count * 4, 0.0f);
   mesh.boundary.assign(count, 0.0f);
   mesh.valid.assign(count, 0);
+  mesh.cellSplit.assign(size_t(columns - 1) * size_t(rows - 1), 0);
   mesh.triangles.clear();
   mesh.triangles.reserve(count * 6);
   mesh.points.clear();
@@ -228,23 +226,10 @@ void DepthMeshBuilder::build(const Plane& depth, DepthMesh& mesh) const {
         emit(q0, q1, q3);
         emit(q0, q3, q2);
       } else {
+        mesh.cellSplit[size_t(r) * size_t(columns - 1) + size_t(c)] = 1;
         emit(q0, q1, q2);
         emit(q1, q3, q2);
       }
-    }
-
-  // The edge mask: border vertices' pixels, widened by MeshGridStep - 1 (the cells around them).
-  mesh.maskWidth = width_;
-  mesh.maskHeight = height_;
-  mesh.edgeMask.assign(size_t(width_) * size_t(height_), 0);
-  const int reach = options_.gridStep - 1;
-  for (int r = 0; r < rows; ++r)
-    for (int c = 0; c < columns; ++c) {
-      if (mesh.boundary[size_t(r) * columns + c] == 0.0f) continue;
-      const int px = pixelU_[size_t(c)], py = pixelV_[size_t(r)];
-      for (int y = std::max(py - reach, 0); y <= std::min(py + reach, height_ - 1); ++y)
-        std::fill_n(&mesh.edgeMask[size_t(y) * width_ + size_t(std::max(px - reach, 0))],
-                    std::min(px + reach, width_ - 1) - std::max(px - reach, 0) + 1, uint8_t(1));
     }
 
   // Border vertices of kept triangles, and valid vertices without a kept triangle unless nothing
@@ -271,10 +256,26 @@ void DepthMeshBuilder::build(const Plane& depth, DepthMesh& mesh) const {
   mesh.gridTriangles = mesh.triangleCount();
   if (rate_) {
     cellStart.push_back(uint32_t(mesh.triangles.size()));
-    auto T0 = std::chrono::steady_clock::now();
     merge(mesh, cameraInverseZ, cellStart);
-    if (getenv("MESH_PROFILE")) fprintf(stderr, "merge %.4f\n", std::chrono::duration<double>(std::chrono::steady_clock::now()-T0).count());
   }
+}
+
+bool DepthMesh::edgeAt(double u, double v) const {
+  if (columns < 2 || rows < 2) return false;
+  // The cell: the last grid line at or before the position, clamped to the grid.
+  const int c = std::clamp(int(std::upper_bound(gridU.begin(), gridU.end(), u) - gridU.begin()) - 1, 0, columns - 2);
+  const int r = std::clamp(int(std::upper_bound(gridV.begin(), gridV.end(), v) - gridV.begin()) - 1, 0, rows - 2);
+  const double fu = (u - gridU[size_t(c)]) / (gridU[size_t(c) + 1] - gridU[size_t(c)]);
+  const double fv = (v - gridV[size_t(r)]) / (gridV[size_t(r) + 1] - gridV[size_t(r)]);
+  const size_t q0 = size_t(r) * size_t(columns) + size_t(c), q1 = q0 + 1, q2 = q0 + size_t(columns), q3 = q2 + 1;
+  // Barycentric weights of the triangle's corners; a corner counts when its weight is above the
+  // position's float rounding (as the interpolated flag of a rasterised triangle is above 0 there).
+  constexpr double kWeight = 1e-3;
+  auto on = [&](size_t corner, double weight) { return weight > kWeight && boundary[corner] > 0.0f; };
+  if (cellSplit[size_t(r) * size_t(columns - 1) + size_t(c)] == 0)
+    return fu >= fv ? on(q0, 1.0 - fu) || on(q1, fu - fv) || on(q3, fv) : on(q0, 1.0 - fv) || on(q3, fu) || on(q2, fv - fu);
+  return fu + fv <= 1.0 ? on(q0, 1.0 - fu - fv) || on(q1, fu) || on(q2, fv)
+                        : on(q1, 1.0 - fv) || on(q2, 1.0 - fu) || on(q3, fu + fv - 1.0);
 }
 
 void DepthMeshBuilder::merge(DepthMesh& mesh, const std::vector<double>& inverseCameraZ,
@@ -398,14 +399,6 @@ void DepthMeshBuilder::merge(DepthMesh& mesh, const std::vector<double>& inverse
     const uint32_t centre = uint32_t(vertexIndex(x0 + size / 2, y0 + size / 2));
     for (size_t k = 0; k < ring.size(); ++k)
       triangles.insert(triangles.end(), {centre, ring[k], ring[(k + 1) % ring.size()]});
-  }
-  if (getenv("MESH_PROFILE")) {
-    size_t perLevel[8] = {0}, trisLevel[8] = {0};
-    for (const Leaf& leaf : leaves) ++perLevel[leaf.level];
-    (void)trisLevel;
-    size_t zeroTris = 0;
-    for (const Leaf& leaf : leaves) if (leaf.level == 0) { const size_t cell = size_t(leaf.y) * size_t(cellsX) + size_t(leaf.x); zeroTris += (cellStart[cell+1]-cellStart[cell])/3; }
-    fprintf(stderr, "leaves:"); for (int k = 0; k < 8; ++k) fprintf(stderr, " %zu", perLevel[k]); fprintf(stderr, " level0 tris %zu total %zu points %zu orphans %zu\n", zeroTris, triangles.size()/3, mesh.points.size(), mesh.farthestOrphans.size());
   }
   mesh.triangles.swap(triangles);
 }

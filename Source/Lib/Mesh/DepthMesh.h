@@ -79,11 +79,10 @@ struct DepthMesh {
   std::vector<double> gridU, gridV;    // reference pixel position of each grid column and row
   std::vector<float> vertices;         // 4 floats a vertex, row-major over the grid: (a u, a v, a, w)
   std::vector<float> boundary;         // 1 float a vertex: 1 where it belongs to a dropped triangle
-  // Edge flag per reference pixel: 1 within MeshGridStep - 1 pixels of a border vertex's pixel. A
-  // sample that shows reference position (u, v) is on an edge when one of the 4 pixels around it is.
-  std::vector<uint8_t> edgeMask;
-  int maskWidth = 0, maskHeight = 0;
-  std::vector<uint8_t> valid;          // 1 a vertex: a finite point in front of the reference camera
+  // Per grid cell, the diagonal its quad was split along: 0 from corner (c, r) to (c+1, r+1), 1 from
+  // (c+1, r) to (c, r+1). With `boundary`, it tells whether the grid triangle under a reference
+  // position touches a dropped one (edgeAt), whatever triangles the adaptive mesh drew there.
+  std::vector<uint8_t> cellSplit;  std::vector<uint8_t> valid;          // 1 a vertex: a finite point in front of the reference camera
   std::vector<uint32_t> triangles;     // 3 vertex indices a triangle
   std::vector<uint32_t> points;        // border vertices of kept triangles and orphans, drawn as points
   std::vector<uint32_t> farthestOrphans;  // locally farthest orphans: drawn only into their own lone hole
@@ -91,6 +90,10 @@ struct DepthMesh {
   size_t gridTriangles = 0;            // triangles kept before the adaptive merge (one grid quad: 2)
 
   size_t vertexCount() const { return size_t(columns) * size_t(rows); }
+  // Whether the grid triangle that holds reference position (u, v) has a vertex on a dropped triangle
+  // with a weight above 0 at (u, v): the edge flag of a sample drawn from a triangle (at a vertex
+  // itself, only that vertex counts). Positions outside the grid take the nearest cell.
+  bool edgeAt(double u, double v) const;
   size_t triangleCount() const { return triangles.size() / 3; }
 };
 

@@ -2,9 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
-#include <chrono>
 #include <cstdio>
-#include <cstdlib>
 #include <limits>
 #include <string>
 
@@ -40,14 +38,14 @@ void main() {
 // The fragment writes where it looks in the reference, not a colour: the reference pixel position
 // (u, v), q and its flags, in one RGBA32F target. The colour is looked up on the CPU afterwards with
 // ViewSyn's own sampler (GlMeshRenderer::render), so each sample is shaded once, whatever the overdraw,
-// and chroma needs no render of its own. Flags: the drawn mark (1 drawn, 2 a locally farthest
-// orphan). The edge flag is looked up on the CPU too, in the mesh's edge mask at that position.
+// and chroma needs no render of its own. Flags: the drawn mark (1 a triangle, 3 a point, 2 a locally
+// farthest orphan). The edge flag is looked up on the CPU too (DepthMesh::edgeAt).
 const char* const kFragmentShader = R"(#version 330 core
 in vec3 referencePixel;
 in vec2 inverseDepthRatio;
 flat in vec2 pointClipZW;
 uniform int drawingPoints;  // 1: a point; its fragments look where their own centre looks
-uniform float drawnMark;    // 1: drawn; 2: a locally farthest orphan (kept only in a lone hole)
+uniform float drawnMark;    // 1: a triangle; 3: a point; 2: a locally farthest orphan (kept only in a lone hole)
 uniform mat4 referenceFromClip;
 uniform vec2 viewportSize;
 layout(location = 0) out vec4 referenceDepthFlags;
@@ -144,8 +142,7 @@ struct GlMeshRenderer::Impl {
   std::vector<Plane> planes;                // the "texture": the reference planes, sampled on the CPU
   std::unique_ptr<SubPixelSampler> sampler;  // null: exact bilinear
   std::vector<float> readBack;              // last render: (u, v, q, flags) per sample
-  std::vector<uint8_t> edgeMask;            // the uploaded mesh's (DepthMesh::edgeMask)
-  int maskWidth = 0, maskHeight = 0;
+  const DepthMesh* mesh = nullptr;          // the uploaded mesh (its edge flags)
   int renderedWidth = 0, renderedHeight = 0;
 
   Impl() : gl(context.gl()) {
@@ -266,15 +263,9 @@ struct GlMeshRenderer::Impl {
     }
   }
 
-  // Whether reference position (u, v) is on an edge: one of the 4 pixels around it is in the mask.
-  bool edgeAt(double u, double v) const {
-    if (edgeMask.empty()) return false;
-    const int x0 = std::clamp(int(std::floor(u)), 0, maskWidth - 1), y0 = std::clamp(int(std::floor(v)), 0, maskHeight - 1);
-    const int x1 = std::min(x0 + 1, maskWidth - 1), y1 = std::min(y0 + 1, maskHeight - 1);
-    const uint8_t* top = &edgeMask[size_t(y0) * size_t(maskWidth)];
-    const uint8_t* bottom = &edgeMask[size_t(y1) * size_t(maskWidth)];
-    return top[x0] | top[x1] | bottom[x0] | bottom[x1];
-  }
+  // The edge flag of a sample: every point is on an edge (a border vertex, or an orphan); a triangle's
+  // fragment is when the grid triangle under its reference position touches a dropped one.
+  bool edgeAt(const float* sample) const { return sample[3] != 1.0f || (mesh && mesh->edgeAt(sample[0], sample[1])); }
 
   // The colour of plane `k` at texel position (x, y).
   float sample(const Plane& plane, double x, double y) const {
@@ -302,9 +293,7 @@ void GlMeshRenderer::uploadMesh(const DepthMesh& mesh) {
   gl.BindVertexArray(s.vertexArray);
   s.upload(GL_ARRAY_BUFFER, s.vertexBuffer, GLsizeiptr(mesh.vertices.size() * sizeof(float)), mesh.vertices.data(),
            s.vertexBytes);
-  s.edgeMask = mesh.edgeMask;
-  s.maskWidth = mesh.maskWidth;
-  s.maskHeight = mesh.maskHeight;
+  s.mesh = &mesh;
   s.indices = mesh.triangles;
   s.indices.insert(s.indices.end(), mesh.points.begin(), mesh.points.end());
   s.indices.insert(s.indices.end(), mesh.farthestOrphans.begin(), mesh.farthestOrphans.end());
@@ -334,7 +323,6 @@ void GlMeshRenderer::render(const Mat4& clip, const RenderGrid& grid, const Texe
   VS_CHECK(!s.planes.empty() && grid.width > 0 && grid.height > 0);
   s.ensureFramebuffer(grid.width, grid.height);
 
-  auto T0 = std::chrono::steady_clock::now();
   gl.BindFramebuffer(GL_FRAMEBUFFER, s.framebuffer);
   gl.Viewport(0, 0, grid.width, grid.height);
   const float clearReference[4] = {0.0f, 0.0f, float(kNoDepth), 0.0f};
@@ -362,7 +350,9 @@ void GlMeshRenderer::render(const Mat4& clip, const RenderGrid& grid, const Texe
   gl.BindVertexArray(s.vertexArray);
   if (s.triangleIndexCount > 0) gl.DrawElements(GL_TRIANGLES, s.triangleIndexCount, GL_UNSIGNED_INT, nullptr);
   // One-pixel points (the default point size) after the triangles: the depth test keeps the nearer.
+  // Marked 3: drawn, and on an edge.
   gl.Uniform1i(s.drawingPointsLocation, invertible ? 1 : 0);
+  gl.Uniform1f(s.drawnMarkLocation, 3.0f);
   if (s.pointCount > 0)
     gl.DrawElements(GL_POINTS, s.pointCount, GL_UNSIGNED_INT,
                     reinterpret_cast<const void*>(size_t(s.triangleIndexCount) * sizeof(uint32_t)));
@@ -378,8 +368,6 @@ void GlMeshRenderer::render(const Mat4& clip, const RenderGrid& grid, const Texe
     gl.DepthFunc(GL_LESS);
   }
 
-  gl.Finish();
-  auto T1 = std::chrono::steady_clock::now();
   // Framebuffer row 0 is image row 0 (MeshProjection.h): read back as it lies.
   const int width = grid.width, height = grid.height;
   const size_t n = size_t(width) * size_t(height);
@@ -404,10 +392,7 @@ void GlMeshRenderer::render(const Mat4& clip, const RenderGrid& grid, const Texe
     }
   for (size_t i : rejected) samples[i * 4 + 3] = 0.0f;
 
-  auto T2 = std::chrono::steady_clock::now();
   sampleRender(s.planes, texelMap, layer);
-  auto T3 = std::chrono::steady_clock::now();
-  if (getenv("MESH_PROFILE")) fprintf(stderr, "draw %.4f read %.4f sample %.4f\n", std::chrono::duration<double>(T1-T0).count(), std::chrono::duration<double>(T2-T1).count(), std::chrono::duration<double>(T3-T2).count());
   if (extras) {
     extras->referenceU.assign(n, std::nanf(""));
     extras->referenceV.assign(n, std::nanf(""));
@@ -432,7 +417,7 @@ void GlMeshRenderer::sampleRender(const std::vector<Plane>& planes, const TexelM
       const double x = texelMap.scale * r[0] + texelMap.offset, y = texelMap.scale * r[1] + texelMap.offset;
       layer.inverseDepth[i] = double(r[2]);
       for (int k = 0; k < channels; ++k) layer.colour[k][i] = s.sample(planes[size_t(k)], x, y);
-      layer.edge[i] = s.edgeAt(r[0], r[1]) ? 1 : 0;
+      layer.edge[i] = s.edgeAt(r) ? 1 : 0;
     }
   });
 }
@@ -474,7 +459,7 @@ void GlMeshRenderer::sampleChroma420(const std::vector<const Plane*>& planes, do
         if (onFront(down)) uy = (down[0] - front[0]) * 2.0 * sy, vy = (down[1] - front[1]) * 2.0 * sy;
         double u = front[0] + sx * ux + sy * uy, v = front[1] + sx * vx + sy * vy;
         double q = front[2];
-        bool edge = s.edgeAt(front[0], front[1]);
+        bool edge = s.edgeAt(front);
         // All four on one surface: their mean, which is the centre where the mapping is affine.
         if (onFront(block[0][0]) && onFront(block[0][1]) && onFront(block[1][0]) && onFront(block[1][1])) {
           u = v = q = 0.0;
@@ -483,7 +468,7 @@ void GlMeshRenderer::sampleChroma420(const std::vector<const Plane*>& planes, do
               u += 0.25 * r[0];
               v += 0.25 * r[1];
               q += 0.25 * r[2];
-              edge = edge || s.edgeAt(r[0], r[1]);
+              edge = edge || s.edgeAt(r);
             }
         }
         const size_t c = size_t(j) * size_t(width) + size_t(i);

@@ -1,9 +1,8 @@
 #pragma once
 // Renders a reference view's mesh into a pixel grid of the virtual camera with OpenGL 3.3 core, headless
-// (doc/meshrender.md, "Rendering"). Read back per sample: the reference's colour, interpolated in float
-// from the reference planes uploaded as float textures (setSampling); the inverse virtual depth q = 1 / z; the
-// reference pixel position the sample shows; and whether its triangle touches a dropped one (a depth
-// edge of the reference).
+// (doc/meshrender.md, "Rendering"). Read back per sample: the reference pixel position the sample
+// shows and the inverse virtual depth q = 1 / z; then, on the CPU, the reference's colour there
+// (setSampling) and whether the sample lies next to a depth edge of the reference.
 //
 // Render target: one RGBA32F colour attachment (reference position, q, flags) and a
 // GL_DEPTH_COMPONENT32F depth buffer, in one framebuffer object sized for the largest grid so far. The
@@ -52,7 +51,8 @@ public:
   // sampler's own kernel weights), or, with nullptr (the default), bilinear at the exact position.
   void setSampling(const SubPixelSampler* sampler);
 
-  // Uploads the mesh's vertices and triangles (kept until the next call).
+  // Uploads the mesh's vertices and triangles (kept until the next call). The renders read the mesh's
+  // edge flags (DepthMesh::edgeAt): it must outlive them.
   void uploadMesh(const DepthMesh& mesh);
   // Keeps a copy of 1 to 3 planes of one size: the texture the next renders are coloured with
   // (looked up on the CPU, where each render's fragments say).

@@ -220,7 +220,6 @@ void MeshSynthesizer::buildMeshesNow(const std::vector<ReferenceFrame>& referenc
   VS_CHECK(references.size() == views_.size());
   const SynthesisSettings& s = scene_.settings;
   alignedDepthSamples_ = 0;
-  auto T0 = std::chrono::steady_clock::now();
   std::vector<const Plane*> lumas, depths;
   for (const ReferenceFrame& reference : references) lumas.push_back(&reference.texture->planes[0]);
   for (size_t k = 0; k < views_.size(); ++k) {
@@ -233,7 +232,6 @@ void MeshSynthesizer::buildMeshesNow(const std::vector<ReferenceFrame>& referenc
     }
     depths.push_back(&aligner_.align(k, *depth, lumas, alignedDepthSamples_));
   }
-  auto T1 = std::chrono::steady_clock::now();
   // The views' meshes on the worker threads, one view each.
   parallelRanges(
       int(views_.size()),
@@ -241,7 +239,6 @@ void MeshSynthesizer::buildMeshesNow(const std::vector<ReferenceFrame>& referenc
         for (int k = first; k < last; ++k) views_[size_t(k)].builder.build(*depths[size_t(k)], views_[size_t(k)].mesh);
       },
       double(views_.size()));
-  if (getenv("MESH_PROFILE")) fprintf(stderr, "prepare %.4f build %.4f\n", std::chrono::duration<double>(T1-T0).count(), secondsSince(T1));
 }
 
 std::string MeshSynthesizer::meshSizeLine() const {
