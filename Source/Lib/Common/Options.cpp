@@ -198,7 +198,7 @@ void addMeshOptions(OptionTable& table) {
   OptionSpec maxError;
   maxError.key = "MeshMaxError";
   maxError.type = OptionType::Double;
-  maxError.defaultValue = "0.2";
+  maxError.defaultValue = "0.1";
   maxError.minValue = 0.0;
   maxError.maxValue = 100.0;
   maxError.vsrsDefault = "-";

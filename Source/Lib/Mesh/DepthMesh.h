@@ -65,7 +65,7 @@ struct MeshOptions {
   int gridStep = 1;                      // MeshGridStep: vertex spacing in pixels
   double discontinuityThreshold = 0.02;  // MeshDiscontinuityThreshold: relative depth step that drops a triangle
   int missingDepthLevel = -1;            // MissingDepthLevel: vertices at this level are dropped; -1 off
-  double maxError = 0.2;                 // MeshMaxError: virtual-camera pixels a merged block may move a sample
+  double maxError = 0.1;                 // MeshMaxError: virtual-camera pixels a merged block may move a sample
 };
 
 // How far, in virtual-camera pixels, a surface point seen at reference pixel (u, v) with inverse camera
