@@ -366,6 +366,11 @@ TEST(MeshRenderGl, ReferenceRenderedIntoItselfReproducesTheView) {
   expectSelfRender(makePlaneScene(0, std::numeric_limits<double>::infinity()), 1, "DepthType 0, Zfar inf");
   expectSelfRender(makePlaneScene(0), 4, "DepthType 0, MeshGridStep 4");
   expectSelfRender(makePlaneScene(0), 1, "DepthType 0, isolated far samples", true);
+  // 4:4:4: U and V looked up at the luma samples' own positions (the texture is noise, any format).
+  PlaneScene full = makePlaneScene(0);
+  full.scene.settings.textureFormat.chroma = vs::ChromaFormat::Yuv444;
+  for (vs::Frame& texture : full.textures) texture.reset(full.scene.settings.textureFormat);
+  expectSelfRender(full, 1, "DepthType 0, 4:4:4");
 }
 
 // The whole pipeline on the generated plane: the virtual view against its ray-cast truth, and against
