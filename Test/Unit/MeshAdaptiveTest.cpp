@@ -1,6 +1,7 @@
 // The adaptive mesh (MeshMaxError, DepthMesh.h) without OpenGL, against the full grid built from the same
 // depth map: it covers exactly the same area, has no T-junction (so no crack), keeps every depth sample
-// within the bound, and merges planes. Truth: the full grid's triangles and the depth samples.
+// within the bound (with a texture, also within the colour bound: displacement times luma step), and
+// merges planes. Truth: the full grid's triangles, the depth samples and the texture.
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -70,23 +71,47 @@ double totalArea(const vs::DepthMesh& mesh) {
   return sum;
 }
 
-void build(double maxError, bool adaptive, vs::DepthMesh& mesh) {
+// A texture with sharp vertical stripes on the right half and flat grey on the left.
+vs::Plane stripes() {
+  vs::Plane luma(kWidth, kHeight);
+  for (int y = 0; y < kHeight; ++y)
+    for (int x = 0; x < kWidth; ++x) luma.at(x, y) = uint16_t(x < kWidth / 2 ? 128 : (x / 3) % 2 ? 200 : 40);
+  return luma;
+}
+
+// The largest luma step from pixel (x, y) to its 8 neighbours.
+int lumaStep(const vs::Plane& luma, int x, int y) {
+  int step = 0;
+  for (int j = std::max(y - 1, 0); j <= std::min(y + 1, kHeight - 1); ++j)
+    for (int i = std::max(x - 1, 0); i <= std::min(x + 1, kWidth - 1); ++i)
+      step = std::max(step, std::abs(int(luma.at(i, j)) - int(luma.at(x, y))));
+  return step;
+}
+
+void build(double maxError, bool adaptive, vs::DepthMesh& mesh, double maxColourError = 0.0, const vs::Plane* luma = nullptr) {
   vs::MeshOptions options;
   options.maxError = maxError;
+  options.maxColourError = maxColourError;
   const vs::DisplacementRate rate = [](double, double, double) { return kRate; };
   const vs::DepthMeshBuilder builder(camera(), range8(), kWidth, kHeight, options,
                                      adaptive ? rate : vs::DisplacementRate{});
-  builder.build(depthMap(), mesh);
+  builder.build(depthMap(), mesh, luma);
 }
 
 TEST(MeshAdaptive, SameAreaNoTJunctionAndEverySampleWithinTheBound) {
   vs::DepthMesh grid;
   build(0.1, false, grid);
-  for (double maxError : {0.0, 0.1, 0.5, 2.0}) {
+  const vs::Plane luma = stripes();
+  const struct {
+    double maxError, maxColourError;
+  } cases[] = {{0.0, 0.0}, {0.1, 0.0}, {0.5, 0.0}, {2.0, 0.0}, {2.0, 4.0}};
+  for (const auto& bounds : cases) {
+    const double maxError = bounds.maxError, maxColourError = bounds.maxColourError;
     vs::DepthMesh mesh;
-    build(maxError, true, mesh);
+    build(maxError, true, mesh, maxColourError, maxColourError > 0.0 ? &luma : nullptr);
     EXPECT_EQ(mesh.gridTriangles, grid.triangleCount());
-    EXPECT_LT(mesh.triangleCount(), grid.triangleCount() / (maxError >= 0.5 ? 3 : 1)) << "MeshMaxError " << maxError;
+    EXPECT_LT(mesh.triangleCount(), grid.triangleCount() / (maxError >= 0.5 && maxColourError == 0.0 ? 3 : 1))
+        << "MeshMaxError " << maxError;
     // The same points and outline as the full grid.
     EXPECT_EQ(mesh.points, grid.points);
     EXPECT_EQ(mesh.farthestOrphans, grid.farthestOrphans);
@@ -133,6 +158,10 @@ TEST(MeshAdaptive, SameAreaNoTJunctionAndEverySampleWithinTheBound) {
         const double interpolated = (1.0 - beta - gamma) * qOf(mesh, a) + beta * qOf(mesh, b) + gamma * qOf(mesh, c);
         const double error = std::fabs(interpolated - q) * kRate;
         EXPECT_LE(error, maxError + 1e-6) << "vertex " << i << ", MeshMaxError " << maxError;
+        if (maxColourError > 0.0) {  // with the texture: the colour error the displacement causes
+          const int x = std::clamp(int(std::lround(u)), 0, kWidth - 1), y = std::clamp(int(std::lround(v)), 0, kHeight - 1);
+          EXPECT_LE(error * lumaStep(luma, x, y), maxColourError + 1e-6) << "vertex " << i;
+        }
         worst = std::max(worst, error);
         found = true;
       }
@@ -140,8 +169,8 @@ TEST(MeshAdaptive, SameAreaNoTJunctionAndEverySampleWithinTheBound) {
       ++checked;
     }
     EXPECT_GT(checked, size_t(kWidth * kHeight / 2));
-    std::printf("MeshMaxError %.2f: %zu triangles (grid %zu), largest sample displacement %.4f px\n", maxError,
-                mesh.triangleCount(), grid.triangleCount(), worst);
+    std::printf("MeshMaxError %.2f, MeshMaxColourError %.1f: %zu triangles (grid %zu), largest sample displacement %.4f px\n",
+                maxError, maxColourError, mesh.triangleCount(), grid.triangleCount(), worst);
   }
 }
 

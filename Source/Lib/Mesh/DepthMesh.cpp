@@ -84,7 +84,7 @@ DepthMeshBuilder::DepthMeshBuilder(const Camera& reference, const DepthRange& ra
   }
 }
 
-void DepthMeshBuilder::build(const Plane& depth, DepthMesh& mesh) const {
+void DepthMeshBuilder::build(const Plane& depth, DepthMesh& mesh, const Plane* luma) const {
   VS_CHECK(depth.width == width_ && depth.height == height_);
   const int columns = int(gridU_.size()), rows = int(gridV_.size());
   const size_t count = size_t(columns) * size_t(rows);
@@ -256,7 +256,7 @@ void DepthMeshBuilder::build(const Plane& depth, DepthMesh& mesh) const {
   mesh.gridTriangles = mesh.triangleCount();
   if (rate_) {
     cellStart.push_back(uint32_t(mesh.triangles.size()));
-    merge(mesh, cameraInverseZ, cellStart);
+    merge(mesh, cameraInverseZ, cellStart, luma && luma->width == width_ && luma->height == height_ ? luma : nullptr);
   }
 }
 
@@ -279,7 +279,7 @@ bool DepthMesh::edgeAt(double u, double v) const {
 }
 
 void DepthMeshBuilder::merge(DepthMesh& mesh, const std::vector<double>& inverseCameraZ,
-                             const std::vector<uint32_t>& cellStart) const {
+                             const std::vector<uint32_t>& cellStart, const Plane* luma) const {
   const int columns = mesh.columns, rows = mesh.rows;
   const int cellsX = columns - 1, cellsY = rows - 1;
   constexpr int kMaxLevel = 7;  // blocks of at most 128 x 128 cells
@@ -291,6 +291,28 @@ void DepthMeshBuilder::merge(DepthMesh& mesh, const std::vector<double>& inverse
   auto vertexIndex = [&](int x, int y) { return size_t(y) * size_t(columns) + size_t(x); };
   for (size_t cell = 0; cell < ok[0].size(); ++cell) ok[0][cell] = cellStart[cell + 1] - cellStart[cell] == 6;
   const double halfBound = 0.5 * std::max(options_.maxError, 0.0);
+  // Each vertex's allowance in virtual pixels (half of it, as halfBound): MeshMaxError, capped with
+  // MeshMaxColourError by the colour error a displacement causes at its pixel (the largest luma step
+  // to its 8 neighbours, per pixel, times the displacement).
+  std::vector<float> allowance;
+  if (luma && options_.maxColourError > 0.0) {
+    allowance.resize(mesh.vertexCount());
+    const double halfColour = 0.5 * options_.maxColourError;
+    for (int r = 0; r < rows; ++r) {
+      const int py = pixelV_[size_t(r)];
+      for (int c = 0; c < columns; ++c) {
+        const int px = pixelU_[size_t(c)];
+        const int centre = luma->row(py)[px];
+        int step = 0;
+        for (int y = std::max(py - 1, 0); y <= std::min(py + 1, height_ - 1); ++y) {
+          const uint16_t* row = luma->row(y);
+          for (int x = std::max(px - 1, 0); x <= std::min(px + 1, width_ - 1); ++x) step = std::max(step, std::abs(int(row[x]) - centre));
+        }
+        allowance[size_t(r) * size_t(columns) + size_t(c)] =
+            float(step > 0 ? std::min(halfBound, halfColour / double(step)) : halfBound);
+      }
+    }
+  }
   // Whether every vertex of the block lies within the tolerance of the two triangles through its corners
   // (split along the diagonal from (x0, y0) to (x1, y1)). The tolerance in q is the bound over the
   // largest displacement rate at the corners; half the bound, since a fan around the centre (drawn when
@@ -313,10 +335,12 @@ void DepthMeshBuilder::merge(DepthMesh& mesh, const std::vector<double>& inverse
     for (int y = y0; y <= y1; ++y) {
       const double dv = (mesh.gridV[size_t(y)] - v0) * sv;
       const double* q = &inverseCameraZ[vertexIndex(x0, y)];
+      const float* allowed = allowance.empty() ? nullptr : &allowance[vertexIndex(x0, y)];
       for (int x = x0; x <= x1; ++x, ++q) {
         const double du = (mesh.gridU[size_t(x)] - u0) * su;
         const double plane = du >= dv ? q00 + du * (q10 - q00) + dv * (q11 - q10) : q00 + dv * (q01 - q00) + du * (q11 - q01);
-        if (!(std::fabs(*q - plane) <= tolerance)) return false;
+        const double limit = allowed ? (rate > 0.0 ? double(allowed[x - x0]) / rate : tolerance) : tolerance;
+        if (!(std::fabs(*q - plane) <= limit)) return false;
       }
     }
     return true;

@@ -66,6 +66,9 @@ struct MeshOptions {
   double discontinuityThreshold = 0.02;  // MeshDiscontinuityThreshold: relative depth step that drops a triangle
   int missingDepthLevel = -1;            // MissingDepthLevel: vertices at this level are dropped; -1 off
   double maxError = 0.1;                 // MeshMaxError: virtual-camera pixels a merged block may move a sample
+  // MeshMaxColourError: with the reference luma, a sample may move only as far as keeps the colour
+  // there within this many sample values (its luma gradient times the displacement); 0: off.
+  double maxColourError = 0.0;
 };
 
 // How far, in virtual-camera pixels, a surface point seen at reference pixel (u, v) with inverse camera
@@ -112,13 +115,15 @@ public:
                    DisplacementRate rate = {});
 
   // Builds the mesh of one depth map (luma of the depth file; its size must be width x height).
-  void build(const Plane& depth, DepthMesh& mesh) const;
+  // `luma`: the view's texture luma, for MeshMaxColourError (ignored when null or of another size).
+  void build(const Plane& depth, DepthMesh& mesh, const Plane* luma = nullptr) const;
 
   const MeshOptions& options() const { return options_; }
 
 private:
   // Replaces the grid's triangles by the adaptive mesh's (the header comment).
-  void merge(DepthMesh& mesh, const std::vector<double>& inverseCameraZ, const std::vector<uint32_t>& cellStart) const;
+  void merge(DepthMesh& mesh, const std::vector<double>& inverseCameraZ, const std::vector<uint32_t>& cellStart,
+             const Plane* luma) const;
 
   Camera reference_;
   DisplacementRate rate_;

@@ -51,6 +51,7 @@ MeshSettings readMeshSettings(const Config& config) {
   settings.discontinuityThreshold = config.getDouble("MeshDiscontinuityThreshold");
   settings.gridStep = std::stoi(config.getString("MeshGridStep"));
   settings.maxError = config.getDouble("MeshMaxError");
+  settings.maxColourError = config.getDouble("MeshMaxColourError");
   settings.plyPath = config.getPath("MeshPlyOutput");
   return settings;
 }
@@ -92,6 +93,7 @@ void MeshSynthesizer::buildViews() {
   options.discontinuityThreshold = settings.discontinuityThreshold;
   options.missingDepthLevel = plan_.missingDepthLevel;
   options.maxError = settings.maxError;
+  options.maxColourError = settings.maxColourError;
   for (const ReferenceView& reference : s.references) {
     // MeshMaxError is in the virtual camera's luma pixels.
     ViewState view{DepthMeshBuilder(reference.camera, reference.depthRange, s.depthFormat.width, s.depthFormat.height, options,
@@ -236,7 +238,8 @@ void MeshSynthesizer::buildMeshesNow(const std::vector<ReferenceFrame>& referenc
   parallelRanges(
       int(views_.size()),
       [&](int first, int last) {
-        for (int k = first; k < last; ++k) views_[size_t(k)].builder.build(*depths[size_t(k)], views_[size_t(k)].mesh);
+        for (int k = first; k < last; ++k)
+          views_[size_t(k)].builder.build(*depths[size_t(k)], views_[size_t(k)].mesh, lumas[size_t(k)]);
       },
       double(views_.size()));
 }

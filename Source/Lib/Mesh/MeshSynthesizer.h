@@ -35,6 +35,7 @@ struct MeshSettings {
   double discontinuityThreshold = MeshOptions{}.discontinuityThreshold;  // MeshDiscontinuityThreshold
   int gridStep = 1;                      // MeshGridStep: 1, 2, 4 or 8
   double maxError = MeshOptions{}.maxError;  // MeshMaxError: virtual-camera pixels; adaptive mesh bound
+  double maxColourError = MeshOptions{}.maxColourError;  // MeshMaxColourError: sample values; 0 off
   std::string plyPath;                   // MeshPlyOutput; empty: none
 };
 
