@@ -198,7 +198,7 @@ void addMeshOptions(OptionTable& table) {
   OptionSpec maxError;
   maxError.key = "MeshMaxError";
   maxError.type = OptionType::Double;
-  maxError.defaultValue = "0.1";
+  maxError.defaultValue = "2";
   maxError.minValue = 0.0;
   maxError.maxValue = 100.0;
   maxError.vsrsDefault = "-";
@@ -208,7 +208,7 @@ void addMeshOptions(OptionTable& table) {
   OptionSpec colourError;
   colourError.key = "MeshMaxColourError";
   colourError.type = OptionType::Double;
-  colourError.defaultValue = "0";
+  colourError.defaultValue = "4";
   colourError.minValue = 0.0;
   colourError.maxValue = 65535.0;
   colourError.vsrsDefault = "-";

@@ -65,10 +65,10 @@ struct MeshOptions {
   int gridStep = 1;                      // MeshGridStep: vertex spacing in pixels
   double discontinuityThreshold = 0.02;  // MeshDiscontinuityThreshold: relative depth step that drops a triangle
   int missingDepthLevel = -1;            // MissingDepthLevel: vertices at this level are dropped; -1 off
-  double maxError = 0.1;                 // MeshMaxError: virtual-camera pixels a merged block may move a sample
+  double maxError = 2.0;                 // MeshMaxError: virtual-camera pixels a merged block may move a sample
   // MeshMaxColourError: with the reference luma, a sample may move only as far as keeps the colour
   // there within this many sample values (its luma gradient times the displacement); 0: off.
-  double maxColourError = 0.0;
+  double maxColourError = 4.0;
 };
 
 // How far, in virtual-camera pixels, a surface point seen at reference pixel (u, v) with inverse camera
