@@ -82,6 +82,80 @@ std::vector<FarEvidence> testFarReading(const Scene& scene, const std::vector<Re
   return evidence;
 }
 
+RunTestCounts farContradictedRuns(const Scene& scene, size_t k, const std::vector<ReferenceFrame>& references,
+                                  int missingLevel, Plane& filledDepth, const std::vector<uint8_t>& filled) {
+  const SynthesisSettings& s = scene.settings;
+  VS_CHECK(references.size() == s.references.size() && k < references.size());
+  VS_CHECK(filled.size() == filledDepth.samples.size());
+  RunTestCounts counts;
+  const int w = filledDepth.width, h = filledDepth.height;
+  if (missingLevel < 0 || w == 0 || h == 0) return counts;
+  const ReferenceView& view = s.references[k];
+  const std::vector<double> inverseZ = inverseZTable(view.depthRange);
+  const uint16_t farLevel = missingLevel == 0 ? 1 : 0;
+  const Plane& luma = references[k].texture->planes[0];
+  const double colourTolerance = kFarColourTolerance * double(s.textureFormat.maxValue());
+  // +1: agrees, -1: contradicts, 0: tells nothing. One view that agrees is enough.
+  auto verdict = [&](int x, int y, uint16_t level) {
+    bool ok = false;
+    const Vec3 point = backProjectDepth(view.camera, x, y, 1.0 / inverseZ[level], s.depthType, ok);
+    if (!ok) return 0;
+    int result = 0;
+    for (size_t j = 0; j < references.size(); ++j) {
+      if (j == k) continue;
+      const ReferenceView& other = s.references[j];
+      double u, v, zCam;
+      if (!other.camera.project(point, u, v, zCam)) continue;
+      const int ju = int(std::lround(u)), jv = int(std::lround(v));
+      const Plane& otherDepth = *references[j].depth;
+      if (ju < 0 || jv < 0 || ju >= otherDepth.width || jv >= otherDepth.height) continue;
+      const int otherLevel = otherDepth.at(ju, jv);
+      if (otherLevel == missingLevel) continue;
+      // The sample's depth on the other view's level scale (DepthType 1: its world z).
+      const double level = zToLevel(s.depthType == kDepthTypeWorld ? point.z : zCam, other.depthRange);
+      const double tolerance = kRunLevelTolerance8Bit * double(maxDepthLevel(other.depthRange)) / 255.0;
+      if (otherLevel > level + tolerance) {
+        if (result == 0) result = 1;  // hidden behind a nearer surface
+      } else if (otherLevel < level - tolerance) {
+        result = -1;  // the other view sees farther, through where the sample would be
+      } else if (std::abs(double(luma.at(x, y)) - double(references[j].texture->planes[0].at(ju, jv))) >
+                 colourTolerance) {
+        result = -1;  // that depth, another colour
+      } else {
+        return 1;  // that depth, that colour: the same surface
+      }
+    }
+    return result;
+  };
+  for (int y = 0; y < h; ++y) {
+    uint16_t* row = filledDepth.samples.data() + size_t(y) * w;
+    const uint8_t* mark = filled.data() + size_t(y) * w;
+    for (int x = 0; x < w;) {
+      if (!mark[x]) {
+        ++x;
+        continue;
+      }
+      int end = x;
+      while (end < w && mark[end] && row[end] == row[x]) ++end;
+      size_t agree = 0, contradict = 0;
+      for (int i = x; i < end; ++i) {
+        const int r = verdict(i, y, row[i]);
+        agree += r > 0;
+        contradict += r < 0;
+      }
+      ++counts.runs;
+      counts.samples += size_t(end - x);
+      if (double(contradict) > kRunContradictedShare * double(agree + contradict)) {
+        for (int i = x; i < end; ++i) row[i] = farLevel;
+        ++counts.toFar;
+        counts.far += size_t(end - x);
+      }
+      x = end;
+    }
+  }
+  return counts;
+}
+
 void decideMissingDepth(const Scene& scene, const std::vector<ReferenceFrame>& references, Plan& plan) {
   if (!plan.missingDepthAuto || plan.missingDepthDecided) return;
   const std::vector<FarEvidence> evidence = testFarReading(scene, references);
@@ -94,8 +168,10 @@ void decideMissingDepth(const Scene& scene, const std::vector<ReferenceFrame>& r
   const bool missing = tested > 0 && double(contradicted) > kFarContradictedShare * double(tested);
   plan.missingDepthLevel = missing ? 0 : -1;
   plan.missingDepthFill = missing && plan.missingDepthFillAuto;
+  plan.missingDepthRunTest = plan.missingDepthFill;
   const std::string reading = !missing ? "kept as Zfar"
-                              : plan.missingDepthFill ? "treated as missing, filled from the farther side"
+                              : plan.missingDepthFill ? "treated as missing, runs filled from the farther side "
+                                                        "where the other views agree, else warped at Zfar"
                                                       : "treated as missing (MissingDepthFill 0: not filled)";
   plan.missingDepthEvidence.clear();
   for (size_t k = 0; k < evidence.size(); ++k) {

@@ -33,7 +33,30 @@ constexpr double kFarContradictedShare = 0.65;
 // both directions). `references`: the first frame's inputs, in the scene's order.
 std::vector<FarEvidence> testFarReading(const Scene& scene, const std::vector<ReferenceFrame>& references);
 
-// With plan.missingDepthAuto: sets plan.missingDepthLevel, missingDepthFill and missingDepthEvidence
+// The per-run test that follows the fill under auto (doc/algorithms.md, "Depth level 0: far or
+// missing"): each run of filled samples along a row (one level, the farther end's) is tested in the
+// other reference views. Every sample is taken at its filled level and projected into them: hidden
+// there behind a nearer valid surface (what a half-occlusion looks like) or seen at that depth with the
+// same colour (within kFarColourTolerance) agrees; seen behind it (the other view looks through where
+// the sample would be), or at that depth with another colour, contradicts; missing there or outside
+// tells nothing. Where more than kRunContradictedShare of the samples that tell something contradict
+// the fill, the run is read as VSRS reads level 0: it is warped at the far end of the range (level 1,
+// as level 0 stays the missing mark), still marked filled.
+constexpr double kRunContradictedShare = 0.5;
+constexpr int kRunLevelTolerance8Bit = 3;  // levels of 255 within which two depths are one surface
+
+struct RunTestCounts {
+  size_t runs = 0, toFar = 0;     // runs of filled samples, of them given the far level
+  size_t samples = 0, far = 0;    // filled samples, of them given the far level
+};
+
+// `filledDepth` and `filled`: view k's map after fillMissingDepthRuns with `missingLevel` and its
+// marks; the runs that fail the test take the far level. `references`: this frame's inputs.
+RunTestCounts farContradictedRuns(const Scene& scene, size_t k, const std::vector<ReferenceFrame>& references,
+                                  int missingLevel, Plane& filledDepth, const std::vector<uint8_t>& filled);
+
+// With plan.missingDepthAuto: sets plan.missingDepthLevel, missingDepthFill, missingDepthRunTest and
+// missingDepthEvidence
 // from testFarReading on the first frame, and marks the plan decided. Without it: nothing.
 void decideMissingDepth(const Scene& scene, const std::vector<ReferenceFrame>& references, Plan& plan);
 
