@@ -150,5 +150,73 @@ TEST(MissingDepthAuto, MixedPictureTakesTheReadingMostSamplesSupport) {
             << result.plan.missingDepthEvidence[0] << "\n";
 }
 
+// The per-run test under auto (farContradictedRuns), against the analytic scene's exact depth: a run
+// given the surface's true level is kept; a run given a level far nearer than the surface (the other
+// view then sees the plane behind where that sample would be) goes to the far level; a run of plane
+// samples the other view cannot see because the square hides them (a half-occlusion, traced in the
+// analytic scene) is kept.
+struct RunTestRig : Rig {
+  RunTestRig() : Rig(150.0) {}
+  test::RenderedReferences exact = test::renderReferences(analytic, scene);
+  // Runs the test on view 0's exact map with `run` (x0..x1 on row y) marked filled at `level`
+  // (-1: the exact levels); returns the counts and the map after the test.
+  RunTestCounts test(int y, int x0, int x1, int level, Plane& after) {
+    after = exact.depths[0];
+    std::vector<uint8_t> filled(after.samples.size(), 0);
+    for (int x = x0; x <= x1; ++x) {
+      if (level >= 0) after.at(x, y) = uint16_t(level);
+      filled[size_t(y) * after.width + x] = 1;
+    }
+    return farContradictedRuns(scene, 0, exact.frames(), 0, after, filled);
+  }
+};
+
+TEST(MissingDepthRunTest, RunAtTheTrueLevelIsKept) {
+  RunTestRig rig;
+  Plane after;
+  const RunTestCounts counts = rig.test(5, 30, 45, -1, after);  // row 5 lies on the plane
+  EXPECT_EQ(counts.runs, 1u);
+  EXPECT_EQ(counts.toFar, 0u);
+  EXPECT_EQ(after.samples, rig.exact.depths[0].samples);
+}
+
+TEST(MissingDepthRunTest, RunMuchNearerThanTheSurfaceGoesFar) {
+  RunTestRig rig;
+  Plane after;
+  const int nearLevel = maxDepthLevel(rig.analytic.range);
+  ASSERT_GT(nearLevel, rig.exact.depths[0].at(38, 5) + 20);
+  const RunTestCounts counts = rig.test(5, 30, 45, nearLevel, after);
+  EXPECT_EQ(counts.runs, 1u);
+  EXPECT_EQ(counts.toFar, 1u);
+  EXPECT_EQ(counts.far, 16u);
+  for (int x = 30; x <= 45; ++x) EXPECT_EQ(after.at(x, 5), 1) << x;
+}
+
+TEST(MissingDepthRunTest, HalfOccludedRunIsKept) {
+  RunTestRig rig;
+  const Camera& left = rig.scene.settings.references[0].camera;
+  const Camera& right = rig.scene.settings.references[1].camera;
+  const int y = rig.analytic.height / 2;
+  // View 0's plane samples on row y that the square hides from view 1 (traced, not taken from the maps).
+  int x0 = -1, x1 = -1;
+  for (int x = 0; x < rig.analytic.width; ++x) {
+    Vec3 hit, hitRight;
+    bool onSquare = false, rightOnSquare = false;
+    if (!rig.analytic.trace(left, x, y, hit, onSquare) || onSquare) continue;
+    double u, v, z;
+    if (!right.project(hit, u, v, z)) continue;
+    if (rig.analytic.trace(right, u, v, hitRight, rightOnSquare) && rightOnSquare) {
+      if (x0 < 0) x0 = x;
+      x1 = x;
+    }
+  }
+  ASSERT_GE(x0, 0);
+  ASSERT_GE(x1 - x0, 3) << "a half-occluded band of a few samples";
+  Plane after;
+  const RunTestCounts counts = rig.test(y, x0 + 1, x1 - 1, -1, after);  // inside the band: away from rounding
+  EXPECT_EQ(counts.runs, 1u);
+  EXPECT_EQ(counts.toFar, 0u);
+}
+
 }  // namespace
 }  // namespace vs
