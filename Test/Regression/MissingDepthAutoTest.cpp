@@ -1,7 +1,7 @@
 // MissingDepthLevel auto through the tools (Plan/MissingDepth.h, FrameRenderer::prepare): on real
 // data the plan's decision is printed per reference view (ViewSyn general and 1D, MeshRender: one
 // decision, shared code). Where it keeps Zfar the output is byte for byte VSRS's reading; where it
-// reads level 0 as missing, each filled run is tested (farContradictedRuns), so the output is no
+// reads level 0 as missing, each filled run is tested (testFilledRuns), so the output is no
 // explicit setting's and is judged against the real photograph instead.
 // Truth for the readings: Middlebury's level 0 is "no disparity found" (data README), open3d's is
 // mostly a surface the depth sensor missed that "far" describes well (issue 32's table).
@@ -68,8 +68,8 @@ double psnrAgainstPhoto(const std::string& tool, const std::filesystem::path& sc
   return std::stod(run.out.substr(at + 13));
 }
 
-const char* const kMissingFilled = "treated as missing, runs filled from the farther side where the other views "
-                                   "agree, else warped at Zfar";
+const char* const kMissingFilled = "treated as missing, runs filled from the farther side (the nearer where its "
+                                   "colours match, Zfar where the other views contradict)";
 
 // Rocks2: 4.6 % of level 0, mostly half-occlusions; auto must gain what filling gains over VSRS's
 // reading (5 dB with the explicit fill) in every path.

@@ -150,7 +150,7 @@ TEST(MissingDepthAuto, MixedPictureTakesTheReadingMostSamplesSupport) {
             << result.plan.missingDepthEvidence[0] << "\n";
 }
 
-// The per-run test under auto (farContradictedRuns), against the analytic scene's exact depth: a run
+// The per-run test under auto (testFilledRuns), against the analytic scene's exact depth: a run
 // given the surface's true level is kept; a run given a level far nearer than the surface (the other
 // view then sees the plane behind where that sample would be) goes to the far level; a run of plane
 // samples the other view cannot see because the square hides them (a half-occlusion, traced in the
@@ -167,7 +167,7 @@ struct RunTestRig : Rig {
       if (level >= 0) after.at(x, y) = uint16_t(level);
       filled[size_t(y) * after.width + x] = 1;
     }
-    return farContradictedRuns(scene, 0, exact.frames(), 0, after, filled);
+    return testFilledRuns(scene, 0, exact.frames(), 0, after, filled);
   }
 };
 

@@ -146,7 +146,7 @@ void MeshSynthesizer::synthesize(const std::vector<ReferenceFrame>& references, 
       fillMissingDepthRuns(*depth, plan_.missingDepthLevel, inverseZTable(reference.depthRange), view.filledDepth,
                            view.filledSamples);
       if (plan_.missingDepthRunTest)
-        farContradictedRuns(scene_, k, references, plan_.missingDepthLevel, view.filledDepth, view.filledSamples);
+        testFilledRuns(scene_, k, references, plan_.missingDepthLevel, view.filledDepth, view.filledSamples);
       depth = &view.filledDepth;
     }
     depth = &aligner_.align(k, *depth, lumas, alignedDepthSamples_);

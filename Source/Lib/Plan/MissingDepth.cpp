@@ -82,7 +82,7 @@ std::vector<FarEvidence> testFarReading(const Scene& scene, const std::vector<Re
   return evidence;
 }
 
-RunTestCounts farContradictedRuns(const Scene& scene, size_t k, const std::vector<ReferenceFrame>& references,
+RunTestCounts testFilledRuns(const Scene& scene, size_t k, const std::vector<ReferenceFrame>& references,
                                   int missingLevel, Plane& filledDepth, const std::vector<uint8_t>& filled) {
   const SynthesisSettings& s = scene.settings;
   VS_CHECK(references.size() == s.references.size() && k < references.size());
@@ -127,6 +127,57 @@ RunTestCounts farContradictedRuns(const Scene& scene, size_t k, const std::vecto
     }
     return result;
   };
+  // The luma difference between sample (x, y) taken at `level` and what the first other view that
+  // sees it shows there, whatever that view's depth; -1 when no other view sees it.
+  auto sampleDifference = [&](int x, int y, uint16_t level) {
+    bool ok = false;
+    const Vec3 point = backProjectDepth(view.camera, x, y, 1.0 / inverseZ[level], s.depthType, ok);
+    if (!ok) return -1.0;
+    for (size_t j = 0; j < references.size(); ++j) {
+      if (j == k) continue;
+      double u, v, zCam;
+      if (!s.references[j].camera.project(point, u, v, zCam)) continue;
+      const int ju = int(std::lround(u)), jv = int(std::lround(v));
+      const Plane& otherLuma = references[j].texture->planes[0];
+      if (ju < 0 || jv < 0 || ju >= otherLuma.width || jv >= otherLuma.height) continue;
+      return std::abs(double(luma.at(x, y)) - double(otherLuma.at(ju, jv)));
+    }
+    return -1.0;
+  };
+  // Their mean over samples x0..x1-1 of row y; -1 when none is seen.
+  auto runDifference = [&](int x0, int x1, int y, uint16_t level) {
+    double sum = 0;
+    size_t n = 0;
+    for (int x = x0; x < x1; ++x) {
+      const double d = sampleDifference(x, y, level);
+      if (d < 0) continue;
+      sum += d;
+      ++n;
+    }
+    return n ? sum / double(n) : -1.0;
+  };
+  // Step 2 on samples x0..x1-1 of row y (one filled level): to the far level when contradicted.
+  auto testFarther = [&](int x0, int x1, int y, uint16_t* row) {
+    size_t agree = 0, contradict = 0;
+    for (int i = x0; i < x1; ++i) {
+      const int r = verdict(i, y, row[i]);
+      agree += r > 0;
+      contradict += r < 0;
+    }
+    if (double(contradict) > kRunContradictedShare * double(agree + contradict)) {
+      for (int i = x0; i < x1; ++i) row[i] = farLevel;
+      ++counts.toFar;
+      counts.far += size_t(x1 - x0);
+    }
+  };
+  // Mean luma of up to kRunSideSamples valid samples beyond x (stepping by `step`); -1 when none.
+  auto sideMean = [&](const uint16_t* row, const uint8_t* mark, int x, int step, int y) {
+    double sum = 0;
+    int n = 0;
+    for (int i = x; n < kRunSideSamples && i >= 0 && i < w && !mark[i] && row[i] != missingLevel; i += step, ++n)
+      sum += luma.at(i, y);
+    return n ? sum / n : -1.0;
+  };
   for (int y = 0; y < h; ++y) {
     uint16_t* row = filledDepth.samples.data() + size_t(y) * w;
     const uint8_t* mark = filled.data() + size_t(y) * w;
@@ -137,19 +188,49 @@ RunTestCounts farContradictedRuns(const Scene& scene, size_t k, const std::vecto
       }
       int end = x;
       while (end < w && mark[end] && row[end] == row[x]) ++end;
-      size_t agree = 0, contradict = 0;
-      for (int i = x; i < end; ++i) {
-        const int r = verdict(i, y, row[i]);
-        agree += r > 0;
-        contradict += r < 0;
-      }
       ++counts.runs;
       counts.samples += size_t(end - x);
-      if (double(contradict) > kRunContradictedShare * double(agree + contradict)) {
-        for (int i = x; i < end; ++i) row[i] = farLevel;
-        ++counts.toFar;
-        counts.far += size_t(end - x);
+      // Step 1: the nearer neighbour (a valid sample, not a filled one).
+      const bool leftNear = x > 0 && !mark[x - 1] && row[x - 1] != missingLevel && row[x - 1] > row[x];
+      const bool rightNear = end < w && !mark[end] && row[end] != missingLevel && row[end] > row[x];
+      const bool fromLeft = leftNear && (!rightNear || row[x - 1] >= row[end]);
+      if ((leftNear || rightNear) && end - x >= kRunNearMinSamples) {
+        const uint16_t nearLevel = fromLeft ? row[x - 1] : row[end], farther = row[x];
+        const double nearDifference = runDifference(x, end, y, nearLevel);
+        const double fartherDifference = runDifference(x, end, y, farther);
+        const bool otherViewsSayNear = nearDifference >= 0 && fartherDifference >= 0 &&
+                                       nearDifference < kRunNearDifferenceRatio * fartherDifference &&
+                                       nearDifference < colourTolerance;
+        const double nearSide = fromLeft ? sideMean(row, mark, x - 1, -1, y) : sideMean(row, mark, end, 1, y);
+        const double farSide = fromLeft ? sideMean(row, mark, end, 1, y) : sideMean(row, mark, x - 1, -1, y);
+        double runMean = 0;
+        for (int i = x; i < end; ++i) runMean += luma.at(i, y);
+        runMean /= double(end - x);
+        const bool ownTextureSaysNear = nearSide >= 0 && farSide >= 0 &&
+                                        std::abs(runMean - nearSide) < kRunNearDifferenceRatio * std::abs(runMean - farSide) &&
+                                        std::abs(runMean - nearSide) < colourTolerance;
+        if (otherViewsSayNear || ownTextureSaysNear) {
+          // From the nearer end inwards, while each sample matches the other views at the near level
+          // within the tolerance and at least as well as at the farther one: a sample wrongly taken
+          // near is drawn over what lies in front of the far level, one wrongly taken far is mostly
+          // hidden, so the strip stops at the first doubt and the rest goes to step 2.
+          int a = x, b = end;
+          while (a < b) {
+            const int i = fromLeft ? a : b - 1;
+            const double dn = sampleDifference(i, y, nearLevel), df = sampleDifference(i, y, farther);
+            if (!(dn >= 0 && dn <= colourTolerance && (df < 0 || dn <= df))) break;
+            row[i] = nearLevel;
+            ++counts.near;
+            if (fromLeft) ++a;
+            else --b;
+          }
+          counts.toNear += (b - a) < (end - x);
+          if (a < b) testFarther(a, b, y, row);
+          x = end;
+          continue;
+        }
       }
+      testFarther(x, end, y, row);
       x = end;
     }
   }
@@ -171,7 +252,8 @@ void decideMissingDepth(const Scene& scene, const std::vector<ReferenceFrame>& r
   plan.missingDepthRunTest = plan.missingDepthFill;
   const std::string reading = !missing ? "kept as Zfar"
                               : plan.missingDepthFill ? "treated as missing, runs filled from the farther side "
-                                                        "where the other views agree, else warped at Zfar"
+                                                        "(the nearer where its colours match, Zfar where the "
+                                                        "other views contradict)"
                                                       : "treated as missing (MissingDepthFill 0: not filled)";
   plan.missingDepthEvidence.clear();
   for (size_t k = 0; k < evidence.size(); ++k) {

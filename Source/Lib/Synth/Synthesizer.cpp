@@ -100,7 +100,7 @@ void Synthesizer::synthesize(const std::vector<ReferenceFrame>& references, Fram
                            view.filledSamples);
       // Auto: runs the other views contradict are read as VSRS reads level 0 (Plan/MissingDepth.h).
       if (plan_.missingDepthRunTest)
-        farContradictedRuns(scene_, k, references, plan_.missingDepthLevel, view.filledDepth, view.filledSamples);
+        testFilledRuns(scene_, k, references, plan_.missingDepthLevel, view.filledDepth, view.filledSamples);
       depth = &view.filledDepth;
     }
     view.alignedSamples = 0;
