@@ -151,7 +151,7 @@ TEST(MissingDepthAuto, MixedPictureTakesTheReadingMostSamplesSupport) {
 }
 
 // The per-run test under auto (testFilledRuns), against the analytic scene's exact depth: a run
-// given the surface's true level is kept; a run given a level far nearer than the surface (the other
+// given the surface's true level is kept (a plane run: no nearer neighbour, step 1 does not apply); a run given a level far nearer than the surface (the other
 // view then sees the plane behind where that sample would be) goes to the far level; a run of plane
 // samples the other view cannot see because the square hides them (a half-occlusion, traced in the
 // analytic scene) is kept.
@@ -190,6 +190,28 @@ TEST(MissingDepthRunTest, RunMuchNearerThanTheSurfaceGoesFar) {
   EXPECT_EQ(counts.toFar, 1u);
   EXPECT_EQ(counts.far, 16u);
   for (int x = 30; x <= 45; ++x) EXPECT_EQ(after.at(x, 5), 1) << x;
+}
+
+// An unmatched strip of the square (as Middlebury's maps leave at occluders' edges) filled with the
+// plane's level: step 1 gives it back the square's level (the other view shows the square's colours
+// there), and stops before the plane sample that ends the run.
+TEST(MissingDepthRunTest, StripOfTheNearerSurfaceTakesItsLevel) {
+  RunTestRig rig;
+  const Plane& exact = rig.exact.depths[0];
+  const int y = rig.analytic.height / 2;
+  const int squareLevel = exact.at(rig.analytic.width / 2, y);
+  int lastSquare = rig.analytic.width / 2;
+  while (exact.at(lastSquare + 1, y) == squareLevel) ++lastSquare;
+  const int planeLevel = exact.at(lastSquare + 2, y);
+  ASSERT_LT(planeLevel + 20, squareLevel);
+  // The run: the square's last 5 samples and the first plane sample, all at the plane's level.
+  const int x0 = lastSquare - 4, x1 = lastSquare + 1;
+  Plane after;
+  const RunTestCounts counts = rig.test(y, x0, x1, planeLevel, after);
+  EXPECT_EQ(counts.runs, 1u);
+  EXPECT_EQ(counts.toNear, 1u);
+  for (int x = x0; x <= lastSquare; ++x) EXPECT_EQ(after.at(x, y), squareLevel) << x;
+  EXPECT_NE(after.at(x1, y), squareLevel) << "the plane sample is not drawn at the square's depth";
 }
 
 TEST(MissingDepthRunTest, HalfOccludedRunIsKept) {
