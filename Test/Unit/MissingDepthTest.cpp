@@ -151,10 +151,10 @@ TEST(MissingDepthAuto, MixedPictureTakesTheReadingMostSamplesSupport) {
 }
 
 // The per-run test under auto (testFilledRuns), against the analytic scene's exact depth: a run
-// given the surface's true level is kept (a plane run: no nearer neighbour, step 1 does not apply); a run given a level far nearer than the surface (the other
-// view then sees the plane behind where that sample would be) goes to the far level; a run of plane
-// samples the other view cannot see because the square hides them (a half-occlusion, traced in the
-// analytic scene) is kept.
+// given the surface's true level is kept (a plane run: no nearer neighbour, step 1 does not apply);
+// a run given a level far nearer than the surface (the other view then sees the plane behind where
+// that sample would be) goes to the far level; a run of plane samples the other view cannot see
+// because the square hides them (a half-occlusion, traced in the analytic scene) is kept.
 struct RunTestRig : Rig {
   RunTestRig() : Rig(150.0) {}
   test::RenderedReferences exact = test::renderReferences(analytic, scene);

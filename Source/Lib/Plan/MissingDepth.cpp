@@ -206,9 +206,9 @@ RunTestCounts testFilledRuns(const Scene& scene, size_t k, const std::vector<Ref
         double runMean = 0;
         for (int i = x; i < end; ++i) runMean += luma.at(i, y);
         runMean /= double(end - x);
-        const bool ownTextureSaysNear = nearSide >= 0 && farSide >= 0 &&
-                                        std::abs(runMean - nearSide) < kRunNearDifferenceRatio * std::abs(runMean - farSide) &&
-                                        std::abs(runMean - nearSide) < colourTolerance;
+        const double toNearSide = std::abs(runMean - nearSide), toFarSide = std::abs(runMean - farSide);
+        const bool ownTextureSaysNear = nearSide >= 0 && farSide >= 0 && toNearSide < colourTolerance &&
+                                        toNearSide < kRunNearDifferenceRatio * toFarSide;
         if (otherViewsSayNear || ownTextureSaysNear) {
           // From the nearer end inwards, while each sample matches the other views at the near level
           // within the tolerance and at least as well as at the farther one: a sample wrongly taken
