@@ -264,7 +264,18 @@ void decideMissingDepth(const Scene& scene, const std::vector<ReferenceFrame>& r
       line += e.tested ? ", far contradicted for " + percent(e.contradictedFraction()) + " of " + std::to_string(e.tested) +
                              " tested"
                        : ", none seen by another view";
-    plan.missingDepthEvidence.push_back(line + ": " + reading);
+    line += ": " + reading;
+    if (plan.missingDepthRunTest) {
+      // What the per-run test does on this frame (the renderers repeat it on every frame).
+      Plane filledDepth;
+      std::vector<uint8_t> filled;
+      fillMissingDepthRuns(*references[k].depth, plan.missingDepthLevel,
+                           inverseZTable(scene.settings.references[k].depthRange), filledDepth, filled);
+      const RunTestCounts runs = testFilledRuns(scene, k, references, plan.missingDepthLevel, filledDepth, filled);
+      line += "; frame 0: " + std::to_string(runs.runs) + " runs, " + std::to_string(runs.toNear) +
+              " to the nearer side, " + std::to_string(runs.toFar) + " to Zfar";
+    }
+    plan.missingDepthEvidence.push_back(line);
   }
   plan.missingDepthDecided = true;
 }
