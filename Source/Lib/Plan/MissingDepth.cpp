@@ -83,7 +83,7 @@ std::vector<FarEvidence> testFarReading(const Scene& scene, const std::vector<Re
 }
 
 RunTestCounts testFilledRuns(const Scene& scene, size_t k, const std::vector<ReferenceFrame>& references,
-                                  int missingLevel, Plane& filledDepth, const std::vector<uint8_t>& filled) {
+                             int missingLevel, Plane& filledDepth, const std::vector<uint8_t>& filled) {
   const SynthesisSettings& s = scene.settings;
   VS_CHECK(references.size() == s.references.size() && k < references.size());
   VS_CHECK(filled.size() == filledDepth.samples.size());

@@ -66,7 +66,7 @@ struct RunTestCounts {
 // `filledDepth` and `filled`: view k's map after fillMissingDepthRuns with `missingLevel` and its
 // marks; runs take the near level or the far level as the test says. `references`: this frame's inputs.
 RunTestCounts testFilledRuns(const Scene& scene, size_t k, const std::vector<ReferenceFrame>& references,
-                                  int missingLevel, Plane& filledDepth, const std::vector<uint8_t>& filled);
+                             int missingLevel, Plane& filledDepth, const std::vector<uint8_t>& filled);
 
 // With plan.missingDepthAuto: sets plan.missingDepthLevel, missingDepthFill, missingDepthRunTest and
 // missingDepthEvidence
