@@ -67,6 +67,7 @@ inline bool fuzzConfig(const uint8_t* data, size_t size) {
       config.raw(spec.key);
       config.origin(spec.key);
       if (!config.isSet(spec.key) && spec.defaultValue.empty()) continue;  // no value: the tools check isSet first
+      if (config.isAuto(spec.key)) continue;  // `auto` (set or the default): the tools check isAuto first
       switch (spec.type) {
         case OptionType::Int: config.getInt(spec.key); break;
         case OptionType::Double: config.getDouble(spec.key); break;

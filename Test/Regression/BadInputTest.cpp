@@ -638,10 +638,11 @@ std::vector<BadInputCase> catalogue() {
                 },
                 0, {}, 3},
                {"warning: virtual view: only 0.00 % of the samples"}));
-  add(onStdout({"DepthLevelZeroShare", "12.5 % of a depth map at level 0, MissingDepthLevel unset: a warning",
+  add(onStdout({"DepthLevelZeroShare", "12.5 % of a depth map at level 0, MissingDepthLevel -1 (VSRS's reading): a warning",
                 [](TinyScene& s, std::vector<std::string>&) {
                   std::fstream file(s.path("left_depth.yuv"), std::ios::in | std::ios::out | std::ios::binary);
                   file.write(std::string(64, '\0').data(), 64);  // the first two rows of frame 0
+                  s.set("MissingDepthLevel", "-1");
                 },
                 0, {}, 3},
                {"left_depth.yuv: 12.5 % of the depth samples of frame 0 are at level 0",
@@ -654,6 +655,13 @@ std::vector<BadInputCase> catalogue() {
                 },
                 0, {}, 3},
                {}, {"are at level 0"}));
+  add(onStdout({"DepthLevelZeroAuto", "the same with MissingDepthLevel unset (auto): no warning, the plan's decision",
+                [](TinyScene& s, std::vector<std::string>&) {
+                  std::fstream file(s.path("left_depth.yuv"), std::ios::in | std::ios::out | std::ios::binary);
+                  file.write(std::string(64, '\0').data(), 64);
+                },
+                0, {}, 3},
+               {"depth level 0 (auto)"}, {"are at level 0"}));
   add(onStdout({"RotationRounding", "a rotation off by 1e-6 (6 decimals): no warning",
                 [](TinyScene& s, std::vector<std::string>&) {
                   editCamera(s, "cam_virtual", [](std::vector<std::string>& t) { t[12] = "0.000001"; });

@@ -106,7 +106,14 @@ TEST(Config, AutoOnlyWhereAllowed) {
   const Config explicitConfig = Config::fromText(table, "MissingDepthLevel 0\n", "a.cfg", "/x");
   EXPECT_FALSE(explicitConfig.isAuto("MissingDepthLevel"));
   EXPECT_EQ(explicitConfig.getInt("MissingDepthLevel"), 0);
-  EXPECT_FALSE(explicitConfig.isAuto("MissingDepthFill"));
+  EXPECT_TRUE(explicitConfig.isAuto("MissingDepthFill")) << "the default; with an explicit level it means 0";
+  const Config unset = Config::fromText(table, "", "a.cfg", "/x");
+  EXPECT_TRUE(unset.isAuto("MissingDepthLevel")) << "auto is the default (issue 32)";
+  EXPECT_TRUE(unset.isAuto("MissingDepthFill"));
+  const Config vsrs = Config::fromText(table, "MissingDepthLevel -1\nMissingDepthFill 0\n", "a.cfg", "/x");
+  EXPECT_FALSE(vsrs.isAuto("MissingDepthLevel"));
+  EXPECT_EQ(vsrs.getInt("MissingDepthLevel"), -1);
+  EXPECT_FALSE(vsrs.isAuto("MissingDepthFill"));
   const std::string error = errorOf([&] { Config::fromText(table, "DepthBlendDifference auto\n", "a.cfg", "/x"); });
   EXPECT_NE(error.find("a.cfg:1: DepthBlendDifference = 'auto'"), std::string::npos) << error;
   const std::string level = errorOf([&] { Config::fromText(table, "MissingDepthLevel automatic\n", "a.cfg", "/x"); });

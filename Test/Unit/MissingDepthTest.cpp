@@ -150,5 +150,142 @@ TEST(MissingDepthAuto, MixedPictureTakesTheReadingMostSamplesSupport) {
             << result.plan.missingDepthEvidence[0] << "\n";
 }
 
+// The grain that made auto the default, through the whole synthesizer: the square's last samples
+// next to each of its vertical edges are cut to level 0 in both views (as stereo matching leaves
+// an occluder's edge), together with the plane samples beside them. The plain fill draws the whole
+// run at the plane's depth, so the square's edge colour lands on the plane; auto's per-run test gives
+// the square's strip its level back, and must come out nearer the exact view.
+TEST(MissingDepthAuto, OccluderEdgeStripsAreDrawnAtTheOccludersDepth) {
+  Rig rig(150.0);
+  test::RenderedReferences cut = test::renderReferences(rig.analytic, rig.scene);
+  const int squareLevel = zToLevelRounded(rig.analytic.squareZ, rig.analytic.range);
+  size_t strip = 0;
+  for (Plane& depth : cut.depths)
+    for (int y = 0; y < depth.height; ++y) {
+      std::vector<int> edges;  // square samples with a plane neighbour along the row
+      for (int x = 1; x + 1 < depth.width; ++x)
+        if (depth.at(x, y) == squareLevel && (depth.at(x - 1, y) != squareLevel || depth.at(x + 1, y) != squareLevel))
+          edges.push_back(x);
+      for (int x : edges) {
+        const int inwards = depth.at(x - 1, y) != squareLevel ? 1 : -1;
+        for (int d = -2; d < 5; ++d) {  // 2 plane samples and 5 square samples
+          const int xi = x + inwards * d;
+          if (xi < 1 || xi + 1 >= depth.width) continue;
+          strip += depth.at(xi, y) == squareLevel;
+          depth.at(xi, y) = 0;
+        }
+      }
+    }
+  ASSERT_GT(strip, 200u);
+  Frame truth;
+  Plane unused;
+  rig.analytic.render(rig.scene.virtualCamera, truth, unused);
+  Scene fillScene = rig.scene;
+  fillScene.settings.missingDepthLevel = 0;
+  fillScene.settings.missingDepthFill = true;
+  Synthesizer plainFill(fillScene, test::planOnPath(fillScene));
+  Frame fillOutput;
+  StageTimes times;
+  plainFill.synthesize(cut.frames(), fillOutput, times);
+  const double fillPsnr = framePsnr(truth, fillOutput).y;
+
+  const AutoResult result = synthesizeAuto(rig.analytic, rig.scene, cut);
+  EXPECT_EQ(result.plan.missingDepthLevel, 0);
+  EXPECT_TRUE(result.plan.missingDepthRunTest);
+  EXPECT_GT(result.psnr, fillPsnr + 1.0) << "plain fill " << fillPsnr;
+  std::cout << "[ figure   ] occluder strips: PSNR-Y auto " << result.psnr << ", plain fill " << fillPsnr << " dB; "
+            << result.plan.missingDepthEvidence[0] << "\n";
+}
+
+// The per-run test under auto (testFilledRuns), against the analytic scene's exact depth: a run
+// given the surface's true level is kept (a plane run: no nearer neighbour, step 1 does not apply);
+// a run given a level far nearer than the surface (the other view then sees the plane behind where
+// that sample would be) goes to the far level; a run of plane samples the other view cannot see
+// because the square hides them (a half-occlusion, traced in the analytic scene) is kept.
+struct RunTestRig : Rig {
+  RunTestRig() : Rig(150.0) {}
+  test::RenderedReferences exact = test::renderReferences(analytic, scene);
+  // Runs the test on view 0's exact map with `run` (x0..x1 on row y) marked filled at `level`
+  // (-1: the exact levels); returns the counts and the map after the test.
+  RunTestCounts test(int y, int x0, int x1, int level, Plane& after) {
+    after = exact.depths[0];
+    std::vector<uint8_t> filled(after.samples.size(), 0);
+    for (int x = x0; x <= x1; ++x) {
+      if (level >= 0) after.at(x, y) = uint16_t(level);
+      filled[size_t(y) * after.width + x] = 1;
+    }
+    return testFilledRuns(scene, 0, exact.frames(), 0, after, filled);
+  }
+};
+
+TEST(MissingDepthRunTest, RunAtTheTrueLevelIsKept) {
+  RunTestRig rig;
+  Plane after;
+  const RunTestCounts counts = rig.test(5, 30, 45, -1, after);  // row 5 lies on the plane
+  EXPECT_EQ(counts.runs, 1u);
+  EXPECT_EQ(counts.toFar, 0u);
+  EXPECT_EQ(after.samples, rig.exact.depths[0].samples);
+}
+
+TEST(MissingDepthRunTest, RunMuchNearerThanTheSurfaceGoesFar) {
+  RunTestRig rig;
+  Plane after;
+  const int nearLevel = maxDepthLevel(rig.analytic.range);
+  ASSERT_GT(nearLevel, rig.exact.depths[0].at(38, 5) + 20);
+  const RunTestCounts counts = rig.test(5, 30, 45, nearLevel, after);
+  EXPECT_EQ(counts.runs, 1u);
+  EXPECT_EQ(counts.toFar, 1u);
+  EXPECT_EQ(counts.far, 16u);
+  for (int x = 30; x <= 45; ++x) EXPECT_EQ(after.at(x, 5), 1) << x;
+}
+
+// An unmatched strip of the square (as Middlebury's maps leave at occluders' edges) filled with the
+// plane's level: step 1 gives it back the square's level (the other view shows the square's colours
+// there), and stops before the plane sample that ends the run.
+TEST(MissingDepthRunTest, StripOfTheNearerSurfaceTakesItsLevel) {
+  RunTestRig rig;
+  const Plane& exact = rig.exact.depths[0];
+  const int y = rig.analytic.height / 2;
+  const int squareLevel = exact.at(rig.analytic.width / 2, y);
+  int lastSquare = rig.analytic.width / 2;
+  while (exact.at(lastSquare + 1, y) == squareLevel) ++lastSquare;
+  const int planeLevel = exact.at(lastSquare + 2, y);
+  ASSERT_LT(planeLevel + 20, squareLevel);
+  // The run: the square's last 5 samples and the first plane sample, all at the plane's level.
+  const int x0 = lastSquare - 4, x1 = lastSquare + 1;
+  Plane after;
+  const RunTestCounts counts = rig.test(y, x0, x1, planeLevel, after);
+  EXPECT_EQ(counts.runs, 1u);
+  EXPECT_EQ(counts.toNear, 1u);
+  for (int x = x0; x <= lastSquare; ++x) EXPECT_EQ(after.at(x, y), squareLevel) << x;
+  EXPECT_NE(after.at(x1, y), squareLevel) << "the plane sample is not drawn at the square's depth";
+}
+
+TEST(MissingDepthRunTest, HalfOccludedRunIsKept) {
+  RunTestRig rig;
+  const Camera& left = rig.scene.settings.references[0].camera;
+  const Camera& right = rig.scene.settings.references[1].camera;
+  const int y = rig.analytic.height / 2;
+  // View 0's plane samples on row y that the square hides from view 1 (traced, not taken from the maps).
+  int x0 = -1, x1 = -1;
+  for (int x = 0; x < rig.analytic.width; ++x) {
+    Vec3 hit, hitRight;
+    bool onSquare = false, rightOnSquare = false;
+    if (!rig.analytic.trace(left, x, y, hit, onSquare) || onSquare) continue;
+    double u, v, z;
+    if (!right.project(hit, u, v, z)) continue;
+    if (rig.analytic.trace(right, u, v, hitRight, rightOnSquare) && rightOnSquare) {
+      if (x0 < 0) x0 = x;
+      x1 = x;
+    }
+  }
+  ASSERT_GE(x0, 0);
+  ASSERT_GE(x1 - x0, 3) << "a half-occluded band of a few samples";
+  Plane after;
+  const RunTestCounts counts = rig.test(y, x0 + 1, x1 - 1, -1, after);  // inside the band: away from rounding
+  EXPECT_EQ(counts.runs, 1u);
+  EXPECT_EQ(counts.toFar, 0u);
+}
+
 }  // namespace
 }  // namespace vs

@@ -81,8 +81,9 @@ std::vector<std::string> checkInputs(const Scene& scene) {
                      std::to_string(frameBytes) + " bytes)");
         continue;
       }
-      if (input.depth && s.missingDepthLevel < 0) {
-        // Level 0 as "no depth" (Middlebury, open3d) read as the farthest plane gives wrong geometry.
+      if (input.depth && s.missingDepthLevel < 0 && !s.missingDepthAuto) {
+        // Level 0 as "no depth" (Middlebury, open3d) read as the farthest plane gives wrong geometry
+        // (an explicit MissingDepthLevel -1; auto tests it).
         Plane luma;
         reader.readLuma(s.startFrame, luma);
         size_t zeros = 0;

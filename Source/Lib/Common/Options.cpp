@@ -17,8 +17,9 @@ OptionSpec intOption(const char* key, long long defaultValue, double lo, double 
   return s;
 }
 
-OptionSpec autoIntOption(OptionSpec spec) {
+OptionSpec autoIntOption(OptionSpec spec, bool autoByDefault = false) {
   spec.allowAuto = true;
+  if (autoByDefault) spec.defaultValue = "auto";
   return spec;
 }
 
@@ -151,11 +152,14 @@ void addSynthesisOptions(OptionTable& table) {
              autoIntOption(intOption("MissingDepthLevel", -1, -1, 65535, "-",
                        "Depth level meaning 'no depth' (MPEG-I uses 0); such samples are not warped. -1: off, as in VSRS "
                        "(level 0 is Zfar); auto: the plan tests level 0's far reading against the other reference views "
-                       "on the first frame and decides (doc/algorithms.md)")),
+                       "on the first frame and decides, and each filled run is tested in them (doc/missing-depth.md)"),
+                           true),
              autoIntOption(intOption("MissingDepthFill", 0, 0, 1, "-",
                        "1: a run of MissingDepthLevel samples along a row between two valid samples takes the "
                        "farther one's level and is warped (marked unreliable); 0: missing samples are not warped; "
-                       "auto: 1 when MissingDepthLevel auto finds level 0 missing, else as 0")),
+                       "auto: with MissingDepthLevel auto, 1 when it finds level 0 missing (runs then tested: the "
+                       "nearer side's level or Zfar where the views say so), else 0; with an explicit level, 0"),
+                           true),
              intOption("DepthEdgeAlignment", 4, 0, 64, "-",
                        "Samples by which a reference depth edge may move onto its texture edge: the nearer "
                        "surface's depth grows onto its colour (doc/algorithms.md); 0: off, as in VSRS"),

@@ -230,6 +230,8 @@ void MeshSynthesizer::buildMeshesNow(const std::vector<ReferenceFrame>& referenc
     if (plan_.missingDepthFill) {
       fillMissingDepthRuns(*depth, plan_.missingDepthLevel, inverseZTable(s.references[k].depthRange), view.filledDepth,
                            view.filledSamples);
+      if (plan_.missingDepthRunTest)
+        testFilledRuns(scene_, k, references, plan_.missingDepthLevel, view.filledDepth, view.filledSamples);
       depth = &view.filledDepth;
     }
     depths.push_back(&aligner_.align(k, *depth, lumas, alignedDepthSamples_));

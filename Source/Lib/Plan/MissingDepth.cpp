@@ -82,6 +82,161 @@ std::vector<FarEvidence> testFarReading(const Scene& scene, const std::vector<Re
   return evidence;
 }
 
+RunTestCounts testFilledRuns(const Scene& scene, size_t k, const std::vector<ReferenceFrame>& references,
+                             int missingLevel, Plane& filledDepth, const std::vector<uint8_t>& filled) {
+  const SynthesisSettings& s = scene.settings;
+  VS_CHECK(references.size() == s.references.size() && k < references.size());
+  VS_CHECK(filled.size() == filledDepth.samples.size());
+  RunTestCounts counts;
+  const int w = filledDepth.width, h = filledDepth.height;
+  if (missingLevel < 0 || w == 0 || h == 0) return counts;
+  const ReferenceView& view = s.references[k];
+  const std::vector<double> inverseZ = inverseZTable(view.depthRange);
+  const uint16_t farLevel = missingLevel == 0 ? 1 : 0;
+  const Plane& luma = references[k].texture->planes[0];
+  const double colourTolerance = kFarColourTolerance * double(s.textureFormat.maxValue());
+  // +1: agrees, -1: contradicts, 0: tells nothing. One view that agrees is enough.
+  auto verdict = [&](int x, int y, uint16_t level) {
+    bool ok = false;
+    const Vec3 point = backProjectDepth(view.camera, x, y, 1.0 / inverseZ[level], s.depthType, ok);
+    if (!ok) return 0;
+    int result = 0;
+    for (size_t j = 0; j < references.size(); ++j) {
+      if (j == k) continue;
+      const ReferenceView& other = s.references[j];
+      double u, v, zCam;
+      if (!other.camera.project(point, u, v, zCam)) continue;
+      const int ju = int(std::lround(u)), jv = int(std::lround(v));
+      const Plane& otherDepth = *references[j].depth;
+      if (ju < 0 || jv < 0 || ju >= otherDepth.width || jv >= otherDepth.height) continue;
+      const int otherLevel = otherDepth.at(ju, jv);
+      if (otherLevel == missingLevel) continue;
+      // The sample's depth on the other view's level scale (DepthType 1: its world z).
+      const double level = zToLevel(s.depthType == kDepthTypeWorld ? point.z : zCam, other.depthRange);
+      const double tolerance = kRunLevelTolerance8Bit * double(maxDepthLevel(other.depthRange)) / 255.0;
+      if (otherLevel > level + tolerance) {
+        if (result == 0) result = 1;  // hidden behind a nearer surface
+      } else if (otherLevel < level - tolerance) {
+        result = -1;  // the other view sees farther, through where the sample would be
+      } else if (std::abs(double(luma.at(x, y)) - double(references[j].texture->planes[0].at(ju, jv))) >
+                 colourTolerance) {
+        result = -1;  // that depth, another colour
+      } else {
+        return 1;  // that depth, that colour: the same surface
+      }
+    }
+    return result;
+  };
+  // The luma difference between sample (x, y) taken at `level` and what the first other view that
+  // sees it shows there, whatever that view's depth; -1 when no other view sees it.
+  auto sampleDifference = [&](int x, int y, uint16_t level) {
+    bool ok = false;
+    const Vec3 point = backProjectDepth(view.camera, x, y, 1.0 / inverseZ[level], s.depthType, ok);
+    if (!ok) return -1.0;
+    for (size_t j = 0; j < references.size(); ++j) {
+      if (j == k) continue;
+      double u, v, zCam;
+      if (!s.references[j].camera.project(point, u, v, zCam)) continue;
+      const int ju = int(std::lround(u)), jv = int(std::lround(v));
+      const Plane& otherLuma = references[j].texture->planes[0];
+      if (ju < 0 || jv < 0 || ju >= otherLuma.width || jv >= otherLuma.height) continue;
+      return std::abs(double(luma.at(x, y)) - double(otherLuma.at(ju, jv)));
+    }
+    return -1.0;
+  };
+  // Their mean over samples x0..x1-1 of row y; -1 when none is seen.
+  auto runDifference = [&](int x0, int x1, int y, uint16_t level) {
+    double sum = 0;
+    size_t n = 0;
+    for (int x = x0; x < x1; ++x) {
+      const double d = sampleDifference(x, y, level);
+      if (d < 0) continue;
+      sum += d;
+      ++n;
+    }
+    return n ? sum / double(n) : -1.0;
+  };
+  // Step 2 on samples x0..x1-1 of row y (one filled level): to the far level when contradicted.
+  auto testFarther = [&](int x0, int x1, int y, uint16_t* row) {
+    size_t agree = 0, contradict = 0;
+    for (int i = x0; i < x1; ++i) {
+      const int r = verdict(i, y, row[i]);
+      agree += r > 0;
+      contradict += r < 0;
+    }
+    if (double(contradict) > kRunContradictedShare * double(agree + contradict)) {
+      for (int i = x0; i < x1; ++i) row[i] = farLevel;
+      ++counts.toFar;
+      counts.far += size_t(x1 - x0);
+    }
+  };
+  // Mean luma of up to kRunSideSamples valid samples beyond x (stepping by `step`); -1 when none.
+  auto sideMean = [&](const uint16_t* row, const uint8_t* mark, int x, int step, int y) {
+    double sum = 0;
+    int n = 0;
+    for (int i = x; n < kRunSideSamples && i >= 0 && i < w && !mark[i] && row[i] != missingLevel; i += step, ++n)
+      sum += luma.at(i, y);
+    return n ? sum / n : -1.0;
+  };
+  for (int y = 0; y < h; ++y) {
+    uint16_t* row = filledDepth.samples.data() + size_t(y) * w;
+    const uint8_t* mark = filled.data() + size_t(y) * w;
+    for (int x = 0; x < w;) {
+      if (!mark[x]) {
+        ++x;
+        continue;
+      }
+      int end = x;
+      while (end < w && mark[end] && row[end] == row[x]) ++end;
+      ++counts.runs;
+      counts.samples += size_t(end - x);
+      // Step 1: the nearer neighbour (a valid sample, not a filled one).
+      const bool leftNear = x > 0 && !mark[x - 1] && row[x - 1] != missingLevel && row[x - 1] > row[x];
+      const bool rightNear = end < w && !mark[end] && row[end] != missingLevel && row[end] > row[x];
+      const bool fromLeft = leftNear && (!rightNear || row[x - 1] >= row[end]);
+      if ((leftNear || rightNear) && end - x >= kRunNearMinSamples) {
+        const uint16_t nearLevel = fromLeft ? row[x - 1] : row[end], farther = row[x];
+        const double nearDifference = runDifference(x, end, y, nearLevel);
+        const double fartherDifference = runDifference(x, end, y, farther);
+        const bool otherViewsSayNear = nearDifference >= 0 && fartherDifference >= 0 &&
+                                       nearDifference < kRunNearDifferenceRatio * fartherDifference &&
+                                       nearDifference < colourTolerance;
+        const double nearSide = fromLeft ? sideMean(row, mark, x - 1, -1, y) : sideMean(row, mark, end, 1, y);
+        const double farSide = fromLeft ? sideMean(row, mark, end, 1, y) : sideMean(row, mark, x - 1, -1, y);
+        double runMean = 0;
+        for (int i = x; i < end; ++i) runMean += luma.at(i, y);
+        runMean /= double(end - x);
+        const double toNearSide = std::abs(runMean - nearSide), toFarSide = std::abs(runMean - farSide);
+        const bool ownTextureSaysNear = nearSide >= 0 && farSide >= 0 && toNearSide < colourTolerance &&
+                                        toNearSide < kRunNearDifferenceRatio * toFarSide;
+        if (otherViewsSayNear || ownTextureSaysNear) {
+          // From the nearer end inwards, while each sample matches the other views at the near level
+          // within the tolerance and at least as well as at the farther one: a sample wrongly taken
+          // near is drawn over what lies in front of the far level, one wrongly taken far is mostly
+          // hidden, so the strip stops at the first doubt and the rest goes to step 2.
+          int a = x, b = end;
+          while (a < b) {
+            const int i = fromLeft ? a : b - 1;
+            const double dn = sampleDifference(i, y, nearLevel), df = sampleDifference(i, y, farther);
+            if (!(dn >= 0 && dn <= colourTolerance && (df < 0 || dn <= df))) break;
+            row[i] = nearLevel;
+            ++counts.near;
+            if (fromLeft) ++a;
+            else --b;
+          }
+          counts.toNear += (b - a) < (end - x);
+          if (a < b) testFarther(a, b, y, row);
+          x = end;
+          continue;
+        }
+      }
+      testFarther(x, end, y, row);
+      x = end;
+    }
+  }
+  return counts;
+}
+
 void decideMissingDepth(const Scene& scene, const std::vector<ReferenceFrame>& references, Plan& plan) {
   if (!plan.missingDepthAuto || plan.missingDepthDecided) return;
   const std::vector<FarEvidence> evidence = testFarReading(scene, references);
@@ -94,8 +249,11 @@ void decideMissingDepth(const Scene& scene, const std::vector<ReferenceFrame>& r
   const bool missing = tested > 0 && double(contradicted) > kFarContradictedShare * double(tested);
   plan.missingDepthLevel = missing ? 0 : -1;
   plan.missingDepthFill = missing && plan.missingDepthFillAuto;
+  plan.missingDepthRunTest = plan.missingDepthFill;
   const std::string reading = !missing ? "kept as Zfar"
-                              : plan.missingDepthFill ? "treated as missing, filled from the farther side"
+                              : plan.missingDepthFill ? "treated as missing, runs filled from the farther side "
+                                                        "(the nearer where its colours match, Zfar where the "
+                                                        "other views contradict)"
                                                       : "treated as missing (MissingDepthFill 0: not filled)";
   plan.missingDepthEvidence.clear();
   for (size_t k = 0; k < evidence.size(); ++k) {
@@ -106,7 +264,18 @@ void decideMissingDepth(const Scene& scene, const std::vector<ReferenceFrame>& r
       line += e.tested ? ", far contradicted for " + percent(e.contradictedFraction()) + " of " + std::to_string(e.tested) +
                              " tested"
                        : ", none seen by another view";
-    plan.missingDepthEvidence.push_back(line + ": " + reading);
+    line += ": " + reading;
+    if (plan.missingDepthRunTest) {
+      // What the per-run test does on this frame (the renderers repeat it on every frame).
+      Plane filledDepth;
+      std::vector<uint8_t> filled;
+      fillMissingDepthRuns(*references[k].depth, plan.missingDepthLevel,
+                           inverseZTable(scene.settings.references[k].depthRange), filledDepth, filled);
+      const RunTestCounts runs = testFilledRuns(scene, k, references, plan.missingDepthLevel, filledDepth, filled);
+      line += "; frame 0: " + std::to_string(runs.runs) + " runs, " + std::to_string(runs.toNear) +
+              " to the nearer side, " + std::to_string(runs.toFar) + " to Zfar";
+    }
+    plan.missingDepthEvidence.push_back(line);
   }
   plan.missingDepthDecided = true;
 }

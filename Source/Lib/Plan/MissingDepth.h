@@ -33,7 +33,43 @@ constexpr double kFarContradictedShare = 0.65;
 // both directions). `references`: the first frame's inputs, in the scene's order.
 std::vector<FarEvidence> testFarReading(const Scene& scene, const std::vector<ReferenceFrame>& references);
 
-// With plan.missingDepthAuto: sets plan.missingDepthLevel, missingDepthFill and missingDepthEvidence
+// The per-run test that follows the fill under auto (doc/algorithms.md, "Depth level 0: far or
+// missing"): each run of filled samples along a row (one level, the farther end's) is tested in the
+// other reference views, in two steps.
+// 1. The nearer end. The run may be an unmatched strip of the nearer surface (the occluder), not
+//    background. It is taken for one when either (a) its samples, taken at the nearer neighbour's
+//    level and projected into the other views, find colours there (whatever depth those views give
+//    them) that differ from their own by less than kRunNearDifferenceRatio times the difference at
+//    the filled level and by less than kFarColourTolerance on average; or (b) in its own view, the
+//    run's mean luma is that close to the kRunSideSamples samples beyond its nearer end, against
+//    those beyond its farther end. Then, from the nearer end inwards, samples take the nearer level
+//    while each matches the other views there within kFarColourTolerance and at least as well as at
+//    the filled level; the rest goes to step 2. Runs of at least kRunNearMinSamples only.
+// 2. The filled level: every sample is taken at its filled level and projected into them: hidden
+// there behind a nearer valid surface (what a half-occlusion looks like) or seen at that depth with the
+// same colour (within kFarColourTolerance) agrees; seen behind it (the other view looks through where
+// the sample would be), or at that depth with another colour, contradicts; missing there or outside
+// tells nothing. Where more than kRunContradictedShare of the samples that tell something contradict
+// the fill, the run is read as VSRS reads level 0: it is warped at the far end of the range (level 1,
+// as level 0 stays the missing mark), still marked filled.
+constexpr double kRunContradictedShare = 0.5;
+constexpr double kRunNearDifferenceRatio = 0.3;
+constexpr int kRunNearMinSamples = 2;
+constexpr int kRunSideSamples = 3;
+constexpr int kRunLevelTolerance8Bit = 3;  // levels of 255 within which two depths are one surface
+
+struct RunTestCounts {
+  size_t runs = 0, toNear = 0, toFar = 0;  // runs of filled samples, of them given the near or far level
+  size_t samples = 0, near = 0, far = 0;   // filled samples, of them given the near or far level
+};
+
+// `filledDepth` and `filled`: view k's map after fillMissingDepthRuns with `missingLevel` and its
+// marks; runs take the near level or the far level as the test says. `references`: this frame's inputs.
+RunTestCounts testFilledRuns(const Scene& scene, size_t k, const std::vector<ReferenceFrame>& references,
+                             int missingLevel, Plane& filledDepth, const std::vector<uint8_t>& filled);
+
+// With plan.missingDepthAuto: sets plan.missingDepthLevel, missingDepthFill, missingDepthRunTest and
+// missingDepthEvidence
 // from testFarReading on the first frame, and marks the plan decided. Without it: nothing.
 void decideMissingDepth(const Scene& scene, const std::vector<ReferenceFrame>& references, Plan& plan);
 

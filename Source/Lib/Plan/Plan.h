@@ -52,6 +52,7 @@ struct Plan {
   // which sets the two fields above and says why, one line per reference view.
   bool missingDepthAuto = false;
   bool missingDepthFillAuto = true;      // MissingDepthFill auto or 1: filled when auto finds level 0 missing
+  bool missingDepthRunTest = false;      // auto chose the fill: each filled run is tested (testFilledRuns)
   bool missingDepthDecided = false;      // decideMissingDepth has run
   std::vector<std::string> missingDepthEvidence;  // "depth1: 6.5 % at level 0, far contradicted for 93 %: ..."
   int depthEdgeAlignment = 0; // DepthEdgeAlignment: reach in samples, 0: off; runs with two views or more

@@ -7,6 +7,7 @@
 
 #include "Common/Depth.h"
 #include "Common/Error.h"
+#include "Plan/MissingDepth.h"
 #include "Synth/Colour.h"
 
 namespace vs {
@@ -97,6 +98,10 @@ void Synthesizer::synthesize(const std::vector<ReferenceFrame>& references, Fram
       // at the missing level, which fillMissingDepthRuns never picks (both ends are valid).
       fillMissingDepthRuns(*depth, plan_.missingDepthLevel, view.levelToInverseDepth, view.filledDepth,
                            view.filledSamples);
+      // Auto: each filled run is tested in the other views: kept, given the nearer side's level, or read
+      // as VSRS reads level 0 (Plan/MissingDepth.h).
+      if (plan_.missingDepthRunTest)
+        testFilledRuns(scene_, k, references, plan_.missingDepthLevel, view.filledDepth, view.filledSamples);
       depth = &view.filledDepth;
     }
     view.alignedSamples = 0;
