@@ -188,6 +188,26 @@ double polePsnr(const Frame& truth, const Frame& output) {
   return psnrFromMse(sum / count, 8);
 }
 
+// Fraction of an ERP virtual camera's samples whose synthesized distance is off the true one by more
+// than 5 %: a triangle drawn across the picture at the wrap would put its depth along whole rows.
+double wrongDepthFraction(const test::GeneratedScene& scene, const Scene& s, const test::SynthesisInputs& inputs,
+                          const DepthRange& range) {
+  Synthesizer synthesizer(s, test::planOnPath(s));
+  Frame output;
+  StageTimes times;
+  synthesizer.synthesize(inputs.frames(), output, times);
+  Plane levels;
+  synthesizer.virtualDepth(range, levels);
+  const std::vector<double> truth = scene.depth(s.virtualCamera);
+  size_t wrong = 0;
+  for (int y = 0; y < levels.height; ++y)
+    for (int x = 0; x < levels.width; ++x) {
+      const double distance = levelToZ(levels.at(x, y), range), exact = truth[size_t(y) * levels.width + x];
+      wrong += std::fabs(distance - exact) > 0.05 * exact;
+    }
+  return double(wrong) / double(truth.size());
+}
+
 // A pinhole camera of the room's picture size, horizontal field of view `degrees`, turned `yaw`
 // degrees to the left (MPEG's yaw), at `centre`.
 Camera pinholeCamera(const std::string& name, double degrees, double yaw, const Vec3& centre, int width, int height) {
@@ -256,6 +276,18 @@ TEST(EquirectangularSynth, TwoErpReferencesScoreAtLeastAsWellAsPerspectiveOnesOf
   EXPECT_GE(erpWs, 27.0);
   EXPECT_GE(narrowFromErp, 22.0);
   EXPECT_GE(wideFromErp, 19.0);
+  // Depth: the ERP virtual camera, and one turned half a turn (its wrap then lies where the references'
+  // middle columns land, so that many quads cross it).
+  Camera rotated = erpVirtual;
+  rotated.R = rotationFromYawPitchRoll(180, 0, 0);
+  const Camera& turned = rotated;
+  for (const Camera* target : {&erpVirtual, &turned}) {
+    const Scene s = test::makeScene({left, right}, *target, scene.textureFormat(), range);
+    const double wrong = wrongDepthFraction(scene, s, test::renderInputs(scene, s), range);
+    test::recordFigure(target == &turned ? "turned_erp_virtual_wrong_depth_fraction" : "erp_virtual_wrong_depth_fraction",
+                       wrong);
+    EXPECT_LE(wrong, 0.02);
+  }
   // The wrap: the columns beside it are synthesized as well as the picture (a triangle drawn across the
   // whole picture, or none across the wrap, costs them several dB).
   EXPECT_GE(seam, erpPsnr - 3.0);
