@@ -11,9 +11,11 @@
 #include "Common/CameraJson.h"
 #include "Common/IvPsnr.h"
 #include "Common/Metrics.h"
+#include "Common/Yuv.h"
 #include "Plan/Plan.h"
 #include "StabilityScene.h"
 #include "Synth/Warp.h"
+#include "TestPaths.h"
 
 namespace vs {
 namespace {
@@ -292,6 +294,58 @@ TEST(EquirectangularSynth, TwoErpReferencesScoreAtLeastAsWellAsPerspectiveOnesOf
   // whole picture, or none across the wrap, costs them several dB).
   EXPECT_GE(seam, erpPsnr - 3.0);
   EXPECT_GE(poles, erpPsnr - 3.0);  // the rows at the poles likewise
+}
+
+// SceneGen with a camera file of ERP and pinhole cameras (Rig file): the rig is written as MPEG-I JSON,
+// and an ERP depth file holds the distance along each ray (here where the ray meets the floor, 1.5 below
+// the camera: 1.5 / sin of the angle below the horizon).
+TEST(EquirectangularSceneGen, RendersErpRigsWithDistanceDepthAndWritesJson) {
+  const std::filesystem::path root = test::scratchDir("erp_scenegen");
+  const std::string cameras = (root / "rig.json").string();
+  const Camera erp = erpCamera("erp", 64, 32, Vec3());
+  Camera pinhole;
+  pinhole.name = "pinhole";
+  pinhole.K[0][0] = pinhole.K[1][1] = 32.0;
+  pinhole.K[0][2] = 31.5;
+  pinhole.K[1][2] = 15.5;
+  CameraInfo info;
+  info.width = 64;
+  info.height = 32;
+  writeCameraJson(cameras, {erp, pinhole}, {info, info});
+  const std::string scene = (std::filesystem::path(VS_SOURCE_DIR) / "cfg" / "scenes" / "room.scene").string();
+  const auto settingsWith = [&](const std::string& size) {
+    return readSceneGenSettings(Config::load(sceneGenOptionTable(), "",
+                                             {"SceneFile=" + scene, "Rig=file", "CameraParameterFile=" + cameras,
+                                              "SourceWidth=" + size, "SourceHeight=32", "DepthBitDepth=16",
+                                              "OutputFolder=" + (root / "out").string(), "Threads=1"}));
+  };
+  std::ostringstream log;
+  try {  // a picture size other than the ERP camera's Resolution
+    generateScene(settingsWith("80"), log);
+    ADD_FAILURE() << "SceneGen rendered an ERP camera at another size";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("'erp' is equirectangular with Resolution 64x32"), std::string::npos) << e.what();
+  }
+  const SceneGenResult result = generateScene(settingsWith("64"), log);
+  EXPECT_EQ(std::filesystem::path(result.cameraFile).filename(), "cameras.json");
+  const CameraFile written = readCameraFile(result.cameraFile);
+  ASSERT_TRUE(written.find("erp").isEquirectangular());
+  EXPECT_FALSE(written.find("pinhole").isEquirectangular());
+  Plane levels;
+  YuvReader(result.depthPaths[0], FrameFormat{64, 32, 16, ChromaFormat::Yuv420}).readLuma(0, levels);
+  // Longitude -90 (our +x, away from every object), rows 25 to 29: latitudes -50.625 to -73.125 degrees.
+  int checked = 0;
+  for (int v = 25; v < 30; ++v) {
+    const double lat = (90.0 - (v + 0.5) * 180.0 / 32) * kPi / 180;
+    const int u = 47;  // longitude 180 - 47.5 * 5.625 = -87.19
+    const double lon = (180.0 - (u + 0.5) * 360.0 / 64) * kPi / 180;
+    const Vec3 ray = sphereDirection(lon, lat);
+    const double distance = 1.5 / ray.y;  // the floor is the plane y = 1.5
+    EXPECT_NEAR(levelToZ(levels.at(u, v), result.depthRange), distance, 1e-3 * distance) << v;
+    ++checked;
+  }
+  EXPECT_EQ(checked, 5);
+  std::filesystem::remove_all(root);
 }
 
 }  // namespace

@@ -341,6 +341,11 @@ std::string describeCameras(const Scene& scene) {
                   c.K[2][1], c.K[2][2], c.R[0][0], c.R[0][1], c.R[0][2], c.R[1][0], c.R[1][1], c.R[1][2], c.R[2][0],
                   c.R[2][1], c.R[2][2], c.t.x, c.t.y, c.t.z);
     out << line;
+    if (c.isEquirectangular()) {
+      std::snprintf(line, sizeof line, "  equirectangular %dx%d: longitude %.10g to %.10g, latitude %.10g to %.10g deg (K unused)\n",
+                    c.erp.width, c.erp.height, c.erp.lonMin, c.erp.lonMax, c.erp.latMin, c.erp.latMax);
+      out << line;
+    }
   };
   const SynthesisSettings& s = scene.settings;
   const bool leftRight = !s.references.empty() && s.references[0].label == "Left";
