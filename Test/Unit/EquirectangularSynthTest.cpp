@@ -11,6 +11,7 @@
 #include "Common/CameraJson.h"
 #include "Common/IvPsnr.h"
 #include "Common/Metrics.h"
+#include "Common/Options.h"
 #include "Common/Yuv.h"
 #include "Plan/Plan.h"
 #include "StabilityScene.h"
@@ -311,7 +312,8 @@ TEST(EquirectangularSceneGen, RendersErpRigsWithDistanceDepthAndWritesJson) {
   CameraInfo info;
   info.width = 64;
   info.height = 32;
-  writeCameraJson(cameras, {erp, pinhole}, {info, info});
+  const Camera between = erpCamera("between", 64, 32, Vec3(0.1, 0, 0));
+  writeCameraJson(cameras, {erp, between, pinhole}, {info, info, info});
   const std::string scene = (std::filesystem::path(VS_SOURCE_DIR) / "cfg" / "scenes" / "room.scene").string();
   const auto settingsWith = [&](const std::string& size) {
     return readSceneGenSettings(Config::load(sceneGenOptionTable(), "",
@@ -345,6 +347,14 @@ TEST(EquirectangularSceneGen, RendersErpRigsWithDistanceDepthAndWritesJson) {
     ++checked;
   }
   EXPECT_EQ(checked, 5);
+  // The config SceneGen writes for the ERP camera between an ERP and a pinhole one: read as a mixed rig
+  // on the general path, its output scored with WS-PSNR although QualityMetrics does not name it.
+  ASSERT_EQ(result.viewSynConfigs.size(), 1u);
+  const Scene mixed = loadScene(Config::load(viewSynOptionTable(), result.viewSynConfigs[0], {}));
+  EXPECT_TRUE(mixed.virtualCamera.isEquirectangular());
+  EXPECT_FALSE(mixed.settings.references[1].camera.isEquirectangular());
+  EXPECT_EQ(mixed.settings.qualityMetrics, std::vector<std::string>{"wspsnr"});
+  EXPECT_EQ(makePlan(mixed).mode, SynthesisMode::General);
   std::filesystem::remove_all(root);
 }
 

@@ -1,5 +1,6 @@
 #include "Common/Scene.h"
 
+#include <algorithm>
 #include <cctype>
 #include <cstdio>
 #include <filesystem>
@@ -317,6 +318,11 @@ Scene loadScene(const Config& config) {
     }
   }
   lookUp("VirtualCameraName", s.virtualCameraName, scene.virtualCamera);
+  // An equirectangular output is scored with WS-PSNR as well (its rows do not cover equal areas of the
+  // sphere), whether or not QualityMetrics names it.
+  if (scene.virtualCamera.isEquirectangular() && !s.referenceViewPath.empty() &&
+      std::find(s.qualityMetrics.begin(), s.qualityMetrics.end(), "wspsnr") == s.qualityMetrics.end())
+    s.qualityMetrics.push_back("wspsnr");
   if (!s.virtualDepthRangeSet && !s.references.empty()) {
     const bool jsonRange = cameras.contains(s.virtualCameraName) && cameras.info(s.virtualCameraName).hasDepthRange;
     s.virtualDepthRange = s.references[0].depthRange;
