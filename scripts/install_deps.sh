@@ -5,6 +5,7 @@ set -euo pipefail
 packages=(build-essential cmake libopencv-dev libgtest-dev libgmock-dev libbenchmark-dev
           libegl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri python3
           python3-matplotlib python3-numpy
+          valgrind  # CTest Valgrind: a tiny synthesis under memcheck (Test/RunUnderValgrind.cmake)
           slurmctld slurmd slurm-client munge)  # the Slurm test's single-node cluster (scripts/slurm-local.sh)
 missing=()
 for p in "${packages[@]}"; do

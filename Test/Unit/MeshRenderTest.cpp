@@ -316,12 +316,23 @@ double planePsnr(const vs::Plane& a, const vs::Plane& b) { return vs::psnrFromMs
 
 // A reference view's mesh rendered into its own camera gives the view back: PSNR-Y >= 60 dB (it is
 // exact up to float rounding), chroma too, every sample covered by the view's own mesh.
-void expectSelfRender(PlaneScene s, int gridStep, const std::string& what) {
+// With `specks`, isolated depth samples of view 0 are set to level 0 (the far end): each is a
+// locally farthest orphan of the mesh (no triangle, every neighbour nearer), which the mesh draws only
+// into a lone hole of its own view; into its own camera it must still come back.
+void expectSelfRender(PlaneScene s, int gridStep, const std::string& what, bool specks = false) {
   // A noisy texture: any misplaced sample would show.
   std::mt19937 random(5);
   for (vs::Frame& texture : s.textures)
     for (vs::Plane& plane : texture.planes)
       for (uint16_t& sample : plane.samples) sample = uint16_t(16 + random() % 220);
+  size_t speckCount = 0;
+  if (specks)  // where the plane is well inside the depth range, so that every neighbour is nearer
+    for (int y = 3; y + 3 < kHeight; y += 7)
+      for (int x = 3 + y % 5; x + 3 < kWidth; x += 9)
+        if (s.depths[0].at(x, y) >= 20) {
+          s.depths[0].at(x, y) = 0;
+          ++speckCount;
+        }
   s.scene.virtualCamera = s.scene.settings.references[0].camera;
   vs::MeshSettings settings;
   settings.gridStep = gridStep;
@@ -330,6 +341,11 @@ void expectSelfRender(PlaneScene s, int gridStep, const std::string& what) {
   vs::StageTimes times;
   synthesizer.synthesize(s.frames(), output, times);
   const vs::WarpedLayer& own = synthesizer.lumaLayer(0);
+  if (specks) {
+    EXPECT_GT(speckCount, size_t(50));
+    // Most stay isolated (DepthEdgeAlignment may move a few onto the noisy texture's edges).
+    EXPECT_GT(synthesizer.mesh(0).farthestOrphans.size(), speckCount / 2) << what;
+  }
   EXPECT_EQ(size_t(std::count_if(own.inverseDepth.begin(), own.inverseDepth.end(), [](double q) { return q >= 0; })),
             own.inverseDepth.size())
       << what;
@@ -349,6 +365,12 @@ TEST(MeshRenderGl, ReferenceRenderedIntoItselfReproducesTheView) {
   expectSelfRender(makePlaneScene(1), 1, "DepthType 1");
   expectSelfRender(makePlaneScene(0, std::numeric_limits<double>::infinity()), 1, "DepthType 0, Zfar inf");
   expectSelfRender(makePlaneScene(0), 4, "DepthType 0, MeshGridStep 4");
+  expectSelfRender(makePlaneScene(0), 1, "DepthType 0, isolated far samples", true);
+  // 4:4:4: U and V looked up at the luma samples' own positions (the texture is noise, any format).
+  PlaneScene full = makePlaneScene(0);
+  full.scene.settings.textureFormat.chroma = vs::ChromaFormat::Yuv444;
+  for (vs::Frame& texture : full.textures) texture.reset(full.scene.settings.textureFormat);
+  expectSelfRender(full, 1, "DepthType 0, 4:4:4");
 }
 
 // The whole pipeline on the generated plane: the virtual view against its ray-cast truth, and against

@@ -195,10 +195,33 @@ void addMeshOptions(OptionTable& table) {
   threshold.help =
       "A triangle is dropped when 1 - zmin/zmax over its corners exceeds this (a depth discontinuity); "
       "1 keeps every triangle";
+  OptionSpec maxError;
+  maxError.key = "MeshMaxError";
+  maxError.type = OptionType::Double;
+  maxError.defaultValue = "2";
+  maxError.minValue = 0.0;
+  maxError.maxValue = 100.0;
+  maxError.vsrsDefault = "-";
+  maxError.help =
+      "Adaptive mesh: planar blocks of grid cells are merged into larger triangles where no depth sample "
+      "moves by more than this many virtual-camera pixels; 0 merges only exact planes";
+  OptionSpec colourError;
+  colourError.key = "MeshMaxColourError";
+  colourError.type = OptionType::Double;
+  colourError.defaultValue = "4";
+  colourError.minValue = 0.0;
+  colourError.maxValue = 65535.0;
+  colourError.vsrsDefault = "-";
+  colourError.help =
+      "Adaptive mesh: where the reference luma changes, a sample may move only as far as keeps its colour "
+      "within this many sample values (luma step to its neighbours times pixels), at most MeshMaxError; "
+      "0: MeshMaxError alone";
   addAll(table, "Mesh",
          {
              threshold,
              choiceOption("MeshGridStep", {"1", "2", "4", "8"}, "1", "-", "Vertex spacing in pixels: 1 is one vertex per pixel"),
+             maxError,
+             colourError,
              textOption("MeshPlyOutput", OptionType::Path, false, "-",
                         "Optional PLY file of the first frame's meshes (vertices with colour)"),
          });

@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <limits>
+#include <utility>
 
 #include "Common/Error.h"
 
@@ -61,8 +63,8 @@ bool referenceVertex(const Camera& reference, int depthType, double u, double v,
 }
 
 DepthMeshBuilder::DepthMeshBuilder(const Camera& reference, const DepthRange& range, int width, int height,
-                                   const MeshOptions& options)
-    : reference_(reference), options_(options), width_(width), height_(height) {
+                                   const MeshOptions& options, DisplacementRate rate)
+    : reference_(reference), rate_(std::move(rate)), options_(options), width_(width), height_(height) {
   VS_CHECK(width > 0 && height > 0 && options.gridStep >= 1);
   VS_CHECK(options.depthType == kDepthTypeCamera || options.depthType == kDepthTypeWorld);
   inverseZ_ = inverseZTable(range);
@@ -82,7 +84,7 @@ DepthMeshBuilder::DepthMeshBuilder(const Camera& reference, const DepthRange& ra
   }
 }
 
-void DepthMeshBuilder::build(const Plane& depth, DepthMesh& mesh) const {
+void DepthMeshBuilder::build(const Plane& depth, DepthMesh& mesh, const Plane* luma) const {
   VS_CHECK(depth.width == width_ && depth.height == height_);
   const int columns = int(gridU_.size()), rows = int(gridV_.size());
   const size_t count = size_t(columns) * size_t(rows);
@@ -93,10 +95,13 @@ void DepthMeshBuilder::build(const Plane& depth, DepthMesh& mesh) const {
   mesh.vertices.assign(count * 4, 0.0f);
   mesh.boundary.assign(count, 0.0f);
   mesh.valid.assign(count, 0);
+  mesh.cellSplit.assign(size_t(columns - 1) * size_t(rows - 1), 0);
   mesh.triangles.clear();
   mesh.triangles.reserve(count * 6);
   mesh.points.clear();
+  mesh.farthestOrphans.clear();
   mesh.droppedTriangles = 0;
+  mesh.gridTriangles = 0;
   std::vector<double> cameraInverseZ(count, 0.0);
   std::vector<int> level(count, 0);  // depth level of each valid vertex
 
@@ -191,8 +196,12 @@ void DepthMeshBuilder::build(const Plane& depth, DepthMesh& mesh) const {
     ++mesh.droppedTriangles;
     mesh.boundary[a] = mesh.boundary[b] = mesh.boundary[c] = 1.0f;
   };
+  // Where each cell's triangles start in mesh.triangles (the adaptive merge copies the cells it keeps).
+  std::vector<uint32_t> cellStart;
+  if (rate_) cellStart.reserve(size_t(columns - 1) * size_t(rows - 1) + 1);
   for (int r = 0; r + 1 < rows; ++r)
     for (int c = 0; c + 1 < columns; ++c) {
+      if (rate_) cellStart.push_back(uint32_t(mesh.triangles.size()));
       // Corners: 0 (c, r), 1 (c+1, r), 2 (c, r+1), 3 (c+1, r+1).
       const uint32_t q0 = uint32_t(size_t(r) * columns + c), q1 = q0 + 1, q2 = q0 + uint32_t(columns), q3 = q2 + 1;
       const int validCount = mesh.valid[q0] + mesh.valid[q1] + mesh.valid[q2] + mesh.valid[q3];
@@ -217,6 +226,7 @@ void DepthMeshBuilder::build(const Plane& depth, DepthMesh& mesh) const {
         emit(q0, q1, q3);
         emit(q0, q3, q2);
       } else {
+        mesh.cellSplit[size_t(r) * size_t(columns - 1) + size_t(c)] = 1;
         emit(q0, q1, q2);
         emit(q1, q3, q2);
       }
@@ -239,9 +249,182 @@ void DepthMeshBuilder::build(const Plane& depth, DepthMesh& mesh) const {
   };
   std::vector<uint8_t> used(count, 0);
   for (uint32_t index : mesh.triangles) used[index] = 1;
-  mesh.points.clear();
-  for (size_t i = 0; i < count; ++i)
+  for (size_t i = 0; i < count; ++i) {
     if (used[i] ? mesh.boundary[i] > 0.0f : mesh.valid[i] && !farthestAround(i)) mesh.points.push_back(uint32_t(i));
+    else if (!used[i] && mesh.valid[i]) mesh.farthestOrphans.push_back(uint32_t(i));
+  }
+  mesh.gridTriangles = mesh.triangleCount();
+  if (rate_) {
+    cellStart.push_back(uint32_t(mesh.triangles.size()));
+    merge(mesh, cameraInverseZ, cellStart, luma && luma->width == width_ && luma->height == height_ ? luma : nullptr);
+  }
+}
+
+bool DepthMesh::edgeAt(double u, double v) const {
+  if (columns < 2 || rows < 2) return false;
+  // The cell: the last grid line at or before the position, clamped to the grid.
+  const int c = std::clamp(int(std::upper_bound(gridU.begin(), gridU.end(), u) - gridU.begin()) - 1, 0, columns - 2);
+  const int r = std::clamp(int(std::upper_bound(gridV.begin(), gridV.end(), v) - gridV.begin()) - 1, 0, rows - 2);
+  const double fu = (u - gridU[size_t(c)]) / (gridU[size_t(c) + 1] - gridU[size_t(c)]);
+  const double fv = (v - gridV[size_t(r)]) / (gridV[size_t(r) + 1] - gridV[size_t(r)]);
+  const size_t q0 = size_t(r) * size_t(columns) + size_t(c), q1 = q0 + 1, q2 = q0 + size_t(columns), q3 = q2 + 1;
+  // Barycentric weights of the triangle's corners; a corner counts when its weight is above the
+  // position's float rounding (as the interpolated flag of a rasterised triangle is above 0 there).
+  constexpr double kWeight = 1e-3;
+  auto on = [&](size_t corner, double weight) { return weight > kWeight && boundary[corner] > 0.0f; };
+  if (cellSplit[size_t(r) * size_t(columns - 1) + size_t(c)] == 0)
+    return fu >= fv ? on(q0, 1.0 - fu) || on(q1, fu - fv) || on(q3, fv) : on(q0, 1.0 - fv) || on(q3, fu) || on(q2, fv - fu);
+  return fu + fv <= 1.0 ? on(q0, 1.0 - fu - fv) || on(q1, fu) || on(q2, fv)
+                        : on(q1, 1.0 - fv) || on(q2, 1.0 - fu) || on(q3, fu + fv - 1.0);
+}
+
+void DepthMeshBuilder::merge(DepthMesh& mesh, const std::vector<double>& inverseCameraZ,
+                             const std::vector<uint32_t>& cellStart, const Plane* luma) const {
+  const int columns = mesh.columns, rows = mesh.rows;
+  const int cellsX = columns - 1, cellsY = rows - 1;
+  constexpr int kMaxLevel = 7;  // blocks of at most 128 x 128 cells
+  // ok[k][block]: block (bx, by) of 2^k x 2^k cells is merged as a whole. Level 0: a cell both of
+  // whose triangles are kept.
+  std::vector<std::vector<uint8_t>> ok(1);
+  std::vector<int> blocksX(1, cellsX), blocksY(1, cellsY);
+  ok[0].assign(size_t(cellsX) * size_t(cellsY), 0);
+  auto vertexIndex = [&](int x, int y) { return size_t(y) * size_t(columns) + size_t(x); };
+  for (size_t cell = 0; cell < ok[0].size(); ++cell) ok[0][cell] = cellStart[cell + 1] - cellStart[cell] == 6;
+  const double halfBound = 0.5 * std::max(options_.maxError, 0.0);
+  // Each vertex's allowance in virtual pixels (half of it, as halfBound): MeshMaxError, capped with
+  // MeshMaxColourError by the colour error a displacement causes at its pixel (the largest luma step
+  // to its 8 neighbours, per pixel, times the displacement).
+  std::vector<float> allowance;
+  if (luma && options_.maxColourError > 0.0) {
+    allowance.resize(mesh.vertexCount());
+    const double halfColour = 0.5 * options_.maxColourError;
+    for (int r = 0; r < rows; ++r) {
+      const int py = pixelV_[size_t(r)];
+      for (int c = 0; c < columns; ++c) {
+        const int px = pixelU_[size_t(c)];
+        const int centre = luma->row(py)[px];
+        int step = 0;
+        for (int y = std::max(py - 1, 0); y <= std::min(py + 1, height_ - 1); ++y) {
+          const uint16_t* row = luma->row(y);
+          for (int x = std::max(px - 1, 0); x <= std::min(px + 1, width_ - 1); ++x) step = std::max(step, std::abs(int(row[x]) - centre));
+        }
+        allowance[size_t(r) * size_t(columns) + size_t(c)] =
+            float(step > 0 ? std::min(halfBound, halfColour / double(step)) : halfBound);
+      }
+    }
+  }
+  // Whether every vertex of the block lies within the tolerance of the two triangles through its corners
+  // (split along the diagonal from (x0, y0) to (x1, y1)). The tolerance in q is the bound over the
+  // largest displacement rate at the corners; half the bound, since a fan around the centre (drawn when
+  // a neighbour is finer) interpolates vertices that are themselves up to the tolerance off.
+  auto planarBlock = [&](int x0, int y0, int size) {
+    const int x1 = x0 + size, y1 = y0 + size;
+    const double u0 = mesh.gridU[size_t(x0)], u1 = mesh.gridU[size_t(x1)];
+    const double v0 = mesh.gridV[size_t(y0)], v1 = mesh.gridV[size_t(y1)];
+    const double q00 = inverseCameraZ[vertexIndex(x0, y0)], q10 = inverseCameraZ[vertexIndex(x1, y0)];
+    const double q01 = inverseCameraZ[vertexIndex(x0, y1)], q11 = inverseCameraZ[vertexIndex(x1, y1)];
+    double rate = 0.0;
+    const double corners[4][3] = {{u0, v0, q00}, {u1, v0, q10}, {u0, v1, q01}, {u1, v1, q11}};
+    for (const auto& corner : corners) {
+      const double r = rate_(corner[0], corner[1], corner[2]);
+      if (!(r < std::numeric_limits<double>::infinity())) return false;  // not in front of the virtual camera
+      rate = std::max(rate, r);
+    }
+    const double tolerance = rate > 0.0 ? halfBound / rate : std::numeric_limits<double>::infinity();
+    const double su = 1.0 / (u1 - u0), sv = 1.0 / (v1 - v0);
+    for (int y = y0; y <= y1; ++y) {
+      const double dv = (mesh.gridV[size_t(y)] - v0) * sv;
+      const double* q = &inverseCameraZ[vertexIndex(x0, y)];
+      const float* allowed = allowance.empty() ? nullptr : &allowance[vertexIndex(x0, y)];
+      for (int x = x0; x <= x1; ++x, ++q) {
+        const double du = (mesh.gridU[size_t(x)] - u0) * su;
+        const double plane = du >= dv ? q00 + du * (q10 - q00) + dv * (q11 - q10) : q00 + dv * (q01 - q00) + du * (q11 - q01);
+        const double limit = allowed ? (rate > 0.0 ? double(allowed[x - x0]) / rate : tolerance) : tolerance;
+        if (!(std::fabs(*q - plane) <= limit)) return false;
+      }
+    }
+    return true;
+  };
+  for (int k = 1; k <= kMaxLevel; ++k) {
+    const int bx = cellsX >> k, by = cellsY >> k;
+    if (bx == 0 || by == 0) break;
+    const std::vector<uint8_t>& child = ok.back();
+    const int childX = blocksX.back();
+    std::vector<uint8_t> level(size_t(bx) * size_t(by), 0);
+    bool any = false;
+    for (int y = 0; y < by; ++y)
+      for (int x = 0; x < bx; ++x) {
+        const size_t c = size_t(2 * y) * size_t(childX) + size_t(2 * x);
+        if (!(child[c] && child[c + 1] && child[c + size_t(childX)] && child[c + size_t(childX) + 1])) continue;
+        const bool merged = planarBlock(x << k, y << k, 1 << k);
+        level[size_t(y) * size_t(bx) + size_t(x)] = merged;
+        any = any || merged;
+      }
+    if (!any) break;
+    ok.push_back(std::move(level));
+    blocksX.push_back(bx);
+    blocksY.push_back(by);
+  }
+  const int top = int(ok.size()) - 1;
+  if (top == 0) return;  // nothing merged
+
+  // The leaves, top-down: a merged block not inside a larger merged one; cells elsewhere. Every leaf's
+  // corners are marked: a merged block's sides pass through the marked vertices of its neighbours.
+  struct Leaf {
+    int level, x, y;  // x, y: first cell
+  };
+  std::vector<Leaf> leaves;
+  std::vector<uint8_t> corner(mesh.vertexCount(), 0);
+  auto addLeaf = [&](int level, int x, int y) {
+    leaves.push_back({level, x, y});
+    const int size = 1 << level;
+    corner[vertexIndex(x, y)] = corner[vertexIndex(x + size, y)] = 1;
+    corner[vertexIndex(x, y + size)] = corner[vertexIndex(x + size, y + size)] = 1;
+  };
+  std::function<void(int, int, int)> collect = [&](int level, int bx, int by) {
+    const int x = bx << level, y = by << level;
+    if (x >= cellsX || y >= cellsY) return;
+    if (level == 0) return addLeaf(0, x, y);
+    if (bx < blocksX[size_t(level)] && by < blocksY[size_t(level)] &&
+        ok[size_t(level)][size_t(by) * size_t(blocksX[size_t(level)]) + size_t(bx)])
+      return addLeaf(level, x, y);
+    for (int j = 0; j < 2; ++j)
+      for (int i = 0; i < 2; ++i) collect(level - 1, 2 * bx + i, 2 * by + j);
+  };
+  for (int by = 0; by << top < cellsY; ++by)
+    for (int bx = 0; bx << top < cellsX; ++bx) collect(top, bx, by);
+
+  std::vector<uint32_t> triangles;
+  triangles.reserve(mesh.triangles.size() / 4);
+  std::vector<uint32_t> ring;
+  for (const Leaf& leaf : leaves) {
+    if (leaf.level == 0) {
+      const size_t cell = size_t(leaf.y) * size_t(cellsX) + size_t(leaf.x);
+      triangles.insert(triangles.end(), mesh.triangles.begin() + cellStart[cell], mesh.triangles.begin() + cellStart[cell + 1]);
+      continue;
+    }
+    const int size = 1 << leaf.level, x0 = leaf.x, y0 = leaf.y, x1 = x0 + size, y1 = y0 + size;
+    // The block's outline, clockwise from (x0, y0), through every marked vertex.
+    ring.clear();
+    for (int x = x0; x < x1; ++x)
+      if (corner[vertexIndex(x, y0)]) ring.push_back(uint32_t(vertexIndex(x, y0)));
+    for (int y = y0; y < y1; ++y)
+      if (corner[vertexIndex(x1, y)]) ring.push_back(uint32_t(vertexIndex(x1, y)));
+    for (int x = x1; x > x0; --x)
+      if (corner[vertexIndex(x, y1)]) ring.push_back(uint32_t(vertexIndex(x, y1)));
+    for (int y = y1; y > y0; --y)
+      if (corner[vertexIndex(x0, y)]) ring.push_back(uint32_t(vertexIndex(x0, y)));
+    const uint32_t c00 = uint32_t(vertexIndex(x0, y0)), c10 = uint32_t(vertexIndex(x1, y0));
+    const uint32_t c01 = uint32_t(vertexIndex(x0, y1)), c11 = uint32_t(vertexIndex(x1, y1));
+    if (ring.size() == 4) {  // the two triangles the block was tested against
+      triangles.insert(triangles.end(), {c00, c10, c11, c00, c11, c01});
+      continue;
+    }
+    const uint32_t centre = uint32_t(vertexIndex(x0 + size / 2, y0 + size / 2));
+    for (size_t k = 0; k < ring.size(); ++k)
+      triangles.insert(triangles.end(), {centre, ring[k], ring[(k + 1) % ring.size()]});
+  }
+  mesh.triangles.swap(triangles);
 }
 
 }  // namespace vs

@@ -36,8 +36,22 @@
 // thin structures, noise) are drawn as points too, unless no valid neighbour among the 8 around is
 // farther: such a sample is a speck of background seen through a gap of the depth map (or a noisy
 // one) and, drawn, would show through in every disocclusion (Cloth2 of Middlebury 2006: -1.6 dB).
+// Those locally farthest orphans are listed separately (farthestOrphans): the renderer draws them only
+// into a pixel that nothing else of their view covers and that is not part of a larger hole, which
+// gives a reference rendered into itself back exactly without letting them into disocclusions.
+//
+// Adaptive mesh (MeshMaxError, doc/meshrender.md "Adaptive mesh"): given how far a point moves in the
+// virtual camera per unit of its inverse depth (a DisplacementRate, which depends on the camera model),
+// aligned square blocks of 2^k x 2^k grid cells whose every triangle is kept and whose every vertex lies
+// within the bound of the two triangles through the block's corners are merged (bottom-up, as a
+// region quadtree), at most 128 cells wide. A merged block is drawn as two triangles, or as a fan
+// around its centre vertex through every vertex of a smaller neighbour on its sides, so the mesh has
+// no T-junctions and no cracks. A cell with a dropped triangle (a depth edge) or an invalid vertex is
+// never merged: it stays as it is, and the merged blocks beside it pass through all its vertices, so
+// the mesh's outline keeps full resolution.
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 #include "Common/Camera.h"
@@ -51,19 +65,38 @@ struct MeshOptions {
   int gridStep = 1;                      // MeshGridStep: vertex spacing in pixels
   double discontinuityThreshold = 0.02;  // MeshDiscontinuityThreshold: relative depth step that drops a triangle
   int missingDepthLevel = -1;            // MissingDepthLevel: vertices at this level are dropped; -1 off
+  double maxError = 2.0;                 // MeshMaxError: virtual-camera pixels a merged block may move a sample
+  // MeshMaxColourError: with the reference luma, a sample may move only as far as keeps the colour
+  // there within this many sample values (its luma gradient times the displacement); 0: off.
+  double maxColourError = 4.0;
 };
+
+// How far, in virtual-camera pixels, a surface point seen at reference pixel (u, v) with inverse camera
+// depth q (1 / z_cam) moves in the virtual camera per unit of q: |d pixel / d q|. Infinite (or NaN)
+// where the point is not in front of the virtual camera. The adaptive mesh turns MeshMaxError into a
+// tolerance in q with it; each camera model supplies its own (pinholeDisplacementRate, MeshProjection.h).
+using DisplacementRate = std::function<double(double u, double v, double q)>;
 
 struct DepthMesh {
   int columns = 0, rows = 0;           // vertex grid size
   std::vector<double> gridU, gridV;    // reference pixel position of each grid column and row
   std::vector<float> vertices;         // 4 floats a vertex, row-major over the grid: (a u, a v, a, w)
   std::vector<float> boundary;         // 1 float a vertex: 1 where it belongs to a dropped triangle
-  std::vector<uint8_t> valid;          // 1 a vertex: a finite point in front of the reference camera
+  // Per grid cell, the diagonal its quad was split along: 0 from corner (c, r) to (c+1, r+1), 1 from
+  // (c+1, r) to (c, r+1). With `boundary`, it tells whether the grid triangle under a reference
+  // position touches a dropped one (edgeAt), whatever triangles the adaptive mesh drew there.
+  std::vector<uint8_t> cellSplit;  std::vector<uint8_t> valid;          // 1 a vertex: a finite point in front of the reference camera
   std::vector<uint32_t> triangles;     // 3 vertex indices a triangle
   std::vector<uint32_t> points;        // border vertices of kept triangles and orphans, drawn as points
+  std::vector<uint32_t> farthestOrphans;  // locally farthest orphans: drawn only into their own lone hole
   size_t droppedTriangles = 0;         // triangles left out (discontinuity or invalid vertex)
+  size_t gridTriangles = 0;            // triangles kept before the adaptive merge (one grid quad: 2)
 
   size_t vertexCount() const { return size_t(columns) * size_t(rows); }
+  // Whether the grid triangle that holds reference position (u, v) has a vertex on a dropped triangle
+  // with a weight above 0 at (u, v): the edge flag of a sample drawn from a triangle (at a vertex
+  // itself, only that vertex counts). Positions outside the grid take the nearest cell.
+  bool edgeAt(double u, double v) const;
   size_t triangleCount() const { return triangles.size() / 3; }
 };
 
@@ -76,16 +109,24 @@ bool referenceVertex(const Camera& reference, int depthType, double u, double v,
 
 class DepthMeshBuilder {
 public:
-  // For depth maps of `width` x `height` samples with levels in `range`, seen by `reference`.
-  DepthMeshBuilder(const Camera& reference, const DepthRange& range, int width, int height, const MeshOptions& options);
+  // For depth maps of `width` x `height` samples with levels in `range`, seen by `reference`. Without
+  // `rate` the mesh keeps every grid quad (no adaptive merge).
+  DepthMeshBuilder(const Camera& reference, const DepthRange& range, int width, int height, const MeshOptions& options,
+                   DisplacementRate rate = {});
 
   // Builds the mesh of one depth map (luma of the depth file; its size must be width x height).
-  void build(const Plane& depth, DepthMesh& mesh) const;
+  // `luma`: the view's texture luma, for MeshMaxColourError (ignored when null or of another size).
+  void build(const Plane& depth, DepthMesh& mesh, const Plane* luma = nullptr) const;
 
   const MeshOptions& options() const { return options_; }
 
 private:
+  // Replaces the grid's triangles by the adaptive mesh's (the header comment).
+  void merge(DepthMesh& mesh, const std::vector<double>& inverseCameraZ, const std::vector<uint32_t>& cellStart,
+             const Plane* luma) const;
+
   Camera reference_;
+  DisplacementRate rate_;
   MeshOptions options_;
   int width_, height_;
   std::vector<double> inverseZ_;     // per depth level; NaN for MissingDepthLevel

@@ -20,6 +20,7 @@ namespace vs {
   X(PFNGLENABLEPROC, Enable)                                                           \
   X(PFNGLDISABLEPROC, Disable)                                                         \
   X(PFNGLDEPTHFUNCPROC, DepthFunc)                                                     \
+  X(PFNGLDEPTHRANGEPROC, DepthRange)                                                   \
   X(PFNGLVIEWPORTPROC, Viewport)                                                       \
   X(PFNGLPIXELSTOREIPROC, PixelStorei)                                                 \
   X(PFNGLFINISHPROC, Finish)                                                           \
@@ -29,6 +30,7 @@ namespace vs {
   X(PFNGLGENBUFFERSPROC, GenBuffers)                                                   \
   X(PFNGLBINDBUFFERPROC, BindBuffer)                                                   \
   X(PFNGLBUFFERDATAPROC, BufferData)                                                   \
+  X(PFNGLBUFFERSUBDATAPROC, BufferSubData)                                             \
   X(PFNGLDELETEBUFFERSPROC, DeleteBuffers)                                             \
   X(PFNGLVERTEXATTRIBPOINTERPROC, VertexAttribPointer)                                 \
   X(PFNGLENABLEVERTEXATTRIBARRAYPROC, EnableVertexAttribArray)                         \

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "Common/Error.h"
+#include "Synth/Parallel.h"
 
 namespace vs {
 
@@ -22,73 +23,32 @@ namespace {
 // interpolates those wrongly where it cuts a triangle at the viewport border.)
 const char* const kVertexShader = R"(#version 330 core
 layout(location = 0) in vec4 vertex;
-layout(location = 1) in float boundary;
 uniform mat4 clipFromReference;
 out vec3 referencePixel;
 out vec2 inverseDepthRatio;
-out float edge;
 flat out vec2 pointClipZW;
 void main() {
   gl_Position = clipFromReference * vertex;
   referencePixel = vertex.xyz;
   inverseDepthRatio = vec2(vertex.w, gl_Position.w);
-  edge = boundary;
   pointClipZW = gl_Position.zw;
 }
 )";
 
-// Texture look-up by hand with texelFetch, in float, never with the hardware filter (whose weights
-// are 8-bit fixed point on most GPUs and on llvmpipe). Two ways:
-// - ViewSyn's sampling (SubPixelSampler, Precision and Filter): the position is rounded to the
-//   1/precision grid and the separable kernel of that phase is applied, with the same kernels.
-// - exact bilinear at the unrounded position.
-// Texel (i, j) sits at texel position (i, j); outside the plane the border texels repeat.
+// The fragment writes where it looks in the reference, not a colour: the reference pixel position
+// (u, v), q and its flags, in one RGBA32F target. The colour is looked up on the CPU afterwards with
+// ViewSyn's own sampler (GlMeshRenderer::render), so each sample is shaded once, whatever the overdraw,
+// and chroma needs no render of its own. Flags: the drawn mark (1 a triangle, 3 a point, 2 a locally
+// farthest orphan). The edge flag is looked up on the CPU too (DepthMesh::edgeAt).
 const char* const kFragmentShader = R"(#version 330 core
 in vec3 referencePixel;
 in vec2 inverseDepthRatio;
-in float edge;
 flat in vec2 pointClipZW;
-uniform int drawingPoints;  // 1: a point; its fragments look up where their own centre looks
+uniform int drawingPoints;  // 1: a point; its fragments look where their own centre looks
+uniform float drawnMark;    // 1: a triangle; 3: a point; 2: a locally farthest orphan (kept only in a lone hole)
 uniform mat4 referenceFromClip;
 uniform vec2 viewportSize;
-uniform sampler2D referenceTexture;
-uniform vec2 texelMap;      // texel position = texelMap.x * reference pixel + texelMap.y
-uniform int exactBilinear;  // 1: bilinear at the exact position; 0: the kernels below
-uniform float kernelPrecision;  // 1, 2 or 4
-uniform int taps;           // kernel taps (2, 4 or 6)
-uniform int firstTap;       // offset of the first tap from the integer part
-uniform float kernel[24];   // kernelPrecision x taps weights, phase-major
-layout(location = 0) out vec4 colourAndDepth;
-layout(location = 1) out vec4 referenceAndFlags;
-vec4 texel(ivec2 p, ivec2 size) { return texelFetch(referenceTexture, clamp(p, ivec2(0), size - 1), 0); }
-vec4 sampleTexture(vec2 p) {
-  ivec2 size = textureSize(referenceTexture, 0);
-  if (exactBilinear == 1) {
-    vec2 base = floor(p);
-    vec2 f = p - base;
-    ivec2 i = ivec2(base);
-    vec4 top = mix(texel(i, size), texel(i + ivec2(1, 0), size), f.x);
-    vec4 bottom = mix(texel(i + ivec2(0, 1), size), texel(i + ivec2(1, 1), size), f.x);
-    return mix(top, bottom, f.y);
-  }
-  vec2 grid = floor(p * kernelPrecision + 0.5);
-  vec2 base = floor(grid / kernelPrecision);
-  ivec2 phase = ivec2(grid - base * kernelPrecision);
-  ivec2 i = ivec2(base) + ivec2(firstTap);
-  if (phase == ivec2(0)) return texel(ivec2(base), size);
-  vec4 sum = vec4(0.0);
-  for (int ty = 0; ty < taps; ++ty) {
-    float wy = kernel[phase.y * taps + ty];
-    if (wy == 0.0) continue;
-    vec4 row = vec4(0.0);
-    for (int tx = 0; tx < taps; ++tx) {
-      float wx = kernel[phase.x * taps + tx];
-      if (wx != 0.0) row += wx * texel(i + ivec2(tx, ty), size);
-    }
-    sum += wy * row;
-  }
-  return sum;
-}
+layout(location = 0) out vec4 referenceDepthFlags;
 void main() {
   vec2 reference = referencePixel.xy / referencePixel.z;
   if (drawingPoints == 1) {
@@ -99,8 +59,7 @@ void main() {
     if (back.z > 0.0) reference = back.xy / back.z;
   }
   float inverseDepth = max(inverseDepthRatio.x / inverseDepthRatio.y, 0.0);
-  colourAndDepth = vec4(sampleTexture(reference * texelMap.x + texelMap.y).rgb, inverseDepth);
-  referenceAndFlags = vec4(reference, edge > 0.0 ? 1.0 : 0.0, 1.0);
+  referenceDepthFlags = vec4(reference, inverseDepth, drawnMark);
 }
 )";
 
@@ -151,23 +110,40 @@ GLuint compileShader(const GlFunctions& gl, GLenum type, const char* source) {
   return shader;
 }
 
+// Plain bilinear at (x, y) in the plane's sample coordinates; outside the plane the edge samples repeat.
+float bilinear(const Plane& plane, double x, double y) {
+  const double fx = std::floor(x), fy = std::floor(y);
+  const double ax = x - fx, ay = y - fy;
+  const int x0 = int(fx), y0 = int(fy);
+  auto at = [&](int px, int py) {
+    return double(plane.row(std::clamp(py, 0, plane.height - 1))[std::clamp(px, 0, plane.width - 1)]);
+  };
+  const double top = at(x0, y0) + ax * (at(x0 + 1, y0) - at(x0, y0));
+  const double bottom = at(x0, y0 + 1) + ax * (at(x0 + 1, y0 + 1) - at(x0, y0 + 1));
+  return float(top + ay * (bottom - top));
+}
+
 }  // namespace
 
 struct GlMeshRenderer::Impl {
   EglContext context;
   const GlFunctions& gl;
-  GLuint program = 0, vertexArray = 0, vertexBuffer = 0, boundaryBuffer = 0, indexBuffer = 0, texture = 0;
+  GLuint program = 0, vertexArray = 0, vertexBuffer = 0, indexBuffer = 0;
   GLsizei pointCount = 0;
-  std::vector<uint32_t> indices;  // triangles, then points
-  GLuint framebuffer = 0, colourBuffers[2] = {0, 0}, depthBuffer = 0;
+  GLsizei orphanCount = 0;  // locally farthest orphans, after the points in `indices`
+  std::vector<uint32_t> indices;  // triangles, then points, then locally farthest orphans
+  GLuint framebuffer = 0, colourBuffer = 0, depthBuffer = 0;
   GLint clipLocation = -1, referenceFromClipLocation = -1, viewportLocation = -1, drawingPointsLocation = -1,
-        texelMapLocation = -1, exactBilinearLocation = -1, precisionLocation = -1, tapsLocation = -1,
-        firstTapLocation = -1, kernelLocation = -1;
+        drawnMarkLocation = -1;
   int framebufferWidth = 0, framebufferHeight = 0;
   GLsizei triangleIndexCount = 0;  // indices of the triangles at the start of `indices`
-  int textureChannels = 0;
-  GLint maxRenderbufferSize = 0, maxTextureSize = 0, maxViewport[2] = {0, 0};
-  std::vector<float> readBack, texels;
+  GLsizeiptr vertexBytes = 0, indexBytes = 0;  // buffer sizes, kept across frames
+  GLint maxRenderbufferSize = 0, maxViewport[2] = {0, 0};
+  std::vector<Plane> planes;                // the "texture": the reference planes, sampled on the CPU
+  std::unique_ptr<SubPixelSampler> sampler;  // null: exact bilinear
+  std::vector<float> readBack;              // last render: (u, v, q, flags) per sample
+  const DepthMesh* mesh = nullptr;          // the uploaded mesh (its edge flags)
+  int renderedWidth = 0, renderedHeight = 0;
 
   Impl() : gl(context.gl()) {
     const GLuint vertexShader = compileShader(gl, GL_VERTEX_SHADER, kVertexShader);
@@ -196,43 +172,22 @@ struct GlMeshRenderer::Impl {
     referenceFromClipLocation = gl.GetUniformLocation(program, "referenceFromClip");
     viewportLocation = gl.GetUniformLocation(program, "viewportSize");
     drawingPointsLocation = gl.GetUniformLocation(program, "drawingPoints");
-    texelMapLocation = gl.GetUniformLocation(program, "texelMap");
-    exactBilinearLocation = gl.GetUniformLocation(program, "exactBilinear");
-    precisionLocation = gl.GetUniformLocation(program, "kernelPrecision");
-    tapsLocation = gl.GetUniformLocation(program, "taps");
-    firstTapLocation = gl.GetUniformLocation(program, "firstTap");
-    kernelLocation = gl.GetUniformLocation(program, "kernel");
+    drawnMarkLocation = gl.GetUniformLocation(program, "drawnMark");
     VS_CHECK(clipLocation >= 0 && referenceFromClipLocation >= 0 && viewportLocation >= 0 && drawingPointsLocation >= 0 &&
-             texelMapLocation >= 0 && exactBilinearLocation >= 0 && precisionLocation >= 0 &&
-             tapsLocation >= 0 && firstTapLocation >= 0 && kernelLocation >= 0);
+             drawnMarkLocation >= 0);
     gl.UseProgram(program);
-    gl.Uniform1i(exactBilinearLocation, 1);
 
     gl.GenVertexArrays(1, &vertexArray);
     gl.BindVertexArray(vertexArray);
     gl.GenBuffers(1, &vertexBuffer);
-    gl.GenBuffers(1, &boundaryBuffer);
     gl.GenBuffers(1, &indexBuffer);
     gl.BindBuffer(GL_ARRAY_BUFFER, vertexBuffer);
     gl.VertexAttribPointer(0, 4, GL_FLOAT, GL_FALSE, 0, nullptr);
     gl.EnableVertexAttribArray(0);
-    gl.BindBuffer(GL_ARRAY_BUFFER, boundaryBuffer);
-    gl.VertexAttribPointer(1, 1, GL_FLOAT, GL_FALSE, 0, nullptr);
-    gl.EnableVertexAttribArray(1);
     gl.BindBuffer(GL_ELEMENT_ARRAY_BUFFER, indexBuffer);  // part of the vertex array's state
 
-    gl.GenTextures(1, &texture);
-    gl.BindTexture(GL_TEXTURE_2D, texture);
-    gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-    gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-    gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-    gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-    gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAX_LEVEL, 0);
-
     gl.GetIntegerv(GL_MAX_RENDERBUFFER_SIZE, &maxRenderbufferSize);
-    gl.GetIntegerv(GL_MAX_TEXTURE_SIZE, &maxTextureSize);
     gl.GetIntegerv(GL_MAX_VIEWPORT_DIMS, maxViewport);
-    gl.PixelStorei(GL_UNPACK_ALIGNMENT, 1);
     gl.PixelStorei(GL_PACK_ALIGNMENT, 1);
     checkErrors("setting up the renderer");
   }
@@ -240,11 +195,9 @@ struct GlMeshRenderer::Impl {
   ~Impl() {
     context.makeCurrent();
     gl.DeleteFramebuffers(1, &framebuffer);
-    gl.DeleteRenderbuffers(2, colourBuffers);
+    gl.DeleteRenderbuffers(1, &colourBuffer);
     gl.DeleteRenderbuffers(1, &depthBuffer);
-    gl.DeleteTextures(1, &texture);
     gl.DeleteBuffers(1, &vertexBuffer);
-    gl.DeleteBuffers(1, &boundaryBuffer);
     gl.DeleteBuffers(1, &indexBuffer);
     gl.DeleteVertexArrays(1, &vertexArray);
     gl.DeleteProgram(program);
@@ -265,6 +218,17 @@ struct GlMeshRenderer::Impl {
     VS_CHECK_MSG(false, (std::string("OpenGL error ") + codes + " " + what).c_str());
   }
 
+  // Uploads `bytes` into `buffer`: storage is reallocated only when it grows, so from the second frame
+  // on a mesh of similar size is written into the buffer the driver already has.
+  void upload(GLenum target, GLuint buffer, GLsizeiptr bytes, const void* data, GLsizeiptr& capacity) {
+    gl.BindBuffer(target, buffer);
+    if (bytes > capacity) {
+      capacity = bytes + bytes / 8;
+      gl.BufferData(target, capacity, nullptr, GL_DYNAMIC_DRAW);
+    }
+    if (bytes > 0) gl.BufferSubData(target, 0, bytes, data);
+  }
+
   void ensureFramebuffer(int width, int height) {
     if (width <= framebufferWidth && height <= framebufferHeight) return;
     if (width > maxRenderbufferSize || height > maxRenderbufferSize || width > maxViewport[0] || height > maxViewport[1])
@@ -276,20 +240,18 @@ struct GlMeshRenderer::Impl {
     framebufferHeight = std::max(height, framebufferHeight);
     if (!framebuffer) {
       gl.GenFramebuffers(1, &framebuffer);
-      gl.GenRenderbuffers(2, colourBuffers);
+      gl.GenRenderbuffers(1, &colourBuffer);
       gl.GenRenderbuffers(1, &depthBuffer);
     }
     gl.BindFramebuffer(GL_FRAMEBUFFER, framebuffer);
-    for (int k = 0; k < 2; ++k) {
-      gl.BindRenderbuffer(GL_RENDERBUFFER, colourBuffers[k]);
-      gl.RenderbufferStorage(GL_RENDERBUFFER, GL_RGBA32F, framebufferWidth, framebufferHeight);
-      gl.FramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0 + k, GL_RENDERBUFFER, colourBuffers[k]);
-    }
+    gl.BindRenderbuffer(GL_RENDERBUFFER, colourBuffer);
+    gl.RenderbufferStorage(GL_RENDERBUFFER, GL_RGBA32F, framebufferWidth, framebufferHeight);
+    gl.FramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, colourBuffer);
     gl.BindRenderbuffer(GL_RENDERBUFFER, depthBuffer);
     gl.RenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT32F, framebufferWidth, framebufferHeight);
     gl.FramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, depthBuffer);
-    const GLenum drawBuffers[2] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
-    gl.DrawBuffers(2, drawBuffers);
+    const GLenum drawBuffers[1] = {GL_COLOR_ATTACHMENT0};
+    gl.DrawBuffers(1, drawBuffers);
     checkErrors("allocating the float framebuffer");
     const GLenum status = gl.CheckFramebufferStatus(GL_FRAMEBUFFER);
     if (status != GL_FRAMEBUFFER_COMPLETE) {
@@ -300,6 +262,15 @@ struct GlMeshRenderer::Impl {
                        code + "; " + context.description() + ")");
     }
   }
+
+  // The edge flag of a sample: every point is on an edge (a border vertex, or an orphan); a triangle's
+  // fragment is when the grid triangle under its reference position touches a dropped one.
+  bool edgeAt(const float* sample) const { return sample[3] != 1.0f || (mesh && mesh->edgeAt(sample[0], sample[1])); }
+
+  // The colour of plane `k` at texel position (x, y).
+  float sample(const Plane& plane, double x, double y) const {
+    return sampler ? sampler->sample(plane, x, y) : bilinear(plane, x, y);
+  }
 };
 
 GlMeshRenderer::GlMeshRenderer() : impl_(std::make_unique<Impl>()) {}
@@ -309,20 +280,7 @@ GlMeshRenderer::~GlMeshRenderer() = default;
 const std::string& GlMeshRenderer::description() const { return impl_->context.description(); }
 
 void GlMeshRenderer::setSampling(const SubPixelSampler* sampler) {
-  Impl& s = *impl_;
-  const GlFunctions& gl = s.gl;
-  s.context.makeCurrent();
-  gl.UseProgram(s.program);
-  gl.Uniform1i(s.exactBilinearLocation, sampler ? 0 : 1);
-  if (sampler) {
-    const int count = sampler->precision() * sampler->taps();
-    VS_CHECK(count <= 24);
-    gl.Uniform1f(s.precisionLocation, float(sampler->precision()));
-    gl.Uniform1i(s.tapsLocation, sampler->taps());
-    gl.Uniform1i(s.firstTapLocation, sampler->first());
-    gl.Uniform1fv(s.kernelLocation, count, sampler->kernel(0));
-  }
-  s.checkErrors("setting the texture sampling");
+  impl_->sampler = sampler ? std::make_unique<SubPixelSampler>(*sampler) : nullptr;
 }
 
 void GlMeshRenderer::uploadMesh(const DepthMesh& mesh) {
@@ -330,47 +288,31 @@ void GlMeshRenderer::uploadMesh(const DepthMesh& mesh) {
   const GlFunctions& gl = s.gl;
   s.context.makeCurrent();
   VS_CHECK(mesh.vertices.size() == mesh.vertexCount() * 4 && mesh.boundary.size() == mesh.vertexCount());
-  VS_CHECK(mesh.triangles.size() + mesh.points.size() <= size_t(std::numeric_limits<GLsizei>::max()));
+  VS_CHECK(mesh.triangles.size() + mesh.points.size() + mesh.farthestOrphans.size() <=
+           size_t(std::numeric_limits<GLsizei>::max()));
   gl.BindVertexArray(s.vertexArray);
-  gl.BindBuffer(GL_ARRAY_BUFFER, s.vertexBuffer);
-  gl.BufferData(GL_ARRAY_BUFFER, GLsizeiptr(mesh.vertices.size() * sizeof(float)), mesh.vertices.data(), GL_STREAM_DRAW);
-  gl.BindBuffer(GL_ARRAY_BUFFER, s.boundaryBuffer);
-  gl.BufferData(GL_ARRAY_BUFFER, GLsizeiptr(mesh.boundary.size() * sizeof(float)), mesh.boundary.data(), GL_STREAM_DRAW);
+  s.upload(GL_ARRAY_BUFFER, s.vertexBuffer, GLsizeiptr(mesh.vertices.size() * sizeof(float)), mesh.vertices.data(),
+           s.vertexBytes);
+  s.mesh = &mesh;
   s.indices = mesh.triangles;
   s.indices.insert(s.indices.end(), mesh.points.begin(), mesh.points.end());
-  gl.BufferData(GL_ELEMENT_ARRAY_BUFFER, GLsizeiptr(s.indices.size() * sizeof(uint32_t)), s.indices.data(),
-                GL_STREAM_DRAW);
+  s.indices.insert(s.indices.end(), mesh.farthestOrphans.begin(), mesh.farthestOrphans.end());
+  s.upload(GL_ELEMENT_ARRAY_BUFFER, s.indexBuffer, GLsizeiptr(s.indices.size() * sizeof(uint32_t)), s.indices.data(),
+           s.indexBytes);
   s.triangleIndexCount = GLsizei(mesh.triangles.size());
   s.pointCount = GLsizei(mesh.points.size());
+  s.orphanCount = GLsizei(mesh.farthestOrphans.size());
   s.checkErrors("uploading the mesh");
 }
 
 void GlMeshRenderer::uploadTexture(const std::vector<const Plane*>& planes) {
   Impl& s = *impl_;
-  const GlFunctions& gl = s.gl;
-  s.context.makeCurrent();
   VS_CHECK(!planes.empty() && planes.size() <= 3);
-  const int width = planes[0]->width, height = planes[0]->height, channels = int(planes.size());
-  for (const Plane* plane : planes) VS_CHECK(plane->width == width && plane->height == height);
-  if (width > s.maxTextureSize || height > s.maxTextureSize)
-    throw InputError("a " + std::to_string(width) + " x " + std::to_string(height) +
-                     " reference picture exceeds this OpenGL's texture size limit " + std::to_string(s.maxTextureSize) +
-                     " (" + s.context.description() + ")");
-  const size_t n = size_t(width) * size_t(height);
-  s.texels.resize(n * size_t(channels));
-  for (int c = 0; c < channels; ++c) {
-    const uint16_t* samples = planes[size_t(c)]->samples.data();
-    for (size_t i = 0; i < n; ++i) s.texels[i * size_t(channels) + size_t(c)] = float(samples[i]);
+  s.planes.resize(planes.size());
+  for (size_t c = 0; c < planes.size(); ++c) {
+    VS_CHECK(planes[c]->width == planes[0]->width && planes[c]->height == planes[0]->height);
+    s.planes[c] = *planes[c];
   }
-  static const GLint internalFormats[3] = {GL_R32F, GL_RG32F, GL_RGB32F};
-  static const GLenum formats[3] = {GL_RED, GL_RG, GL_RGB};
-  gl.ActiveTexture(GL_TEXTURE0);
-  gl.BindTexture(GL_TEXTURE_2D, s.texture);
-  // Row 0 of the upload is image row 0: the same row order as the framebuffer (MeshProjection.h).
-  gl.TexImage2D(GL_TEXTURE_2D, 0, internalFormats[channels - 1], width, height, 0, formats[channels - 1], GL_FLOAT,
-                s.texels.data());
-  s.textureChannels = channels;
-  s.checkErrors("uploading the reference texture");
 }
 
 void GlMeshRenderer::render(const Mat4& clip, const RenderGrid& grid, const TexelMap& texelMap, WarpedLayer& layer,
@@ -378,16 +320,14 @@ void GlMeshRenderer::render(const Mat4& clip, const RenderGrid& grid, const Texe
   Impl& s = *impl_;
   const GlFunctions& gl = s.gl;
   s.context.makeCurrent();
-  VS_CHECK(s.textureChannels > 0 && grid.width > 0 && grid.height > 0);
+  VS_CHECK(!s.planes.empty() && grid.width > 0 && grid.height > 0);
   s.ensureFramebuffer(grid.width, grid.height);
 
   gl.BindFramebuffer(GL_FRAMEBUFFER, s.framebuffer);
   gl.Viewport(0, 0, grid.width, grid.height);
-  const float clearColour[4] = {0.0f, 0.0f, 0.0f, float(kNoDepth)};
-  const float clearReference[4] = {0.0f, 0.0f, 0.0f, 0.0f};
+  const float clearReference[4] = {0.0f, 0.0f, float(kNoDepth), 0.0f};
   const float clearDepth = 1.0f;
-  gl.ClearBufferfv(GL_COLOR, 0, clearColour);
-  gl.ClearBufferfv(GL_COLOR, 1, clearReference);
+  gl.ClearBufferfv(GL_COLOR, 0, clearReference);
   gl.ClearBufferfv(GL_DEPTH, 0, &clearDepth);
   gl.Enable(GL_DEPTH_TEST);
   gl.DepthFunc(GL_LESS);  // smaller z_ndc is larger q: nearer
@@ -398,54 +338,146 @@ void GlMeshRenderer::render(const Mat4& clip, const RenderGrid& grid, const Texe
   float matrix[16];
   toGlMatrix(clip, matrix);
   gl.UniformMatrix4fv(s.clipLocation, 1, GL_FALSE, matrix);
-  // Points look up the texture along their fragments' own rays (the shader's drawingPoints); where the
-  // matrix cannot be inverted they keep the vertex's position.
+  // Points look along their fragments' own rays (the shader's drawingPoints); where the matrix cannot
+  // be inverted they keep the vertex's position.
   Mat4 back;
   const bool invertible = inverse(clip, back);
   toGlMatrix(back, matrix);
   gl.UniformMatrix4fv(s.referenceFromClipLocation, 1, GL_FALSE, matrix);
   gl.Uniform2f(s.viewportLocation, float(grid.width), float(grid.height));
   gl.Uniform1i(s.drawingPointsLocation, 0);
-  gl.Uniform2f(s.texelMapLocation, float(texelMap.scale), float(texelMap.offset));
-  gl.ActiveTexture(GL_TEXTURE0);
-  gl.BindTexture(GL_TEXTURE_2D, s.texture);
+  gl.Uniform1f(s.drawnMarkLocation, 1.0f);
   gl.BindVertexArray(s.vertexArray);
   if (s.triangleIndexCount > 0) gl.DrawElements(GL_TRIANGLES, s.triangleIndexCount, GL_UNSIGNED_INT, nullptr);
   // One-pixel points (the default point size) after the triangles: the depth test keeps the nearer.
+  // Marked 3: drawn, and on an edge.
   gl.Uniform1i(s.drawingPointsLocation, invertible ? 1 : 0);
+  gl.Uniform1f(s.drawnMarkLocation, 3.0f);
   if (s.pointCount > 0)
     gl.DrawElements(GL_POINTS, s.pointCount, GL_UNSIGNED_INT,
                     reinterpret_cast<const void*>(size_t(s.triangleIndexCount) * sizeof(uint32_t)));
+  // Locally farthest orphans last, only where nothing is drawn: every fragment's window depth is 1, the
+  // cleared value, and passes GL_LEQUAL there only. Marked 2; kept below only in a lone hole.
+  if (s.orphanCount > 0) {
+    gl.Uniform1f(s.drawnMarkLocation, 2.0f);
+    gl.DepthRange(1.0, 1.0);
+    gl.DepthFunc(GL_LEQUAL);
+    gl.DrawElements(GL_POINTS, s.orphanCount, GL_UNSIGNED_INT,
+                    reinterpret_cast<const void*>(size_t(s.triangleIndexCount + s.pointCount) * sizeof(uint32_t)));
+    gl.DepthRange(0.0, 1.0);
+    gl.DepthFunc(GL_LESS);
+  }
 
   // Framebuffer row 0 is image row 0 (MeshProjection.h): read back as it lies.
-  const size_t n = size_t(grid.width) * size_t(grid.height);
-  s.readBack.resize(n * 8);
+  const int width = grid.width, height = grid.height;
+  const size_t n = size_t(width) * size_t(height);
+  s.readBack.resize(n * 4);
   gl.ReadBuffer(GL_COLOR_ATTACHMENT0);
-  gl.ReadPixels(0, 0, grid.width, grid.height, GL_RGBA, GL_FLOAT, s.readBack.data());
-  gl.ReadBuffer(GL_COLOR_ATTACHMENT1);
-  gl.ReadPixels(0, 0, grid.width, grid.height, GL_RGBA, GL_FLOAT, s.readBack.data() + n * 4);
+  gl.ReadPixels(0, 0, width, height, GL_RGBA, GL_FLOAT, s.readBack.data());
   s.checkErrors("rendering the mesh");
+  s.renderedWidth = width;
+  s.renderedHeight = height;
 
-  const int channels = s.textureChannels;
-  layer.reset(grid.width, grid.height, channels);
+  // A locally farthest orphan (mark 2) stays only in a hole of its own: a sample whose 4 neighbours
+  // in the grid are drawn. In a disocclusion it would be a speck of background (DepthMesh.h).
+  float* samples = s.readBack.data();
+  auto drawn = [&](int x, int y) {
+    return x < 0 || y < 0 || x >= width || y >= height || samples[(size_t(y) * size_t(width) + size_t(x)) * 4 + 3] != 0.0f;
+  };
+  std::vector<size_t> rejected;
+  for (size_t i = 0; i < n; ++i)
+    if (samples[i * 4 + 3] == 2.0f) {
+      const int x = int(i % size_t(width)), y = int(i / size_t(width));
+      if (!(drawn(x - 1, y) && drawn(x + 1, y) && drawn(x, y - 1) && drawn(x, y + 1))) rejected.push_back(i);
+    }
+  for (size_t i : rejected) samples[i * 4 + 3] = 0.0f;
+
+  sampleRender(s.planes, texelMap, layer);
   if (extras) {
     extras->referenceU.assign(n, std::nanf(""));
     extras->referenceV.assign(n, std::nanf(""));
+    for (size_t i = 0; i < n; ++i)
+      if (samples[i * 4 + 3] != 0.0f) {
+        extras->referenceU[i] = samples[i * 4];
+        extras->referenceV[i] = samples[i * 4 + 1];
+      }
   }
-  const float* colour = s.readBack.data();
-  const float* reference = s.readBack.data() + n * 4;
-  for (size_t i = 0; i < n; ++i) {
-    const float* c = colour + i * 4;
-    const float* r = reference + i * 4;
-    if (r[3] != 1.0f) continue;  // nothing drawn
-    layer.inverseDepth[i] = double(c[3]);
-    for (int k = 0; k < channels; ++k) layer.colour[k][i] = c[k];
-    layer.edge[i] = r[2] > 0.5f ? 1 : 0;
-    if (extras) {
-      extras->referenceU[i] = r[0];
-      extras->referenceV[i] = r[1];
+}
+
+void GlMeshRenderer::sampleRender(const std::vector<Plane>& planes, const TexelMap& texelMap, WarpedLayer& layer) const {
+  const Impl& s = *impl_;
+  const int width = s.renderedWidth, height = s.renderedHeight, channels = int(planes.size());
+  VS_CHECK(channels >= 1 && channels <= 3 && width > 0);
+  layer.reset(width, height, channels);
+  const float* samples = s.readBack.data();
+  parallelRanges(height, [&](int y0, int y1) {
+    for (size_t i = size_t(y0) * size_t(width); i < size_t(y1) * size_t(width); ++i) {
+      const float* r = samples + i * 4;
+      if (r[3] == 0.0f) continue;  // nothing drawn
+      const double x = texelMap.scale * r[0] + texelMap.offset, y = texelMap.scale * r[1] + texelMap.offset;
+      layer.inverseDepth[i] = double(r[2]);
+      for (int k = 0; k < channels; ++k) layer.colour[k][i] = s.sample(planes[size_t(k)], x, y);
+      layer.edge[i] = s.edgeAt(r) ? 1 : 0;
     }
-  }
+  });
+}
+
+void GlMeshRenderer::sampleChroma420(const std::vector<const Plane*>& planes, double sameSurface, WarpedLayer& layer) const {
+  const Impl& s = *impl_;
+  VS_CHECK(planes.size() == 2 && s.renderedWidth > 0);
+  const int lumaWidth = s.renderedWidth, lumaHeight = s.renderedHeight;
+  const int width = planes[0]->width, height = planes[0]->height;
+  VS_CHECK(width == (lumaWidth + 1) / 2 && height == (lumaHeight + 1) / 2);
+  layer.reset(width, height, 2);
+  const float* samples = s.readBack.data();
+  parallelRanges(height, [&](int j0, int j1) {
+    for (int j = j0; j < j1; ++j)
+      for (int i = 0; i < width; ++i) {
+        // The 2 x 2 luma samples around chroma sample (i, j), whose centre is luma (2i + 0.5, 2j + 0.5).
+        const float* block[2][2] = {{nullptr, nullptr}, {nullptr, nullptr}};
+        const float* front = nullptr;
+        int frontX = 0, frontY = 0;
+        for (int dy = 0; dy < 2; ++dy)
+          for (int dx = 0; dx < 2; ++dx) {
+            const int x = 2 * i + dx, y = 2 * j + dy;
+            if (x >= lumaWidth || y >= lumaHeight) continue;
+            const float* r = samples + (size_t(y) * size_t(lumaWidth) + size_t(x)) * 4;
+            if (r[3] == 0.0f) continue;
+            block[dy][dx] = r;
+            if (!front || r[2] > front[2]) front = r, frontX = dx, frontY = dy;
+          }
+        if (!front) continue;  // a hole
+        auto onFront = [&](const float* r) { return r && double(r[2]) >= (1.0 - sameSurface) * double(front[2]); };
+        // Where the front surface shows at the chroma centre: from the front sample, half a luma pixel
+        // right or left and down or up, along the reference positions of its neighbours in the block on
+        // the same surface (where there is none, one reference pixel per luma pixel).
+        const float* across = block[frontY][1 - frontX];
+        const float* down = block[1 - frontY][frontX];
+        const double sx = frontX == 0 ? 0.5 : -0.5, sy = frontY == 0 ? 0.5 : -0.5;
+        double ux = 1.0, vx = 0.0, uy = 0.0, vy = 1.0;  // d(u, v) / dx and d(u, v) / dy
+        if (onFront(across)) ux = (across[0] - front[0]) * 2.0 * sx, vx = (across[1] - front[1]) * 2.0 * sx;
+        if (onFront(down)) uy = (down[0] - front[0]) * 2.0 * sy, vy = (down[1] - front[1]) * 2.0 * sy;
+        double u = front[0] + sx * ux + sy * uy, v = front[1] + sx * vx + sy * vy;
+        double q = front[2];
+        bool edge = s.edgeAt(front);
+        // All four on one surface: their mean, which is the centre where the mapping is affine.
+        if (onFront(block[0][0]) && onFront(block[0][1]) && onFront(block[1][0]) && onFront(block[1][1])) {
+          u = v = q = 0.0;
+          for (const auto& row : block)
+            for (const float* r : row) {
+              u += 0.25 * r[0];
+              v += 0.25 * r[1];
+              q += 0.25 * r[2];
+              edge = edge || s.edgeAt(r);
+            }
+        }
+        const size_t c = size_t(j) * size_t(width) + size_t(i);
+        layer.inverseDepth[c] = q;
+        layer.edge[c] = edge ? 1 : 0;
+        // Chroma texel position of reference pixel (u, v): (u, v) / 2 - 1/4.
+        for (int k = 0; k < 2; ++k) layer.colour[k][c] = s.sample(*planes[size_t(k)], 0.5 * u - 0.25, 0.5 * v - 0.25);
+      }
+  });
 }
 
 }  // namespace vs

@@ -1,12 +1,14 @@
 #pragma once
 // Renders a reference view's mesh into a pixel grid of the virtual camera with OpenGL 3.3 core, headless
-// (doc/meshrender.md, "Rendering"). Read back per sample: the reference's colour, interpolated in float
-// from the reference planes uploaded as float textures (setSampling); the inverse virtual depth q = 1 / z; the
-// reference pixel position the sample shows; and whether its triangle touches a dropped one (a depth
-// edge of the reference).
+// (doc/meshrender.md, "Rendering"). Read back per sample: the reference pixel position the sample
+// shows and the inverse virtual depth q = 1 / z; then, on the CPU, the reference's colour there
+// (setSampling) and whether the sample lies next to a depth edge of the reference.
 //
-// Render targets: two RGBA32F colour attachments (colour and q; reference position and flags) and a
-// GL_DEPTH_COMPONENT32F depth buffer, in one framebuffer object sized for the largest grid so far.
+// Render target: one RGBA32F colour attachment (reference position, q, flags) and a
+// GL_DEPTH_COMPONENT32F depth buffer, in one framebuffer object sized for the largest grid so far. The
+// colour is looked up on the CPU from the read-back reference positions with ViewSyn's sampler, so each
+// sample is coloured once (not once per overlapping fragment) and 4:2:0 chroma comes from the same
+// render (sampleChroma420). Buffers and the framebuffer are kept across frames.
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -49,9 +51,11 @@ public:
   // sampler's own kernel weights), or, with nullptr (the default), bilinear at the exact position.
   void setSampling(const SubPixelSampler* sampler);
 
-  // Uploads the mesh's vertices and triangles (kept until the next call).
+  // Uploads the mesh's vertices and triangles (kept until the next call). The renders read the mesh's
+  // edge flags (DepthMesh::edgeAt): it must outlive them.
   void uploadMesh(const DepthMesh& mesh);
-  // Uploads 1 to 3 planes of one size as one float texture (kept until the next call).
+  // Keeps a copy of 1 to 3 planes of one size: the texture the next renders are coloured with
+  // (looked up on the CPU, where each render's fragments say).
   void uploadTexture(const std::vector<const Plane*>& planes);
   // Renders the uploaded mesh, textured with the uploaded planes, into `grid` through `clip`
   // (meshClipMatrix). `layer` is reset to the grid's size with as many channels as planes were
@@ -59,6 +63,15 @@ public:
   // a vertex on a dropped triangle). Throws InputError when the grid exceeds the GL limits.
   void render(const Mat4& clip, const RenderGrid& grid, const TexelMap& texelMap, WarpedLayer& layer,
               RenderExtras* extras = nullptr);
+  // The last render's samples coloured from other planes (4:4:4 chroma at luma resolution, texel map
+  // as given): `layer` gets the render's q and edges and the planes' colours.
+  void sampleRender(const std::vector<Plane>& planes, const TexelMap& texelMap, WarpedLayer& layer) const;
+  // 4:2:0 chroma from the last render at luma resolution, without a render of its own: chroma sample
+  // (i, j) at luma (2i + 0.5, 2j + 0.5) shows the front surface of its 2 x 2 luma samples (the nearest
+  // one and those within `sameSurface`, 1 - q / q_front); its reference position is the four's mean
+  // when all four are on that surface, else the front sample's, moved half a luma pixel along the
+  // reference positions of its neighbours on that surface. U and V are sampled there.
+  void sampleChroma420(const std::vector<const Plane*>& planes, double sameSurface, WarpedLayer& layer) const;
 
 private:
   struct Impl;

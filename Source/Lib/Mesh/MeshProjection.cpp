@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "Common/Error.h"
 
@@ -51,6 +52,24 @@ Mat4 referenceToVirtualMatrix(const Camera& reference, const Camera& virtualCame
   }
   a.m[3][3] = 1.0;
   return a;
+}
+
+DisplacementRate pinholeDisplacementRate(const Camera& reference, const Camera& virtualCamera, const RenderGrid& grid) {
+  const Mat4 toVirtual = referenceToVirtualMatrix(reference, virtualCamera);
+  Mat3 rotation;
+  Vec3 translation;
+  for (int r = 0; r < 3; ++r) {
+    for (int k = 0; k < 3; ++k) rotation[r][k] = toVirtual.m[r][k];
+    translation[r] = toVirtual.m[r][3];
+  }
+  const Mat3 H = grid.K * rotation;
+  const Vec3 e = grid.K * translation;
+  return [H, e](double u, double v, double q) {
+    const Vec3 h = H * Vec3(u, v, 1.0) + q * e;
+    if (!(h.z > 0.0)) return std::numeric_limits<double>::infinity();
+    const double dx = (e.x * h.z - h.x * e.z) / (h.z * h.z), dy = (e.y * h.z - h.y * e.z) / (h.z * h.z);
+    return std::sqrt(dx * dx + dy * dy);
+  };
 }
 
 Mat4 projectionMatrix(const RenderGrid& grid, const InverseDepthRange& planes) {

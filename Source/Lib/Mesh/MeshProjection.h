@@ -78,6 +78,12 @@ Mat4 projectionMatrix(const RenderGrid& grid, const InverseDepthRange& planes);
 Mat4 meshClipMatrix(const Camera& reference, const Camera& virtualCamera, const RenderGrid& grid,
                     const InverseDepthRange& planes);
 
+// The pinhole camera's DisplacementRate (DepthMesh.h) for `grid`'s pixels: a point at reference pixel
+// (u, v) with inverse camera depth q sits at h = H p + q e in the virtual camera (p = (u, v, 1),
+// H = K_grid R K_ref^-1, e = K_grid t of relativePose), so d pixel / d q = (e_xy h_z - h_xy e_z) / h_z^2.
+// Infinite where h_z <= 0 (not in front of the virtual camera).
+DisplacementRate pinholeDisplacementRate(const Camera& reference, const Camera& virtualCamera, const RenderGrid& grid);
+
 // Where OpenGL's viewport transform puts `vertex` under `clip` (with the viewport 0, 0, W, H), in grid
 // pixel positions (fragment centres at integers), and its q; evaluated in double. False when the
 // point is not in front of the camera (w_clip <= 0).

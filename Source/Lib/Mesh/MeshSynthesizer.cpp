@@ -1,5 +1,6 @@
 #include "Mesh/MeshSynthesizer.h"
 
+#include <cctype>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -23,10 +24,18 @@ public:
     synthesizer_.synthesize(references, output, times);
   }
   std::vector<std::string> prepare(const std::vector<ReferenceFrame>& firstFrame) override {
-    return synthesizer_.decideMissingDepth(firstFrame);
+    std::vector<std::string> lines = synthesizer_.decideMissingDepth(firstFrame);
+    // The first frame's meshes are built here (and used for it) so that their size is in the plan.
+    synthesizer_.buildMeshes(firstFrame);
+    lines.push_back(synthesizer_.meshSizeLine());
+    return lines;
   }
   std::vector<std::string> plan() const override { return synthesizer_.plan(); }
-  std::vector<std::pair<std::string, std::string>> decisions() const override { return synthesizer_.decisions().fields(); }
+  std::vector<std::pair<std::string, std::string>> decisions() const override {
+    std::vector<std::pair<std::string, std::string>> fields = synthesizer_.decisions().fields();
+    for (const auto& field : synthesizer_.meshSizeFields()) fields.push_back(field);
+    return fields;
+  }
   int64_t uncoveredSamples() const override { return int64_t(synthesizer_.holesAfterBlend()); }
   std::vector<NamedOutput> extraOutputs() const override { return synthesizer_.plyOutputs(); }
   void commitOutputs() override { synthesizer_.commitPlyFiles(); }
@@ -41,6 +50,8 @@ MeshSettings readMeshSettings(const Config& config) {
   MeshSettings settings;
   settings.discontinuityThreshold = config.getDouble("MeshDiscontinuityThreshold");
   settings.gridStep = std::stoi(config.getString("MeshGridStep"));
+  settings.maxError = config.getDouble("MeshMaxError");
+  settings.maxColourError = config.getDouble("MeshMaxColourError");
   settings.plyPath = config.getPath("MeshPlyOutput");
   return settings;
 }
@@ -56,8 +67,7 @@ MeshSynthesizer::MeshSynthesizer(const Scene& scene, const Plan& plan, const Mes
   VS_CHECK(plan_.tool == Tool::MeshRender && plan_.blending.weights.size() == scene.settings.references.size());
   lumaGrid_ = lumaGrid(scene.virtualCamera, outputFormat_.width, outputFormat_.height);
   if (hasChroma_ && !rgb_) {
-    chromaGrid_ = chromaGrid(scene.virtualCamera, outputFormat_.width, outputFormat_.height, outputFormat_.chroma);
-    if (outputFormat_.chroma == ChromaFormat::Yuv420) chromaTexels_ = TexelMap{0.5, -0.25};
+    VS_CHECK(outputFormat_.chroma == ChromaFormat::Yuv420 || outputFormat_.chroma == ChromaFormat::Yuv444);
   }
   const SubPixelSampler sampler(plan.precision, plan.filter);
   renderer_.setSampling(&sampler);
@@ -82,8 +92,12 @@ void MeshSynthesizer::buildViews() {
   options.gridStep = settings.gridStep;
   options.discontinuityThreshold = settings.discontinuityThreshold;
   options.missingDepthLevel = plan_.missingDepthLevel;
+  options.maxError = settings.maxError;
+  options.maxColourError = settings.maxColourError;
   for (const ReferenceView& reference : s.references) {
-    ViewState view{DepthMeshBuilder(reference.camera, reference.depthRange, s.depthFormat.width, s.depthFormat.height, options),
+    // MeshMaxError is in the virtual camera's luma pixels.
+    ViewState view{DepthMeshBuilder(reference.camera, reference.depthRange, s.depthFormat.width, s.depthFormat.height, options,
+                                    pinholeDisplacementRate(reference.camera, scene.virtualCamera, lumaGrid_)),
                    false, {}, {}, {}, {}, {}, {}};
     InverseDepthRange range;
     view.depthRangeBounded = sceneInverseDepthRange(reference.camera, reference.depthRange, s.depthType,
@@ -132,23 +146,20 @@ void MeshSynthesizer::synthesize(const std::vector<ReferenceFrame>& references, 
   VS_CHECK(references.size() == views_.size());
   const SynthesisSettings& s = scene_.settings;
   output.reset(outputFormat_);
-  alignedDepthSamples_ = 0;
-  std::vector<const Plane*> lumas;
-  for (const ReferenceFrame& reference : references) lumas.push_back(&reference.texture->planes[0]);
+  if (meshesPrebuilt_) {
+    times.depthWarp += prebuildSeconds_;  // built by buildMeshes() for this frame
+    meshesPrebuilt_ = false;
+  } else {
+    const auto start = std::chrono::steady_clock::now();
+    buildMeshesNow(references);
+    times.depthWarp += secondsSince(start);
+  }
   for (size_t k = 0; k < views_.size(); ++k) {
     ViewState& view = views_[k];
     const ReferenceView& reference = s.references[k];
     const Frame& texture = *references[k].texture;
 
     auto start = std::chrono::steady_clock::now();
-    const Plane* depth = references[k].depth;
-    if (plan_.missingDepthFill) {
-      fillMissingDepthRuns(*depth, plan_.missingDepthLevel, inverseZTable(reference.depthRange), view.filledDepth,
-                           view.filledSamples);
-      depth = &view.filledDepth;
-    }
-    depth = &aligner_.align(k, *depth, lumas, alignedDepthSamples_);
-    view.builder.build(*depth, view.mesh);
     renderer_.uploadMesh(view.mesh);
     const InverseDepthRange planes = view.depthRangeBounded
                                          ? view.planes
@@ -156,6 +167,7 @@ void MeshSynthesizer::synthesize(const std::vector<ReferenceFrame>& references, 
     times.depthWarp += secondsSince(start);
 
     start = std::chrono::steady_clock::now();
+    // One render per view at luma resolution; U and V come from the same render.
     if (rgb_) {
       yuvToRgb(texture, rgbReference_);
       renderer_.uploadTexture({&rgbReference_.planes[0], &rgbReference_.planes[1], &rgbReference_.planes[2]});
@@ -165,9 +177,10 @@ void MeshSynthesizer::synthesize(const std::vector<ReferenceFrame>& references, 
     renderer_.render(meshClipMatrix(reference.camera, scene_.virtualCamera, lumaGrid_, planes), lumaGrid_, TexelMap{},
                      view.luma);
     if (hasChroma_ && !rgb_) {
-      renderer_.uploadTexture({&texture.planes[1], &texture.planes[2]});
-      renderer_.render(meshClipMatrix(reference.camera, scene_.virtualCamera, chromaGrid_, planes), chromaGrid_,
-                       chromaTexels_, view.chroma);
+      if (outputFormat_.chroma == ChromaFormat::Yuv420)
+        renderer_.sampleChroma420({&texture.planes[1], &texture.planes[2]}, settings_.discontinuityThreshold, view.chroma);
+      else
+        renderer_.sampleRender({texture.planes[1], texture.planes[2]}, TexelMap{}, view.chroma);
     }
     times.textureWarp += secondsSince(start);
 
@@ -196,6 +209,62 @@ void MeshSynthesizer::synthesize(const std::vector<ReferenceFrame>& references, 
   times.holeFill += secondsSince(start);
 
   roundLayersToFrame(blendedLuma_, blendedChroma_, rgb_, rgbOutput_, output);
+}
+
+void MeshSynthesizer::buildMeshes(const std::vector<ReferenceFrame>& references) {
+  const auto start = std::chrono::steady_clock::now();
+  buildMeshesNow(references);
+  prebuildSeconds_ = secondsSince(start);
+  meshesPrebuilt_ = true;
+}
+
+void MeshSynthesizer::buildMeshesNow(const std::vector<ReferenceFrame>& references) {
+  VS_CHECK(references.size() == views_.size());
+  const SynthesisSettings& s = scene_.settings;
+  alignedDepthSamples_ = 0;
+  std::vector<const Plane*> lumas, depths;
+  for (const ReferenceFrame& reference : references) lumas.push_back(&reference.texture->planes[0]);
+  for (size_t k = 0; k < views_.size(); ++k) {
+    ViewState& view = views_[k];
+    const Plane* depth = references[k].depth;
+    if (plan_.missingDepthFill) {
+      fillMissingDepthRuns(*depth, plan_.missingDepthLevel, inverseZTable(s.references[k].depthRange), view.filledDepth,
+                           view.filledSamples);
+      depth = &view.filledDepth;
+    }
+    depths.push_back(&aligner_.align(k, *depth, lumas, alignedDepthSamples_));
+  }
+  // The views' meshes on the worker threads, one view each.
+  parallelRanges(
+      int(views_.size()),
+      [&](int first, int last) {
+        for (int k = first; k < last; ++k)
+          views_[size_t(k)].builder.build(*depths[size_t(k)], views_[size_t(k)].mesh, lumas[size_t(k)]);
+      },
+      double(views_.size()));
+}
+
+std::string MeshSynthesizer::meshSizeLine() const {
+  std::string line = "mesh triangles per view (grid quads before the adaptive merge):";
+  for (size_t k = 0; k < views_.size(); ++k) {
+    const DepthMesh& mesh = views_[k].mesh;
+    char part[256];
+    std::snprintf(part, sizeof part, "%s %s %zu (%zu)", k ? "," : "", scene_.settings.references[k].label.c_str(),
+                  mesh.triangleCount(), mesh.gridTriangles);
+    line += part;
+  }
+  return line;
+}
+
+std::vector<std::pair<std::string, std::string>> MeshSynthesizer::meshSizeFields() const {
+  std::vector<std::pair<std::string, std::string>> fields;
+  for (size_t k = 0; k < views_.size(); ++k) {
+    std::string label = scene_.settings.references[k].label;
+    for (char& c : label) c = char(std::tolower(static_cast<unsigned char>(c)));
+    fields.push_back({"mesh_triangles_" + label, std::to_string(views_[k].mesh.triangleCount())});
+    fields.push_back({"mesh_grid_triangles_" + label, std::to_string(views_[k].mesh.gridTriangles)});
+  }
+  return fields;
 }
 
 int runMeshRender(const Config& config) {

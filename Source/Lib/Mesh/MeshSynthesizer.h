@@ -1,16 +1,18 @@
 #pragma once
 // MeshRender's per-frame pipeline (doc/meshrender.md):
 //   1. mesh from depth: each reference view's depth map becomes a triangle mesh (DepthMesh.h)
-//   2. render: each mesh, textured with its own reference frame, is rendered separately into the
-//      virtual camera with OpenGL (GlMeshRenderer.h): luma at luma resolution, U and V in a second
-//      render at chroma resolution whose pixel centres are the chroma sample centres; colour and
-//      inverse depth are read back as ViewSyn's WarpedLayers
+//   2. render: each mesh is rendered separately into the virtual camera with OpenGL at luma
+//      resolution (GlMeshRenderer.h); the reference position and inverse depth of each sample are
+//      read back, the colour is looked up in the view's own frame with ViewSyn's sampler, and 4:2:0
+//      U and V come from the same render (each chroma sample from its 2 x 2 luma samples): ViewSyn's
+//      WarpedLayers
 //   3. blend the views and 4. fill the holes with ViewSyn's blendLayers and fillHoles, with the
 //      options the plan decides for the scene (makePlan(scene, Tool::MeshRender): ViewSyn's general
 //      path's), 5. round into the output frame
 // ColorSpace 1 renders R, G, B at luma resolution instead of Y and U, V, as ViewSyn does.
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "Common/Config.h"
@@ -32,6 +34,8 @@ namespace vs {
 struct MeshSettings {
   double discontinuityThreshold = MeshOptions{}.discontinuityThreshold;  // MeshDiscontinuityThreshold
   int gridStep = 1;                      // MeshGridStep: 1, 2, 4 or 8
+  double maxError = MeshOptions{}.maxError;  // MeshMaxError: virtual-camera pixels; adaptive mesh bound
+  double maxColourError = MeshOptions{}.maxColourError;  // MeshMaxColourError: sample values; 0 off
   std::string plyPath;                   // MeshPlyOutput; empty: none
 };
 
@@ -56,6 +60,13 @@ public:
   // are rebuilt with it. Returns the decision's lines; none when there is nothing to decide.
   std::vector<std::string> decideMissingDepth(const std::vector<ReferenceFrame>& firstFrame);
 
+  // Builds the meshes of these references now; the next synthesize() uses them (and counts their time).
+  void buildMeshes(const std::vector<ReferenceFrame>& references);
+  // The triangles of each view's last mesh, after and before the adaptive merge: a line for the plan,
+  // and fields for the JSON summary (mesh_triangles_<label>, mesh_grid_triangles_<label>).
+  std::string meshSizeLine() const;
+  std::vector<std::pair<std::string, std::string>> meshSizeFields() const;
+
   // Lines for the plan printed before the first frame: the plan's, and what the renderer adds (the
   // OpenGL renderer, the mesh, each view's depth-buffer planes, PLY files).
   std::vector<std::string> plan() const;
@@ -73,7 +84,8 @@ public:
   size_t alignedDepthSamples() const { return alignedDepthSamples_; }
 
 private:
-  void buildViews();  // the per-view mesh builders and depth-buffer planes, from plan_
+  void buildViews();
+  void buildMeshesNow(const std::vector<ReferenceFrame>& references);  // depth maps prepared, meshes built  // the per-view mesh builders and depth-buffer planes, from plan_
 
   struct ViewState {
     DepthMeshBuilder builder;
@@ -93,8 +105,7 @@ private:
   bool rgb_;        // plan_.rgb
   bool hasChroma_;  // plan_.chroma
   GlMeshRenderer renderer_;
-  RenderGrid lumaGrid_, chromaGrid_;
-  TexelMap chromaTexels_;
+  RenderGrid lumaGrid_;
   DepthEdgeAligner aligner_;  // DepthEdgeAlignment, as ViewSyn does it
   std::vector<ViewState> views_;
   BlendedLayer blendedLuma_, blendedChroma_;
@@ -103,6 +114,8 @@ private:
   size_t holesAfterBlend_ = 0;
   size_t alignedDepthSamples_ = 0;
   bool plyWritten_ = false;
+  bool meshesPrebuilt_ = false;  // buildMeshes() ran for the next frame
+  double prebuildSeconds_ = 0.0;
   std::vector<std::unique_ptr<SafeOutputFile>> plyFiles_;  // temporary until commitPlyFiles()
 };
 

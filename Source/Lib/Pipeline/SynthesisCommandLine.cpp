@@ -9,6 +9,43 @@
 
 namespace vs {
 
+namespace {
+
+// --check or --print-config: read and check everything a run would, then print instead of running.
+int runAction(const SynthesisTool& tool, const CommandLine& line, const Config& config) {
+  const Scene scene = loadScene(config);
+  if (tool.validate) tool.validate(config, scene);
+  if (line.action == "--print-config") {
+    std::fputs(configJson(tool.name, config, scene).c_str(), stdout);
+    return 0;
+  }
+  printConfigCheck(tool.name, line.positional[0], config, scene);
+  // --check also opens every input (type, format, whole frames) and checks every output name, as
+  // the run does before frame 0; after the printout, so that a refusal follows what was read.
+  for (const std::string& warning : checkInputs(scene)) std::printf("warning: %s\n", warning.c_str());
+  checkOutputs(scene, tool.extraOutputs ? tool.extraOutputs(config, scene) : std::vector<NamedOutput>{});
+  std::printf("input files OK\n");
+  if (tool.describe) tool.describe(stdout);
+  std::printf("configuration OK\n");
+  return 0;
+}
+
+// As dav1d's --verify: the digest of the whole output file, compared without regard to case.
+int verifyOutput(const SynthesisTool& tool, const Config& config, std::string expected) {
+  const std::string output = config.getPath("OutputVirtualViewImageName");
+  const std::string actual = md5OfFile(output);
+  std::transform(expected.begin(), expected.end(), expected.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+  if (actual != expected) {
+    std::fprintf(stderr, "%s: error: --verify: %s has MD5 %s, expected %s\n", tool.name.c_str(), output.c_str(),
+                 actual.c_str(), expected.c_str());
+    return 1;
+  }
+  std::printf("verified: %s has MD5 %s\n", output.c_str(), actual.c_str());
+  return 0;
+}
+
+}  // namespace
+
 CommandLineTool synthesisCommandLine(const SynthesisTool& tool) {
   CommandLineTool front;
   front.name = tool.name;
@@ -37,37 +74,9 @@ CommandLineTool synthesisCommandLine(const SynthesisTool& tool) {
   front.run = [tool](const CommandLine& line) {
     const std::vector<std::string> overrides(line.positional.begin() + 1, line.positional.end());
     const Config config = Config::load(*tool.keys, line.positional[0], overrides);
-    if (!line.action.empty()) {
-      const Scene scene = loadScene(config);
-      if (tool.validate) tool.validate(config, scene);
-      if (line.action == "--print-config") {
-        std::fputs(configJson(tool.name, config, scene).c_str(), stdout);
-        return 0;
-      }
-      printConfigCheck(tool.name, line.positional[0], config, scene);
-      // --check also opens every input (type, format, whole frames) and checks every output name, as
-      // the run does before frame 0; after the printout, so that a refusal follows what was read.
-      for (const std::string& warning : checkInputs(scene)) std::printf("warning: %s\n", warning.c_str());
-      checkOutputs(scene, tool.extraOutputs ? tool.extraOutputs(config, scene) : std::vector<NamedOutput>{});
-      std::printf("input files OK\n");
-      if (tool.describe) tool.describe(stdout);
-      std::printf("configuration OK\n");
-      return 0;
-    }
+    if (!line.action.empty()) return runAction(tool, line, config);
     tool.run(config);
-    if (!line.has("--verify")) return 0;
-    // As dav1d's --verify: the digest of the whole output file, compared without regard to case.
-    const std::string output = config.getPath("OutputVirtualViewImageName");
-    const std::string actual = md5OfFile(output);
-    std::string expected = line.text("--verify");
-    std::transform(expected.begin(), expected.end(), expected.begin(), [](unsigned char c) { return char(std::tolower(c)); });
-    if (actual != expected) {
-      std::fprintf(stderr, "%s: error: --verify: %s has MD5 %s, expected %s\n", tool.name.c_str(), output.c_str(),
-                   actual.c_str(), expected.c_str());
-      return 1;
-    }
-    std::printf("verified: %s has MD5 %s\n", output.c_str(), actual.c_str());
-    return 0;
+    return line.has("--verify") ? verifyOutput(tool, config, line.text("--verify")) : 0;
   };
   return front;
 }

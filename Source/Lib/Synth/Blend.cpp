@@ -1,15 +1,14 @@
 #include <algorithm>
 #include <cmath>
-#include <cstring>
-#if defined(__SSE4_1__)
-#include <smmintrin.h>
-#endif
 
 #include "Common/Error.h"
+#include "Synth/Kernels/Rows.h"
 #include "Synth/Layer.h"
 #include "Synth/Parallel.h"
 
 namespace vs {
+
+static_assert(kKernelNoDepth == kNoDepth, "the row kernels' hole is the layers' hole");
 
 namespace {
 
@@ -133,139 +132,11 @@ void blendViews(const std::vector<ViewPlanes>& planes, int dominant, const Blend
 }
 
 // Exactly two views, the usual case: blendViews' decisions and arithmetic unrolled, with selects for
-// its branches (at silhouettes and holes the outcome changes from sample to sample, too often for a
-// branch to be predicted), two samples at a time where SSE4.1 is there. The sums are blendViews' own,
-// in its order, from the same zeros; a view left out adds +0.0, which leaves a sum that starts from
-// +0.0 as it is; the vector instructions round as the scalar ones do (IEEE, the same MXCSR), so every
-// bit is the same.
-template <int Channels, bool NearestViewOnly>
-struct TwoViewBlend {
-  const double* depth0;
-  const double* depth1;
-  const uint8_t* edge0;
-  const uint8_t* edge1;
-  const float* colour0[3];
-  const float* colour1[3];
-  double weight0, weight1, tolerance;
-  float floatWeight0, floatWeight1;
-  bool dominantFirst, dominantSecond;                         // weight >= 1: copied where it is valid
-  bool pickSecondOfBoth, pickSecondAlone, pickFirstAlone;   // blendViews' bestView, from the weights
-  float* colourOut[3];
-  double* depthOut;
-  uint8_t* holeOut;
-
-  // Sample i; true where blendViews finds no bestView (its VS_CHECK).
-  bool sample(size_t i) const {
-    const double d0 = depth0[i], d1 = depth1[i];
-    const bool valid0 = d0 >= 0.0, valid1 = d1 >= 0.0;
-    const bool hole = !(valid0 | valid1);
-    // blendViews' nearest: std::max(-1, d) is d for a valid d, std::max(d0, d1) is d0 < d1 ? d1 : d0.
-    const double nearest = valid0 ? (valid1 ? (d0 < d1 ? d1 : d0) : d0) : d1;
-    const double gap0 = nearest - d0, gap1 = nearest - d1;
-    const bool onEdge0 = edge0[i] != 0, onEdge1 = edge1[i] != 0;
-    const bool anyClean = (valid0 & (gap0 <= tolerance) & !onEdge0) | (valid1 & (gap1 <= tolerance) & !onEdge1);
-    const bool use0 = valid0 & !(gap0 > tolerance) & !(anyClean & onEdge0);
-    const bool use1 = valid1 & !(gap1 > tolerance) & !(anyClean & onEdge1);
-    const bool takeSecond = use1 & ((use0 & pickSecondOfBoth) | (!use0 & pickSecondAlone));
-    const bool takeFirst = !takeSecond & use0 & pickFirstAlone;
-    const bool dominantCopy = (dominantFirst & valid0) | (dominantSecond & valid1);
-    const bool copy = NearestViewOnly | dominantCopy;
-    const bool fromSecond = dominantCopy ? dominantSecond : takeSecond;
-    const double weightSum = (0.0 + (use0 ? weight0 : 0.0)) + (use1 ? weight1 : 0.0);
-    const double depthSum = (0.0 + (use0 ? weight0 * d0 : 0.0)) + (use1 ? weight1 * d1 : 0.0);
-    for (int c = 0; c < Channels; ++c) {
-      const float a = colour0[c][i], b = colour1[c][i];
-      const float colourSum = (0.0f + (use0 ? floatWeight0 * a : 0.0f)) + (use1 ? floatWeight1 * b : 0.0f);
-      colourOut[c][i] = hole ? 0.0f : copy ? (fromSecond ? b : a) : float(colourSum / weightSum);
-    }
-    depthOut[i] = hole ? kNoDepth : copy ? (fromSecond ? d1 : d0) : depthSum / weightSum;
-    holeOut[i] = hole;
-    return !(dominantCopy | hole | takeFirst | takeSecond);
-  }
-
-#if defined(__SSE4_1__)
-  // Samples i and i + 1, as sample() does them, in the two lanes of SSE registers (masks: all ones
-  // for true); the lanes where blendViews finds no bestView come back set. Plain: no view has weight
-  // 1 and both weights are numbers, so nothing is copied but for NearestViewOnly, and bestView is
-  // the heavier of the views used (the first of equal ones), found wherever one is used.
-  template <bool Plain>
-  __m128d pair(size_t i) const {
-    const __m128d zero = _mm_setzero_pd(), ones = _mm_castsi128_pd(_mm_set1_epi32(-1));
-    auto flag = [&](bool b) { return b ? ones : zero; };
-    const __m128d d0 = _mm_loadu_pd(depth0 + i), d1 = _mm_loadu_pd(depth1 + i);
-    const __m128d valid0 = _mm_cmpge_pd(d0, zero), valid1 = _mm_cmpge_pd(d1, zero);
-    const __m128d hole = _mm_xor_pd(_mm_or_pd(valid0, valid1), ones);
-    // sample()'s nearest: with x0 = -1 where the first view is not valid, max(d1, x0), which is
-    // d1 > x0 ? d1 : x0, is std::max(d0, d1) where both are valid (-0 included) and the valid one
-    // where one is: a d1 not valid (negative, or NaN, which compares false) never wins.
-    const __m128d nearest = _mm_max_pd(d1, _mm_blendv_pd(_mm_set1_pd(-1.0), d0, valid0));
-    const __m128d gap0 = _mm_sub_pd(nearest, d0), gap1 = _mm_sub_pd(nearest, d1);
-    const __m128d surface = _mm_set1_pd(tolerance);
-    uint16_t edgePair0, edgePair1;
-    std::memcpy(&edgePair0, edge0 + i, sizeof edgePair0);
-    std::memcpy(&edgePair1, edge1 + i, sizeof edgePair1);
-    const __m128d clean0 = _mm_castsi128_pd(_mm_cmpeq_epi64(_mm_cvtepu8_epi64(_mm_cvtsi32_si128(edgePair0)), _mm_setzero_si128()));
-    const __m128d clean1 = _mm_castsi128_pd(_mm_cmpeq_epi64(_mm_cvtepu8_epi64(_mm_cvtsi32_si128(edgePair1)), _mm_setzero_si128()));
-    const __m128d anyClean = _mm_or_pd(_mm_and_pd(_mm_and_pd(valid0, _mm_cmple_pd(gap0, surface)), clean0),
-                                       _mm_and_pd(_mm_and_pd(valid1, _mm_cmple_pd(gap1, surface)), clean1));
-    // use = valid & !(gap > tolerance) & !(anyClean & onEdge)
-    const __m128d use0 = _mm_andnot_pd(_mm_andnot_pd(clean0, anyClean), _mm_andnot_pd(_mm_cmpgt_pd(gap0, surface), valid0));
-    const __m128d use1 = _mm_andnot_pd(_mm_andnot_pd(clean1, anyClean), _mm_andnot_pd(_mm_cmpgt_pd(gap1, surface), valid1));
-    __m128d lost, copy, fromSecond;
-    if constexpr (Plain) {
-      lost = _mm_andnot_pd(_mm_or_pd(hole, _mm_or_pd(use0, use1)), ones);
-      copy = NearestViewOnly ? ones : zero;
-      fromSecond = _mm_and_pd(use1, _mm_or_pd(flag(pickSecondOfBoth), _mm_andnot_pd(use0, ones)));
-    } else {
-      const __m128d takeSecond =
-          _mm_and_pd(use1, _mm_or_pd(_mm_and_pd(use0, flag(pickSecondOfBoth)), _mm_andnot_pd(use0, flag(pickSecondAlone))));
-      const __m128d takeFirst = _mm_andnot_pd(takeSecond, _mm_and_pd(use0, flag(pickFirstAlone)));
-      const __m128d dominantCopy = _mm_or_pd(_mm_and_pd(flag(dominantFirst), valid0), _mm_and_pd(flag(dominantSecond), valid1));
-      lost = _mm_andnot_pd(_mm_or_pd(_mm_or_pd(dominantCopy, hole), _mm_or_pd(takeFirst, takeSecond)), ones);
-      copy = NearestViewOnly ? ones : dominantCopy;
-      fromSecond = _mm_blendv_pd(takeSecond, flag(dominantSecond), dominantCopy);
-    }
-    // Plain without NearestViewOnly copies nothing: the selects of copies are left out.
-    constexpr bool copies = NearestViewOnly || !Plain, mixes = !NearestViewOnly;
-    const __m128d w0 = _mm_set1_pd(weight0), w1 = _mm_set1_pd(weight1);
-    const __m128d weightSum = _mm_add_pd(_mm_add_pd(zero, _mm_and_pd(use0, w0)), _mm_and_pd(use1, w1));
-    __m128d depth = zero;
-    if (copies) depth = _mm_blendv_pd(d0, d1, fromSecond);
-    if (mixes) {
-      const __m128d depthSum =
-          _mm_add_pd(_mm_add_pd(zero, _mm_and_pd(use0, _mm_mul_pd(w0, d0))), _mm_and_pd(use1, _mm_mul_pd(w1, d1)));
-      depth = copies ? _mm_blendv_pd(_mm_div_pd(depthSum, weightSum), depth, copy) : _mm_div_pd(depthSum, weightSum);
-    }
-    _mm_storeu_pd(depthOut + i, _mm_blendv_pd(depth, _mm_set1_pd(kNoDepth), hole));
-    // The colours: two floats in the low lanes, with the masks narrowed to 32 bits.
-    auto narrow = [](__m128d mask) { return _mm_shuffle_ps(_mm_castpd_ps(mask), _mm_castpd_ps(mask), _MM_SHUFFLE(2, 0, 2, 0)); };
-    const __m128 use0f = narrow(use0), use1f = narrow(use1), copyf = narrow(copy), holef = narrow(hole);
-    const __m128 fromSecondf = narrow(fromSecond);
-    const __m128 fw0 = _mm_set1_ps(floatWeight0), fw1 = _mm_set1_ps(floatWeight1);
-    for (int c = 0; c < Channels; ++c) {
-      const __m128 a = _mm_castsi128_ps(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(colour0[c] + i)));
-      const __m128 b = _mm_castsi128_ps(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(colour1[c] + i)));
-      __m128 value = _mm_setzero_ps();
-      if (copies) value = _mm_blendv_ps(a, b, fromSecondf);
-      if (mixes) {
-        const __m128 colourSum =
-            _mm_add_ps(_mm_add_ps(_mm_setzero_ps(), _mm_and_ps(use0f, _mm_mul_ps(fw0, a))), _mm_and_ps(use1f, _mm_mul_ps(fw1, b)));
-        const __m128 mixed = _mm_cvtpd_ps(_mm_div_pd(_mm_cvtps_pd(colourSum), weightSum));
-        value = copies ? _mm_blendv_ps(mixed, value, copyf) : mixed;
-      }
-      _mm_storel_epi64(reinterpret_cast<__m128i*>(colourOut[c] + i), _mm_castps_si128(_mm_andnot_ps(holef, value)));
-    }
-    const int holes = _mm_movemask_pd(hole);
-    holeOut[i] = uint8_t(holes & 1);
-    holeOut[i + 1] = uint8_t(holes >> 1);
-    return lost;
-  }
-#endif
-};
-
+// its branches, in a kernel compiled for the CPU's x86-64 level (Synth/Kernels/Rows.h, which explains
+// why every bit is blendViews' own).
 template <int Channels, bool NearestViewOnly>
 void blendTwoViews(const ViewPlanes& first, const ViewPlanes& second, int dominant, double tolerance, BlendedLayer& out) {
-  TwoViewBlend<Channels, NearestViewOnly> blend;
+  TwoViewBlendRows blend;
   blend.depth0 = first.depth;
   blend.depth1 = second.depth;
   blend.edge0 = first.edge;
@@ -286,26 +157,13 @@ void blendTwoViews(const ViewPlanes& first, const ViewPlanes& second, int domina
   blend.pickFirstAlone = first.weight > -1.0;
   blend.pickSecondAlone = second.weight > -1.0;
   blend.pickSecondOfBoth = second.weight > (blend.pickFirstAlone ? first.weight : -1.0);
+  blend.plain = dominant < 0 && blend.pickFirstAlone && blend.pickSecondAlone;
   blend.depthOut = out.inverseDepth.data();
   blend.holeOut = out.hole.data();
-  // Read by the SSE4.1 pairs only.
-  [[maybe_unused]] const bool plain = dominant < 0 && blend.pickFirstAlone && blend.pickSecondAlone;
+  const auto kernel = rowKernels().blendTwoViews[Channels - 1][NearestViewOnly ? 1 : 0];
   const size_t width = size_t(out.width);
   parallelRanges(out.height, [&](int rowBegin, int rowEnd) {
-    const TwoViewBlend<Channels, NearestViewOnly> local = blend;  // a local: the stores cannot alias it
-    const size_t end = size_t(rowEnd) * width;
-    size_t i = size_t(rowBegin) * width;
-    bool lost = false;
-#if defined(__SSE4_1__)
-    __m128d lostPairs = _mm_setzero_pd();
-    if (plain)
-      for (; i + 2 <= end; i += 2) lostPairs = _mm_or_pd(lostPairs, local.template pair<true>(i));
-    else
-      for (; i + 2 <= end; i += 2) lostPairs = _mm_or_pd(lostPairs, local.template pair<false>(i));
-    lost = _mm_movemask_pd(lostPairs) != 0;
-#endif
-    for (; i < end; ++i) lost |= local.sample(i);
-    VS_CHECK(!lost);  // blendViews' VS_CHECK(bestView >= 0)
+    VS_CHECK(!kernel(blend, size_t(rowBegin) * width, size_t(rowEnd) * width));  // blendViews' VS_CHECK(bestView >= 0)
   });
 }
 

@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <type_traits>
 
+#include "Synth/Kernels/Rows.h"
 #include "Synth/Synthesizer.h"
 
 namespace vs {
@@ -43,18 +44,20 @@ void Synthesizer::warpChroma(ViewState& view, const Frame& texture) {
       SampledRow &sampledU = scratch->sampledU, &sampledV = scratch->sampledV;  // looked up once
       // A row's block depths and edges first; then its source positions (and on the 1D path its grid
       // indices) in passes that vectorise (as in warpTexture), before the look-ups.
-      for (auto* buffer : {&scratch->blockDepth, &scratch->sourceU, &scratch->sourceV, &scratch->grid})
-        buffer->resize(size_t(chromaW));
+      for (auto* buffer : {&scratch->blockDepth, &scratch->sourceU, &scratch->sourceV}) buffer->resize(size_t(chromaW));
+      scratch->grid.resize(2 * size_t(chromaW));  // the grid indices of cu, then of cv
       for (auto* buffer : {&scratch->blockEdge, &scratch->sourceOk}) buffer->resize(size_t(chromaW));
       double* sourcesV = scratch->sourceV.data();
       uint8_t* sourceOk = scratch->sourceOk.data();
       double* blockDepth = scratch->blockDepth.data();
       double* sources = scratch->sourceU.data();
       double* grid = scratch->grid.data();
+      double* gridV = grid + chromaW;
       uint8_t* blockEdge = scratch->blockEdge.data();
       int tableRow = -1;  // the row sampledU and sampledV hold (the general path builds them when needed)
       for (int j = j0; j < j1; ++j) {
         clearRows(layer, j, j + 1);
+        const double rowGrid = double(j) * sampler.precision();
         if (rows) {
           sampledU.build<kTaps>(sampler, texture.planes[1], j, -1, chromaW);
           sampledV.build<kTaps>(sampler, texture.planes[2], j, -1, chromaW);
@@ -101,13 +104,14 @@ void Synthesizer::warpChroma(ViewState& view, const Frame& texture) {
         if (rows) {
           // backward() on a rectified pair: u = rowSource(x, wv), v = y; then cv is the integer j.
           projection.rowSources(blockDepth, chromaW, sources, kBlock, offset);
-          for (int i = 0; i < chromaW; ++i) {
-            sources[i] = (sources[i] - offset) / kBlock;
-            grid[i] = sampledU.gridIndex(sources[i]);
-          }
+          // sources[i] = (sources[i] - offset) / kBlock, grid[i] = sampledU.gridIndex(sources[i]).
+          rowKernels().chromaGridIndices(sources, chromaW, offset, kBlock, sampler.precision(), grid);
         } else {
           projection.backwardRow(blockDepth, chromaW, double(j * kBlock) + offset, sources, sourcesV, sourceOk, kBlock,
                                  offset);
+          // The chroma positions cu = (u - offset) / kBlock, cv likewise, in place, and their grid indices.
+          rowKernels().chromaGridIndices(sources, chromaW, offset, kBlock, sampler.precision(), grid);
+          rowKernels().chromaGridIndices(sourcesV, chromaW, offset, kBlock, sampler.precision(), gridV);
         }
         for (int i = 0; i < chromaW; ++i) {
           const double inverseDepth = blockDepth[i];
@@ -123,21 +127,20 @@ void Synthesizer::warpChroma(ViewState& view, const Frame& texture) {
             continue;
           }
           if (!sourceOk[i]) continue;  // backward() refuses it
-          const double u = sources[i], v = sourcesV[i];
-          const double cu = (u - offset) / kBlock, cv = (v - offset) / kBlock;
+          const double cu = sources[i], cv = sourcesV[i];
           if (cu < -1.0 || cv < -1.0 || cu > chromaW || cv > chromaH) continue;
           depthOut[c] = inverseDepth;
           edgeOut[c] = blockEdge[i];
-          // As in warpTexture: a look-up on this row's own reference row reads the row's table.
-          long long row;
-          if (sampler.wholeRow(cv, row) && row == j) {
+          // As in warpTexture: a look-up on this row's own reference row reads the row's table
+          // (sampler.wholeRow(cv, row) && row == j: cv's grid index is j's).
+          if (gridV[i] == rowGrid) {
             if (tableRow != j) {
               sampledU.build<kTaps>(sampler, texture.planes[1], j, -1, chromaW);
               sampledV.build<kTaps>(sampler, texture.planes[2], j, -1, chromaW);
               tableRow = j;
             }
-            uOut[c] = sampledU.at<kTaps>(cu);
-            vOut[c] = sampledV.at<kTaps>(cu);
+            uOut[c] = sampledU.atGrid<kTaps>(cu, grid[i]);
+            vOut[c] = sampledV.atGrid<kTaps>(cu, grid[i]);
             continue;
           }
           uOut[c] = sampler.sampleTaps<kTaps>(texture.planes[1], cu, cv);

@@ -80,9 +80,10 @@ void Synthesizer::warpDepth(ViewState& view, const Plane& depth) {
   // raised as points, and the quads between it and the row above are rasterised while both rows are
   // at hand (two rows of positions, not the whole picture's). A range of rows also projects the row
   // after its last, for the quads between them; that row's points are raised by the range holding it.
-  // The quads go to the rasteriser compiled for the CPU's x86-64 level (Synth/Kernels/QuadRow.h).
+  // The points and the quads go to the kernels compiled for the CPU's x86-64 level
+  // (Synth/Kernels/QuadRow.h).
   const QuadRowKernels& kernels = quadRowKernels();
-  auto drawInto = [&](const auto& raise, const auto& rasteriseRow) {
+  auto drawInto = [&](const auto& raisePoints, const auto& rasteriseRow) {
     parallelRanges(h, [&](int y0, int y1) {
       // Locals: the stores below are doubles, which may alias the projection's and the table's.
       const ViewProjection projection = view.projection;
@@ -90,7 +91,6 @@ void Synthesizer::warpDepth(ViewState& view, const Plane& depth) {
       const int width = w, height = h, outWidth = outW, outHeight = outH;
       const double discontinuity = plan_.discontinuity;
       const bool spherical = projection.spherical();
-      const auto put = raise;  // a copy no store can change: what it holds stays in registers
       // A row's inverse depths first (a look-up per sample), then its projection in a loop that
       // vectorises. A level declared missing has a NaN inverse depth: not warped.
       const auto scratch = depthRows_.take();
@@ -110,14 +110,7 @@ void Synthesizer::warpDepth(ViewState& view, const Plane& depth) {
       for (int y = y0; y <= y1 && y < height; ++y) {
         project(y);
         // Every sample also lands as a point, so thin foreground keeps its width.
-        if (y < y1) {
-          for (int x = 0; x < width; ++x) {
-            if (ws[x] < 0) continue;
-            const double px = std::floor(xs[x] + 0.5), py = std::floor(ys[x] + 0.5);
-            if (px < 0 || py < 0 || px >= outWidth || py >= outHeight) continue;
-            put(size_t(py) * outWidth + size_t(px), ws[x]);
-          }
-        }
+        if (y < y1) raisePoints(width, outWidth, outHeight, xs, ys, ws);
         if (y > y0 && !spherical)
           rasteriseRow(width, outWidth, outHeight, discontinuity, xAbove, yAbove, wAbove, xs, ys, ws);
         else if (y > y0)
@@ -132,12 +125,11 @@ void Synthesizer::warpDepth(ViewState& view, const Plane& depth) {
   };
   if (lone) {
     double* cells = view.luma.inverseDepth.data();
-    drawInto(LoneRaise{cells}, [&](auto... rows) { kernels.lone(cells, rows...); });
+    drawInto([&](auto... row) { kernels.pointsLone(cells, row...); }, [&](auto... rows) { kernels.lone(cells, rows...); });
   } else {
     AtomicMaxBuffer& zbuffer = view.zbuffer;
     std::atomic<int64_t>* cells = zbuffer.cells();
-    drawInto([&zbuffer](size_t i, double value) { zbuffer.raise(i, value); },
-             [&](auto... rows) { kernels.atomic(cells, rows...); });
+    drawInto([&](auto... row) { kernels.pointsAtomic(cells, row...); }, [&](auto... rows) { kernels.atomic(cells, rows...); });
     // The z-buffer becomes the layer's depth, and the rest of the layer is cleared, row by row.
     parallelRanges(outH, [&](int y0, int y1) {
       clearRows(view.luma, y0, y1);

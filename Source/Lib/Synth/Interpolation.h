@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "Common/Frame.h"
+#include "Synth/Kernels/Rows.h"
 
 namespace vs {
 
@@ -177,11 +178,13 @@ inline float SubPixelSampler::sampleTaps(const Plane& plane, double x, double y)
 // bit, for any x; positions whose integer part lies outside [first, last] are computed directly.
 // The table holds precision() planes of (last - first + 1) values, phase by phase, so that the
 // interior of each phase is one loop over consecutive samples that the compiler vectorises (each lane
-// does the scalar float arithmetic in the same order).
+// does the scalar float arithmetic in the same order), compiled for the CPU's x86-64 level
+// (Synth/Kernels/Rows.h).
 class SampledRow {
 public:
   template <int TAPS>
   void build(const SubPixelSampler& sampler, const Plane& plane, long long y, long long first, long long last) {
+    static_assert(TAPS == 2 || TAPS == 4 || TAPS == 6, "the kernels' tap counts");
     sampler_ = &sampler;
     row_ = plane.row(int(std::clamp(y, 0LL, (long long)plane.height - 1)));
     width_ = plane.width;
@@ -211,13 +214,13 @@ public:
         if (phase == 0) {
           // Every kernel is (0, .., 1, .., 0) at phase 0, and 0 + 0 * a + 1 * b + 0 * c .. is b exactly
           // (the samples are finite and non-negative): the sample itself.
-          for (long long n = 0; n < count; ++n) to[n] = float(taps[n - offset]);
+          rowKernels().sampleRowPhase0(taps - offset, count, to);  // a loop compiled for the CPU's level
         } else {
-          for (long long n = 0; n < count; ++n) {
-            float sum = 0.0f;
-            for (int t = 0; t < TAPS; ++t) sum += k[t] * float(taps[n + t]);
-            to[n] = sum;
-          }
+          // The sum over the taps, k[t] * taps[n + t] in that order from 0, in a loop compiled for
+          // the CPU's x86-64 level (Synth/Kernels/Rows.h).
+          const RowKernels& kernels = rowKernels();
+          (TAPS == 2 ? kernels.sampleRowPhase2 : TAPS == 4 ? kernels.sampleRowPhase4 : kernels.sampleRowPhase6)(
+              taps, k, count, to);
         }
         ix = innerLast + 1;
       }

@@ -10,6 +10,7 @@
 
 #include "Synth/Cracks.h"
 #include "Synth/Flags.h"
+#include "Synth/Kernels/Rows.h"
 #include "Synth/Synthesizer.h"
 
 namespace vs {
@@ -81,14 +82,10 @@ void Synthesizer::flagCrowdedHoles(ViewState& view) {
     paddedRow.assign(size_t(w) + 6, 0);
     uint8_t* padded = paddedRow.data();
     const int width = w;
-    for (int y = y0; y < y1; ++y) {
-      const double* depth = layer.inverseDepth.data() + size_t(y) * width;
-      uint8_t* count = rowHoles.data() + size_t(y) * width;
-      for (int x = 0; x < width; ++x) padded[x + 3] = uint8_t(depth[x] < 0);
-      for (int x = 0; x < width; ++x)
-        count[x] = uint8_t(padded[x] + padded[x + 1] + padded[x + 2] + padded[x + 3] + padded[x + 4] + padded[x + 5] +
-                           padded[x + 6]);
-    }
+    const RowKernels& kernels = rowKernels();  // the loops compiled for the CPU's x86-64 level
+    for (int y = y0; y < y1; ++y)
+      kernels.holeCounts(layer.inverseDepth.data() + size_t(y) * width, width, padded,
+                         rowHoles.data() + size_t(y) * width);
   });
   parallelRanges(h, [&](int rowBegin, int rowEnd) {
     const int width = w, height = h, most = threshold;  // locals: see markReferenceEdges
@@ -98,22 +95,14 @@ void Synthesizer::flagCrowdedHoles(ViewState& view) {
     std::vector<uint8_t>& sumRow = *scratch;
     sumRow.assign(size_t(width), 0);
     uint8_t* sum = sumRow.data();
-    auto add = [&](int r) {
-      const uint8_t* count = rowHoles.data() + size_t(r) * width;
-      for (int x = 0; x < width; ++x) sum[x] = uint8_t(sum[x] + count[x]);
-    };
-    auto remove = [&](int r) {
-      const uint8_t* count = rowHoles.data() + size_t(r) * width;
-      for (int x = 0; x < width; ++x) sum[x] = uint8_t(sum[x] - count[x]);
-    };
+    const RowKernels& kernels = rowKernels();  // the loops compiled for the CPU's x86-64 level
+    auto counts = [&](int r) { return rowHoles.data() + size_t(r) * width; };
     // Rows rowBegin - 4 to rowBegin + 2: the first step takes row rowBegin - 4 away again.
-    for (int r = std::max(0, rowBegin - 4); r < std::min(height, rowBegin + 3); ++r) add(r);
-    for (int y = rowBegin; y < rowEnd; ++y) {
-      if (y + 3 < height) add(y + 3);
-      if (y - 4 >= 0) remove(y - 4);
-      uint8_t* edge = layer.edge.data() + size_t(y) * width;
-      for (int x = 0; x < width; ++x) edge[x] |= uint8_t(sum[x] > most);
-    }
+    for (int r = std::max(0, rowBegin - 4); r < std::min(height, rowBegin + 3); ++r)
+      kernels.windowStep(sum, counts(r), nullptr, nullptr, width, most);
+    for (int y = rowBegin; y < rowEnd; ++y)
+      kernels.windowStep(sum, y + 3 < height ? counts(y + 3) : nullptr, y - 4 >= 0 ? counts(y - 4) : nullptr,
+                         layer.edge.data() + size_t(y) * width, width, most);
   });
 }
 
@@ -141,14 +130,18 @@ void Synthesizer::warpTextureRows(ViewState& view, const std::vector<const Plane
       std::vector<double>& sourceRow = scratch->sourceU;
       std::vector<double>& gridRow = scratch->grid;
       sourceRow.resize(size_t(width));
-      gridRow.resize(size_t(width));
+      gridRow.resize(2 * size_t(width));  // the grid indices, then the nearest samples
       double* sources = sourceRow.data();
       double* grid = gridRow.data();
+      double* nearest = grid + width;
+      const double precision = sampler.precision();
       for (int y = y0; y < y1; ++y) {
         const uint8_t* edges = view.referenceEdge.data() + size_t(y) * referenceWidth;
         for (int c = 0; c < kChannels; ++c) sampledRows[c].build<kTaps>(sampler, *planes[size_t(c)], y, -1, referenceWidth);
         projection.rowSources(depth + size_t(y) * width, width, sources);
-        for (int x = 0; x < width; ++x) grid[x] = sampledRows[0].gridIndex(sources[x]);
+        // sampledRows[0].gridIndex(sources[x]) and the nearest reference sample for every x, in a loop
+        // compiled for the CPU's x86-64 level.
+        rowKernels().rowLookups(sources, width, precision, referenceWidth, grid, nearest);
         for (int x = 0; x < width; ++x) {
           const size_t i = size_t(y) * width + x;
           if (depth[i] < 0) continue;
@@ -158,7 +151,7 @@ void Synthesizer::warpTextureRows(ViewState& view, const std::vector<const Plane
             continue;
           }
           for (int c = 0; c < kChannels; ++c) colour[c][i] = sampledRows[c].atGrid<kTaps>(u, grid[x]);
-          edgeOut[i] = edges[std::clamp(int(std::floor(u + 0.5)), 0, referenceWidth - 1)];
+          edgeOut[i] = edges[size_t(nearest[x])];
         }
       }
     });

@@ -31,12 +31,11 @@ public:
             Scratch& scratch) const;
 
 private:
-  struct Level {
-    double displacement;  // projection.rowDisplacement(depth); NaN for a level that is not warped
-    double depth;         // inverse depth, or kNoDepth for a level that is not warped
-  };
   ViewProjection projection_;
-  std::vector<Level> levels_;  // per level, then one for every level past the table (not warped)
+  // Per level the displacement (projection.rowDisplacement(depth); NaN for a level that is not warped)
+  // and the inverse depth (kNoDepth for a level that is not warped), one pair after the other (the row
+  // kernel's table, Synth/Kernels/Rows.h); then one pair for every level past the table (not warped).
+  std::vector<double> levels_;
   double discontinuity_;
   int splatting_;
 };

@@ -7,6 +7,7 @@
 #include <cstddef>
 #include <cstdint>
 
+#include "Synth/Kernels/Rows.h"
 #include "Synth/Occlusion.h"
 #include "Synth/Synthesizer.h"
 
@@ -40,17 +41,29 @@ void Synthesizer::warpTexture(ViewState& view, const std::vector<const Plane*>& 
       const auto scratch = textureRows_.take();
       SampledRow* sampledRows = scratch->sampled;
       int tableRow = -1;
-      // The row's backward projections first, in a loop that vectorises (holes too: not read).
+      // The row's backward projections first, then the grid indices of the look-ups and their nearest
+      // reference samples, in loops that vectorise (holes too: not read), compiled for the CPU's x86-64
+      // level (Synth/Kernels/Rows.h).
       scratch->sourceU.resize(size_t(width));
       scratch->sourceV.resize(size_t(width));
       scratch->sourceOk.resize(size_t(width));
+      scratch->grid.resize(3 * size_t(width));
       // Their addresses in locals: read through the scratch set they would be looked up again for
       // every sample.
       double* us = scratch->sourceU.data();
       double* vs = scratch->sourceV.data();
       uint8_t* ok = scratch->sourceOk.data();
+      double* gridU = scratch->grid.data();
+      double* gridV = gridU + width;
+      double* nearest = gridV + width;
+      const double precision = sampler.precision();
+      const RowKernels& kernels = rowKernels();
       for (int y = y0; y < y1; ++y) {
         projection.backwardRow(depth + size_t(y) * width, width, y, us, vs, ok);
+        kernels.textureLookups(us, vs, width, precision, referenceWidth, referenceHeight, gridU, gridV, nearest);
+        // sampler.wholeRow(v, row) && row == y: the grid index of v is y's (a row's grid index is
+        // y * precision, and one of 2^52 or more is no row's).
+        const double rowGrid = double(y) * precision;
         for (int x = 0; x < width; ++x) {
           const size_t i = size_t(y) * width + x;
           if (depth[i] < 0) continue;
@@ -59,19 +72,16 @@ void Synthesizer::warpTexture(ViewState& view, const std::vector<const Plane*>& 
             depth[i] = kNoDepth;
             continue;
           }
-          long long row;
-          if (sampler.wholeRow(v, row) && row == y) {
+          if (gridV[x] == rowGrid) {
             if (tableRow != y) {
               for (int c = 0; c < channels; ++c) sampledRows[c].build<kTaps>(sampler, *planes[size_t(c)], y, -1, referenceWidth);
               tableRow = y;
             }
-            for (int c = 0; c < channels; ++c) colour[c][i] = sampledRows[c].at<kTaps>(u);
+            for (int c = 0; c < channels; ++c) colour[c][i] = sampledRows[c].atGrid<kTaps>(u, gridU[x]);
           } else {
             for (int c = 0; c < channels; ++c) colour[c][i] = sampler.sampleTaps<kTaps>(*planes[size_t(c)], u, v);
           }
-          const int eu = std::clamp(int(std::floor(u + 0.5)), 0, referenceWidth - 1);
-          const int ev = std::clamp(int(std::floor(v + 0.5)), 0, referenceHeight - 1);
-          edgeOut[i] = edges[size_t(ev) * referenceWidth + eu];
+          edgeOut[i] = edges[size_t(nearest[x])];
         }
       }
     });

@@ -23,6 +23,7 @@
 
 #include "Common/Camera.h"
 #include "Common/Geometry.h"
+#include "Synth/Kernels/Rows.h"
 
 namespace vs {
 
@@ -58,6 +59,8 @@ public:
   // rowTarget's two terms, for a warp that computes the second once per depth level (Synth/RowWarp.h):
   // snapPosition(rowBase(u) + rowDisplacement(w)) is rowTarget(u, w), bit for bit.
   double rowBase(double u) const { return rowScale_ * u + rowOffset_; }
+  double rowScale() const { return rowScale_; }    // rowBase(u) is rowScale() * u + rowOffset()
+  double rowOffset() const { return rowOffset_; }
   double rowDisplacement(double inverseDepth) const { return rowShift_ * inverseDepth; }
   double rowSource(double x, double wv) const {
     // Dividing by a power of two (rowScale 1 when the focal lengths are equal) is multiplying by its
@@ -69,25 +72,23 @@ public:
   // forward(x, v, inverseDepth[x], ...) for the reference pixels (x, v), x in [0, n): where it
   // succeeds x[x], y[x], wv[x] get its results, elsewhere wv[x] = -1 (x[x] and y[x] are then
   // undefined). A NaN inverse depth fails. For the general projection with DepthType 0 the loop has no
-  // branch and vectorises (the same operations in the same order as forward(): the same bits);
-  // otherwise it calls forward() sample by sample.
+  // branch and vectorises (the same operations in the same order as forward(): the same bits), in a
+  // kernel compiled for the CPU's x86-64 level (Synth/Kernels/Rows.h); otherwise it calls forward()
+  // sample by sample.
   void forwardRow(const double* inverseDepth, int n, double v, double* x, double* y, double* wv) const;
 
   // backward(i * step + start, y, wv[i], u[i], v[i]) for i in [0, n), ok[i] = whether it succeeds (u[i]
   // and v[i] undefined where not). For the general projection the loop has no branch and vectorises
-  // (the same operations in the same order: the same bits); the rectified form calls backward().
+  // (the same operations in the same order: the same bits; a kernel, as forwardRow's); the rectified
+  // form calls backward().
   void backwardRow(const double* wv, int n, double y, double* u, double* v, uint8_t* ok, int step = 1,
                    double start = 0.0) const;
 
   // u[i] = rowSource(i * step + start, wv[i]) for every i in [0, n), in a loop without branches that
-  // the compiler vectorises (the same operations in the same order: the same bits).
+  // is vectorised (the same operations in the same order: the same bits), compiled for the CPU's
+  // x86-64 level (Synth/Kernels/Rows.h).
   void rowSources(const double* wv, int n, double* u, int step = 1, double start = 0.0) const {
-    const double offset = rowOffset_, shift = rowShift_, inverse = rowScaleInverse_, scale = rowScale_;
-    if (inverse != 0) {
-      for (int i = 0; i < n; ++i) u[i] = snapPosition((double(i * step) + start - offset - shift * wv[i]) * inverse);
-    } else {
-      for (int i = 0; i < n; ++i) u[i] = snapPosition((double(i * step) + start - offset - shift * wv[i]) / scale);
-    }
+    rowKernels().rowSources(rowOffset_, rowShift_, rowScaleInverse_, rowScale_, wv, n, u, step, start);
   }
 
   // Pixel positions are kept to 2^-30 px (1e-9), far finer than the quarter pel the filters resolve.
@@ -123,6 +124,8 @@ private:
   Vec3 backwardOffset_;  // -K_ref R^-1 t
   Vec3 worldRayZ_;       // row 2 of R_ref^-1 K_ref^-1: D_z = worldRayZ . (u, v, 1)
   double centreZ_;       // C_z of the reference camera
+  // The matrices and offsets above as the row kernels take them.
+  ProjectionCoefficients forwardRow_{}, backwardRow_{};
 };
 
 // forward() and backward() run for every sample: inline, so that they inline into the warps' loops.
@@ -175,24 +178,7 @@ inline void ViewProjection::forwardRow(const double* inverseDepth, int n, double
   }
   // forward() with a = 1 (DepthType 0): a negative or NaN inverse depth fails (a NaN one is refused
   // before forward() is called), 1 * t is t, and the tests are taken on every lane.
-  const Mat3& m = forwardMatrix_;
-  const double m00 = m[0][0], m01 = m[0][1], m02 = m[0][2], m10 = m[1][0], m11 = m[1][1], m12 = m[1][2];
-  const double m20 = m[2][0], m21 = m[2][1], m22 = m[2][2];
-  const double ox = forwardOffset_.x, oy = forwardOffset_.y, oz = forwardOffset_.z, most = kMaxPixelRadius;
-  for (int u = 0; u < n; ++u) {
-    const double w = inverseDepth[u], fu = u;
-    const double px = (m00 * fu + m01 * v + m02) + ox * w;
-    const double py = (m10 * fu + m11 * v + m12) + oy * w;
-    const double pz = (m20 * fu + m21 * v + m22) + oz * w;
-    const double x = snapPosition(px / pz), y = snapPosition(py / pz), wv = w / pz;
-    const bool ok = (w >= 0.0) & (pz > 0.0) & (std::fabs(px) <= most * pz) & (std::fabs(py) <= most * pz) &
-                    (std::fabs(x) <= std::numeric_limits<double>::max()) &
-                    (std::fabs(y) <= std::numeric_limits<double>::max()) &
-                    (std::fabs(wv) <= std::numeric_limits<double>::max());
-    xs[u] = x;
-    ys[u] = y;
-    ws[u] = ok ? wv : -1.0;
-  }
+  rowKernels().forwardRow(forwardRow_, inverseDepth, n, v, xs, ys, ws);
 }
 
 inline void ViewProjection::backwardRow(const double* wv, int n, double y, double* us, double* vs, uint8_t* ok,
@@ -201,22 +187,7 @@ inline void ViewProjection::backwardRow(const double* wv, int n, double y, doubl
     for (int i = 0; i < n; ++i) ok[i] = uint8_t(backward(double(i * step) + start, y, wv[i], us[i], vs[i]));
     return;
   }
-  const Mat3& m = backwardMatrix_;
-  const double m00 = m[0][0], m01 = m[0][1], m02 = m[0][2], m10 = m[1][0], m11 = m[1][1], m12 = m[1][2];
-  const double m20 = m[2][0], m21 = m[2][1], m22 = m[2][2];
-  const double ox = backwardOffset_.x, oy = backwardOffset_.y, oz = backwardOffset_.z, most = kMaxPixelRadius;
-  for (int i = 0; i < n; ++i) {
-    const double x = double(i * step) + start, w = wv[i];
-    const double qx = m00 * x + m01 * y + m02 + ox * w;
-    const double qy = m10 * x + m11 * y + m12 + oy * w;
-    const double qz = m20 * x + m21 * y + m22 + oz * w;
-    const double u = snapPosition(qx / qz), v = snapPosition(qy / qz);
-    us[i] = u;
-    vs[i] = v;
-    ok[i] = uint8_t((qz > 0.0) & (std::fabs(qx) <= most * qz) & (std::fabs(qy) <= most * qz) &
-                    (std::fabs(u) <= std::numeric_limits<double>::max()) &
-                    (std::fabs(v) <= std::numeric_limits<double>::max()));
-  }
+  rowKernels().backwardRow(backwardRow_, wv, n, y, us, vs, ok, step, start);
 }
 
 inline bool ViewProjection::backward(double x, double y, double wv, double& u, double& v) const {

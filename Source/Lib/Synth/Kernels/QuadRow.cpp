@@ -27,10 +27,31 @@ void atomic(std::atomic<int64_t>* cells, int width, int outWidth, int outHeight,
                    wBottom);
 }
 
+template <class Raise>
+void raisePoints(const Raise& raise, int width, int outWidth, int outHeight, const double* xs, const double* ys,
+                 const double* ws) {
+  for (int x = 0; x < width; ++x) {
+    if (ws[x] < 0) continue;
+    const double px = std::floor(xs[x] + 0.5), py = std::floor(ys[x] + 0.5);
+    if (px < 0 || py < 0 || px >= outWidth || py >= outHeight) continue;
+    raise(size_t(py) * outWidth + size_t(px), ws[x]);
+  }
+}
+
+void pointsLone(double* cells, int width, int outWidth, int outHeight, const double* x, const double* y,
+                const double* w) {
+  raisePoints(LoneRaise{cells}, width, outWidth, outHeight, x, y, w);
+}
+
+void pointsAtomic(std::atomic<int64_t>* cells, int width, int outWidth, int outHeight, const double* x,
+                  const double* y, const double* w) {
+  raisePoints(AtomicRaise{cells}, width, outWidth, outHeight, x, y, w);
+}
+
 }  // namespace
 
 extern const QuadRowKernels quadRowKernelsOfLevel;
-const QuadRowKernels quadRowKernelsOfLevel = {lone, atomic, VS_KERNEL_LEVEL};
+const QuadRowKernels quadRowKernelsOfLevel = {lone, atomic, pointsLone, pointsAtomic, VS_KERNEL_LEVEL};
 
 }  // namespace VS_LEVEL_NS
 }  // namespace vs

@@ -1,0 +1,425 @@
+// Compiled once per x86-64 level (Source/Lib/Synth/area.cmake): -march=x86-64[-vN], VS_LEVEL_NS=vN,
+// VS_KERNEL_LEVEL=N. Only Rows.h (plain structs), Raster.h (whose code then lies in vs::vN) and
+// standard headers are included: nothing of a shared header is compiled here at a level another
+// file could pick up (CTest KernelSymbols_vN). The loops are those of the files that call them (Rows.h names each), with the
+// same operations in the same order: the compiler vectorises them as wide as the level allows, and
+// from x86-64-v2 on floor() and nearbyint() are single instructions.
+#include "Synth/Kernels/Rows.h"
+
+#include "Synth/Raster.h"  // its code lies in vs::vN here (VS_LEVEL_NS)
+
+#include <cmath>
+#include <cstring>
+#include <limits>
+
+#if defined(__SSE4_1__)
+#include <smmintrin.h>
+#endif
+
+#if !defined(VS_LEVEL_NS) || !defined(VS_KERNEL_LEVEL)
+#error "compile Rows.cpp with VS_LEVEL_NS and VS_KERNEL_LEVEL (Source/Lib/Synth/area.cmake)"
+#endif
+
+namespace vs {
+inline namespace VS_LEVEL_NS {
+
+namespace {
+
+// ViewProjection::snapPosition (Synth/Warp.h): the position rounded to 2^-30 px.
+inline double snap(double position) {
+  constexpr double grid = 1073741824.0, cell = 1.0 / 1073741824.0;
+  return std::nearbyint(position * grid) * cell;
+}
+
+// std::floor(y), bit for bit. GCC 12 vectorises nearbyint() but not floor(): from SSE4.1 on, floor is
+// taken from the nearest integer r (ties to even: the rounding mode every computation here assumes),
+// one less where r lies above y. r is within 1/2 of y, so r - 1 <= y < r there, and r - 1 is exact
+// (an r of 2^52 or more is y itself, never above it); NaN and the infinities come back as they are,
+// and -0.0 too (it is not below its r), while a y in [-1/2, 0) gets -0 - 1 = -1.
+inline double floorOf(double y) {
+#if defined(__SSE4_1__)
+  const double r = std::nearbyint(y);
+  return r > y ? r - 1.0 : r;
+#else
+  return std::floor(y);  // inline SSE2 code at the baseline, where nearbyint() is a call
+#endif
+}
+
+constexpr double kFarthest = std::numeric_limits<double>::max();
+constexpr double kMaxPixelRadius = 1e9;  // ViewProjection::kMaxPixelRadius
+
+void forwardRow(const ProjectionCoefficients& c, const double* inverseDepth, int n, double v, double* xs, double* ys,
+                double* ws) {
+  const double m00 = c.m[0][0], m01 = c.m[0][1], m02 = c.m[0][2], m10 = c.m[1][0], m11 = c.m[1][1], m12 = c.m[1][2];
+  const double m20 = c.m[2][0], m21 = c.m[2][1], m22 = c.m[2][2];
+  const double ox = c.o[0], oy = c.o[1], oz = c.o[2], most = kMaxPixelRadius;
+  for (int u = 0; u < n; ++u) {
+    const double w = inverseDepth[u], fu = u;
+    const double px = (m00 * fu + m01 * v + m02) + ox * w;
+    const double py = (m10 * fu + m11 * v + m12) + oy * w;
+    const double pz = (m20 * fu + m21 * v + m22) + oz * w;
+    const double x = snap(px / pz), y = snap(py / pz), wv = w / pz;
+    const bool ok = (w >= 0.0) & (pz > 0.0) & (std::fabs(px) <= most * pz) & (std::fabs(py) <= most * pz) &
+                    (std::fabs(x) <= kFarthest) & (std::fabs(y) <= kFarthest) & (std::fabs(wv) <= kFarthest);
+    xs[u] = x;
+    ys[u] = y;
+    ws[u] = ok ? wv : -1.0;
+  }
+}
+
+void backwardRow(const ProjectionCoefficients& c, const double* wv, int n, double y, double* us, double* vs,
+                 uint8_t* ok, int step, double start) {
+  const double m00 = c.m[0][0], m01 = c.m[0][1], m02 = c.m[0][2], m10 = c.m[1][0], m11 = c.m[1][1], m12 = c.m[1][2];
+  const double m20 = c.m[2][0], m21 = c.m[2][1], m22 = c.m[2][2];
+  const double ox = c.o[0], oy = c.o[1], oz = c.o[2], most = kMaxPixelRadius;
+  for (int i = 0; i < n; ++i) {
+    const double x = double(i * step) + start, w = wv[i];
+    const double qx = m00 * x + m01 * y + m02 + ox * w;
+    const double qy = m10 * x + m11 * y + m12 + oy * w;
+    const double qz = m20 * x + m21 * y + m22 + oz * w;
+    const double u = snap(qx / qz), v = snap(qy / qz);
+    us[i] = u;
+    vs[i] = v;
+    ok[i] = uint8_t((qz > 0.0) & (std::fabs(qx) <= most * qz) & (std::fabs(qy) <= most * qz) &
+                    (std::fabs(u) <= kFarthest) & (std::fabs(v) <= kFarthest));
+  }
+}
+
+void rowSources(double offset, double shift, double inverse, double scale, const double* wv, int n, double* u, int step,
+                double start) {
+  if (inverse != 0) {
+    for (int i = 0; i < n; ++i) u[i] = snap((double(i * step) + start - offset - shift * wv[i]) * inverse);
+  } else {
+    for (int i = 0; i < n; ++i) u[i] = snap((double(i * step) + start - offset - shift * wv[i]) / scale);
+  }
+}
+
+void rowTargets(const uint16_t* levels, int width, const double* table, size_t beyond, double scale, double offset,
+                double* xs, double* ws) {
+  for (int x = 0; x < width; ++x) {
+    const size_t level = size_t(levels[x]) < beyond ? size_t(levels[x]) : beyond;
+    const double displacement = table[2 * level], depth = table[2 * level + 1];
+    const double target = snap((scale * double(x) + offset) + displacement);
+    ws[x] = std::isfinite(target) ? depth : kKernelNoDepth;
+    xs[x] = target;
+  }
+}
+
+void rowPoints(const double* xs, const double* ws, int width, double* z, int outWidth) {
+  for (int x = 0; x < width; ++x) {
+    if (ws[x] < 0) continue;
+    const double px = std::floor(xs[x] + 0.5);
+    if (px < 0 || px >= outWidth) continue;
+    raiseCell(z[size_t(px)], ws[x]);
+  }
+}
+
+// Whether the segment between neighbours (x0, a) and (x1, b) adds nothing to their two points: true
+// when both have the same inverse depth a (not -0) and lie at most one pixel apart, as neighbours of
+// one level do; most segments are such. Every centre c the segment covers then gets a + t * 0 = a
+// (t is finite), and c is one of the points' pixels floor(x0 + 0.5), floor(x1 + 0.5), which get a
+// too. Positions lie on the 2^-30 grid (snapPosition), and below 2^22 a double's step is at most
+// 2^-30, so (x0 <= x1) the covered centres are the whole c in [x0 - 2^-30, x1 + 2^-30]: the 1e-9
+// margin is just over one grid step. A c below x0 or above x1 lies within a step of it and is that
+// point's pixel; a c between them is the first point's when c - x0 <= 0.5 and else the second's,
+// as x1 - c < 0.5. Clipping to the row and coveredRange's early returns only take centres away, and
+// a point inside the row always lands. (-0 is left out: -0 + t * 0 can be +0, a larger value.)
+inline bool addsNothing(double x0, double x1, double a, double b) {
+  int64_t bitsA, bitsB;
+  std::memcpy(&bitsA, &a, sizeof bitsA);
+  std::memcpy(&bitsB, &b, sizeof bitsB);
+  // Bitwise operators: one test of the whole condition, no branch per term.
+  return (bitsA == bitsB) & (bitsA >= 0) & (std::fabs(x1 - x0) <= 1.0) & (std::fabs(x0) < 4194304.0);
+}
+
+// Two doubles, and two 64-bit integers, in one register (GCC's and Clang's vector extensions).
+typedef double TwoDoubles __attribute__((vector_size(16)));
+typedef int64_t TwoInts __attribute__((vector_size(16)));
+
+// addsNothing for the pairs (x, x + 1) and (x + 1, x + 2) at once, from the row's positions and depths
+// at x: all-ones in a lane where it holds. The same operations lane by lane (fabs clears the sign
+// bit), in half the instructions.
+inline TwoInts addsNothingTwice(const double* xs, const double* ws) {
+  TwoDoubles x0, x1;
+  TwoInts a, b;
+  std::memcpy(&x0, xs, sizeof x0);
+  std::memcpy(&x1, xs + 1, sizeof x1);
+  std::memcpy(&a, ws, sizeof a);
+  std::memcpy(&b, ws + 1, sizeof b);
+  const TwoDoubles span = x1 - x0, one = {1.0, 1.0}, limit = {4194304.0, 4194304.0};
+  const TwoInts magnitude = {INT64_MAX, INT64_MAX};
+  TwoInts spanBits, x0Bits;
+  std::memcpy(&spanBits, &span, sizeof spanBits);
+  std::memcpy(&x0Bits, &x0, sizeof x0Bits);
+  spanBits &= magnitude;
+  x0Bits &= magnitude;
+  TwoDoubles spanSize, x0Size;
+  std::memcpy(&spanSize, &spanBits, sizeof spanSize);
+  std::memcpy(&x0Size, &x0Bits, sizeof x0Size);
+  return (a == b) & (a >= 0) & (spanSize <= one) & (x0Size < limit);
+}
+
+
+void rowSegments(const double* xs, const double* ws, int width, const uint8_t* nearBoundary, int splatting,
+                 double discontinuity, double* z, int outWidth, int* segments) {
+  if (splatting == 0) return;
+  // Those that add nothing to the points are dropped first in a branch-free pass: the rest, about one
+  // in ten on real depth maps, are drawn with the branches of the full test.
+  int count = 0, pair = 0;
+  for (; pair + 2 < width; pair += 2) {
+    const TwoInts nothing = addsNothingTwice(xs + pair, ws + pair);
+    segments[count] = pair;
+    count += nothing[0] == 0;
+    segments[count] = pair + 1;
+    count += nothing[1] == 0;
+  }
+  for (; pair + 1 < width; ++pair) {
+    segments[count] = pair;
+    count += !addsNothing(xs[pair], xs[pair + 1], ws[pair], ws[pair + 1]);
+  }
+  for (int k = 0; k < count; ++k) {
+    const int x = segments[k];
+    const double w0 = ws[x], w1 = ws[x + 1];
+    const bool near = splatting == 1 || nearBoundary[x] || nearBoundary[x + 1];
+    if (w0 < 0 || w1 < 0 || std::fabs(w0 - w1) > discontinuity || !near) continue;
+    const bool reversed = xs[x + 1] < xs[x];
+    const double x0 = reversed ? xs[x + 1] : xs[x], x1 = reversed ? xs[x] : xs[x + 1];
+    const double a = reversed ? w1 : w0, b = reversed ? w0 : w1;
+    int first, last;
+    if (!coveredRange(x0, x1, outWidth, first, last)) continue;
+    const double span = x1 - x0;
+    for (int px = first; px <= last; ++px) {
+      const double t = span > 0 ? (px - x0) / span : 0.0;
+      raiseCell(z[px], a + t * (b - a));
+    }
+  }
+}
+
+// floor(x + 0.5) clamped to [0, last]; 0 for NaN.
+inline double nearestClamped(double x, double last) {
+  const double nearest = floorOf(x + 0.5);
+  return nearest >= 0.0 ? (nearest <= last ? nearest : last) : 0.0;
+}
+
+void textureLookups(const double* u, const double* v, int n, double precision, int width, int height, double* gridU,
+                    double* gridV, double* nearest) {
+  const double lastColumn = width - 1, lastRow = height - 1, rowLength = width;
+  for (int i = 0; i < n; ++i) {
+    gridU[i] = floorOf(u[i] * precision + 0.5);
+    gridV[i] = floorOf(v[i] * precision + 0.5);
+    nearest[i] = nearestClamped(v[i], lastRow) * rowLength + nearestClamped(u[i], lastColumn);
+  }
+}
+
+void rowLookups(const double* u, int n, double precision, int width, double* gridU, double* nearest) {
+  const double lastColumn = width - 1;
+  for (int i = 0; i < n; ++i) {
+    gridU[i] = floorOf(u[i] * precision + 0.5);
+    nearest[i] = nearestClamped(u[i], lastColumn);
+  }
+}
+
+void chromaGridIndices(double* x, int n, double offset, double block, double precision, double* g) {
+  for (int i = 0; i < n; ++i) {
+    const double position = (x[i] - offset) / block;
+    x[i] = position;
+    g[i] = floorOf(position * precision + 0.5);
+  }
+}
+
+void sampleRowPhase0(const uint16_t* taps, long long count, float* out) {
+  for (long long n = 0; n < count; ++n) out[n] = float(taps[n]);
+}
+
+void holeCounts(const double* depth, int width, uint8_t* padded, uint8_t* count) {
+  for (int x = 0; x < width; ++x) padded[x + 3] = uint8_t(depth[x] < 0);
+  for (int x = 0; x < width; ++x)
+    count[x] = uint8_t(padded[x] + padded[x + 1] + padded[x + 2] + padded[x + 3] + padded[x + 4] + padded[x + 5] +
+                       padded[x + 6]);
+}
+
+void windowStep(uint8_t* sum, const uint8_t* entering, const uint8_t* leaving, uint8_t* edge, int width, int most) {
+  if (entering)
+    for (int x = 0; x < width; ++x) sum[x] = uint8_t(sum[x] + entering[x]);
+  if (leaving)
+    for (int x = 0; x < width; ++x) sum[x] = uint8_t(sum[x] - leaving[x]);
+  if (edge)
+    for (int x = 0; x < width; ++x) edge[x] |= uint8_t(sum[x] > most);
+}
+
+template <int TAPS>
+void sampleRowPhase(const uint16_t* taps, const float* kernel, long long count, float* out) {
+  float k[TAPS];
+  for (int t = 0; t < TAPS; ++t) k[t] = kernel[t];
+  for (long long n = 0; n < count; ++n) {
+    float sum = 0.0f;
+    for (int t = 0; t < TAPS; ++t) sum += k[t] * float(taps[n + t]);
+    out[n] = sum;
+  }
+}
+
+// The two-view blend (Synth/Blend.cpp's blendViews for two views): its decisions and arithmetic
+// unrolled, with selects for its branches (at silhouettes and holes the outcome changes from sample
+// to sample, too often for a branch to be predicted), two samples at a time where SSE4.1 is there.
+// The sums are blendViews' own, in its order, from the same zeros; a view left out adds +0.0, which
+// leaves a sum that starts from +0.0 as it is; the vector instructions round as the scalar ones do
+// (IEEE, the same MXCSR), so every bit is the same.
+template <int Channels, bool NearestViewOnly>
+struct TwoViewBlend {
+  TwoViewBlendRows rows;
+
+  // Sample i; true where blendViews finds no bestView (its VS_CHECK).
+  bool sample(size_t i) const {
+    const TwoViewBlendRows& b = rows;
+    const double d0 = b.depth0[i], d1 = b.depth1[i];
+    const bool valid0 = d0 >= 0.0, valid1 = d1 >= 0.0;
+    const bool hole = !(valid0 | valid1);
+    // blendViews' nearest: std::max(-1, d) is d for a valid d, std::max(d0, d1) is d0 < d1 ? d1 : d0.
+    const double nearest = valid0 ? (valid1 ? (d0 < d1 ? d1 : d0) : d0) : d1;
+    const double gap0 = nearest - d0, gap1 = nearest - d1;
+    const bool onEdge0 = b.edge0[i] != 0, onEdge1 = b.edge1[i] != 0;
+    const double tolerance = b.tolerance;
+    const bool anyClean = (valid0 & (gap0 <= tolerance) & !onEdge0) | (valid1 & (gap1 <= tolerance) & !onEdge1);
+    const bool use0 = valid0 & !(gap0 > tolerance) & !(anyClean & onEdge0);
+    const bool use1 = valid1 & !(gap1 > tolerance) & !(anyClean & onEdge1);
+    const bool takeSecond = use1 & ((use0 & b.pickSecondOfBoth) | (!use0 & b.pickSecondAlone));
+    const bool takeFirst = !takeSecond & use0 & b.pickFirstAlone;
+    const bool dominantCopy = (b.dominantFirst & valid0) | (b.dominantSecond & valid1);
+    const bool copy = NearestViewOnly | dominantCopy;
+    const bool fromSecond = dominantCopy ? b.dominantSecond : takeSecond;
+    const double weightSum = (0.0 + (use0 ? b.weight0 : 0.0)) + (use1 ? b.weight1 : 0.0);
+    const double depthSum = (0.0 + (use0 ? b.weight0 * d0 : 0.0)) + (use1 ? b.weight1 * d1 : 0.0);
+    for (int c = 0; c < Channels; ++c) {
+      const float x0 = b.colour0[c][i], x1 = b.colour1[c][i];
+      const float colourSum = (0.0f + (use0 ? b.floatWeight0 * x0 : 0.0f)) + (use1 ? b.floatWeight1 * x1 : 0.0f);
+      b.colourOut[c][i] = hole ? 0.0f : copy ? (fromSecond ? x1 : x0) : float(colourSum / weightSum);
+    }
+    b.depthOut[i] = hole ? kKernelNoDepth : copy ? (fromSecond ? d1 : d0) : depthSum / weightSum;
+    b.holeOut[i] = hole;
+    return !(dominantCopy | hole | takeFirst | takeSecond);
+  }
+
+#if defined(__SSE4_1__)
+  // Samples i and i + 1, as sample() does them, in the two lanes of SSE registers (masks: all ones
+  // for true); the lanes where blendViews finds no bestView come back set. Plain: no view has weight
+  // 1 and both weights are numbers, so nothing is copied but for NearestViewOnly, and bestView is
+  // the heavier of the views used (the first of equal ones), found wherever one is used.
+  template <bool Plain>
+  __m128d pair(size_t i) const {
+    const TwoViewBlendRows& b = rows;
+    const __m128d zero = _mm_setzero_pd(), ones = _mm_castsi128_pd(_mm_set1_epi32(-1));
+    auto flag = [&](bool f) { return f ? ones : zero; };
+    const __m128d d0 = _mm_loadu_pd(b.depth0 + i), d1 = _mm_loadu_pd(b.depth1 + i);
+    const __m128d valid0 = _mm_cmpge_pd(d0, zero), valid1 = _mm_cmpge_pd(d1, zero);
+    const __m128d hole = _mm_xor_pd(_mm_or_pd(valid0, valid1), ones);
+    // sample()'s nearest: with x0 = -1 where the first view is not valid, max(d1, x0), which is
+    // d1 > x0 ? d1 : x0, is std::max(d0, d1) where both are valid (-0 included) and the valid one
+    // where one is: a d1 not valid (negative, or NaN, which compares false) never wins.
+    const __m128d nearest = _mm_max_pd(d1, _mm_blendv_pd(_mm_set1_pd(-1.0), d0, valid0));
+    const __m128d gap0 = _mm_sub_pd(nearest, d0), gap1 = _mm_sub_pd(nearest, d1);
+    const __m128d surface = _mm_set1_pd(b.tolerance);
+    uint16_t edgePair0, edgePair1;
+    std::memcpy(&edgePair0, b.edge0 + i, sizeof edgePair0);
+    std::memcpy(&edgePair1, b.edge1 + i, sizeof edgePair1);
+    const __m128d clean0 = _mm_castsi128_pd(_mm_cmpeq_epi64(_mm_cvtepu8_epi64(_mm_cvtsi32_si128(edgePair0)), _mm_setzero_si128()));
+    const __m128d clean1 = _mm_castsi128_pd(_mm_cmpeq_epi64(_mm_cvtepu8_epi64(_mm_cvtsi32_si128(edgePair1)), _mm_setzero_si128()));
+    const __m128d anyClean = _mm_or_pd(_mm_and_pd(_mm_and_pd(valid0, _mm_cmple_pd(gap0, surface)), clean0),
+                                       _mm_and_pd(_mm_and_pd(valid1, _mm_cmple_pd(gap1, surface)), clean1));
+    // use = valid & !(gap > tolerance) & !(anyClean & onEdge)
+    const __m128d use0 = _mm_andnot_pd(_mm_andnot_pd(clean0, anyClean), _mm_andnot_pd(_mm_cmpgt_pd(gap0, surface), valid0));
+    const __m128d use1 = _mm_andnot_pd(_mm_andnot_pd(clean1, anyClean), _mm_andnot_pd(_mm_cmpgt_pd(gap1, surface), valid1));
+    __m128d lost, copy, fromSecond;
+    if constexpr (Plain) {
+      lost = _mm_andnot_pd(_mm_or_pd(hole, _mm_or_pd(use0, use1)), ones);
+      copy = NearestViewOnly ? ones : zero;
+      fromSecond = _mm_and_pd(use1, _mm_or_pd(flag(b.pickSecondOfBoth), _mm_andnot_pd(use0, ones)));
+    } else {
+      const __m128d takeSecond = _mm_and_pd(
+          use1, _mm_or_pd(_mm_and_pd(use0, flag(b.pickSecondOfBoth)), _mm_andnot_pd(use0, flag(b.pickSecondAlone))));
+      const __m128d takeFirst = _mm_andnot_pd(takeSecond, _mm_and_pd(use0, flag(b.pickFirstAlone)));
+      const __m128d dominantCopy =
+          _mm_or_pd(_mm_and_pd(flag(b.dominantFirst), valid0), _mm_and_pd(flag(b.dominantSecond), valid1));
+      lost = _mm_andnot_pd(_mm_or_pd(_mm_or_pd(dominantCopy, hole), _mm_or_pd(takeFirst, takeSecond)), ones);
+      copy = NearestViewOnly ? ones : dominantCopy;
+      fromSecond = _mm_blendv_pd(takeSecond, flag(b.dominantSecond), dominantCopy);
+    }
+    // Plain without NearestViewOnly copies nothing: the selects of copies are left out.
+    constexpr bool copies = NearestViewOnly || !Plain, mixes = !NearestViewOnly;
+    const __m128d w0 = _mm_set1_pd(b.weight0), w1 = _mm_set1_pd(b.weight1);
+    const __m128d weightSum = _mm_add_pd(_mm_add_pd(zero, _mm_and_pd(use0, w0)), _mm_and_pd(use1, w1));
+    __m128d depth = zero;
+    if (copies) depth = _mm_blendv_pd(d0, d1, fromSecond);
+    if (mixes) {
+      const __m128d depthSum =
+          _mm_add_pd(_mm_add_pd(zero, _mm_and_pd(use0, _mm_mul_pd(w0, d0))), _mm_and_pd(use1, _mm_mul_pd(w1, d1)));
+      depth = copies ? _mm_blendv_pd(_mm_div_pd(depthSum, weightSum), depth, copy) : _mm_div_pd(depthSum, weightSum);
+    }
+    _mm_storeu_pd(b.depthOut + i, _mm_blendv_pd(depth, _mm_set1_pd(kKernelNoDepth), hole));
+    // The colours: two floats in the low lanes, with the masks narrowed to 32 bits.
+    auto narrow = [](__m128d mask) { return _mm_shuffle_ps(_mm_castpd_ps(mask), _mm_castpd_ps(mask), _MM_SHUFFLE(2, 0, 2, 0)); };
+    const __m128 use0f = narrow(use0), use1f = narrow(use1), copyf = narrow(copy), holef = narrow(hole);
+    const __m128 fromSecondf = narrow(fromSecond);
+    const __m128 fw0 = _mm_set1_ps(b.floatWeight0), fw1 = _mm_set1_ps(b.floatWeight1);
+    for (int c = 0; c < Channels; ++c) {
+      const __m128 x0 = _mm_castsi128_ps(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(b.colour0[c] + i)));
+      const __m128 x1 = _mm_castsi128_ps(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(b.colour1[c] + i)));
+      __m128 value = _mm_setzero_ps();
+      if (copies) value = _mm_blendv_ps(x0, x1, fromSecondf);
+      if (mixes) {
+        const __m128 colourSum = _mm_add_ps(_mm_add_ps(_mm_setzero_ps(), _mm_and_ps(use0f, _mm_mul_ps(fw0, x0))),
+                                            _mm_and_ps(use1f, _mm_mul_ps(fw1, x1)));
+        const __m128 mixed = _mm_cvtpd_ps(_mm_div_pd(_mm_cvtps_pd(colourSum), weightSum));
+        value = copies ? _mm_blendv_ps(mixed, value, copyf) : mixed;
+      }
+      _mm_storel_epi64(reinterpret_cast<__m128i*>(b.colourOut[c] + i), _mm_castps_si128(_mm_andnot_ps(holef, value)));
+    }
+    const int holes = _mm_movemask_pd(hole);
+    b.holeOut[i] = uint8_t(holes & 1);
+    b.holeOut[i + 1] = uint8_t(holes >> 1);
+    return lost;
+  }
+#endif
+};
+
+template <int Channels, bool NearestViewOnly>
+bool blendTwoViews(const TwoViewBlendRows& rows, size_t begin, size_t end) {
+  const TwoViewBlend<Channels, NearestViewOnly> local{rows};  // a local: the stores cannot alias it
+  size_t i = begin;
+  bool lost = false;
+#if defined(__SSE4_1__)
+  __m128d lostPairs = _mm_setzero_pd();
+  if (rows.plain)
+    for (; i + 2 <= end; i += 2) lostPairs = _mm_or_pd(lostPairs, local.template pair<true>(i));
+  else
+    for (; i + 2 <= end; i += 2) lostPairs = _mm_or_pd(lostPairs, local.template pair<false>(i));
+  lost = _mm_movemask_pd(lostPairs) != 0;
+#endif
+  for (; i < end; ++i) lost |= local.sample(i);
+  return lost;
+}
+
+}  // namespace
+
+extern const RowKernels rowKernelsOfLevel;
+const RowKernels rowKernelsOfLevel = {forwardRow,
+                                      backwardRow,
+                                      rowSources,
+                                      rowTargets,
+                                      rowPoints,
+                                      rowSegments,
+                                      textureLookups,
+                                      rowLookups,
+                                      chromaGridIndices,
+                                      sampleRowPhase0,
+                                      sampleRowPhase<2>,
+                                      sampleRowPhase<4>,
+                                      sampleRowPhase<6>,
+                                      holeCounts,
+                                      windowStep,
+                                      {{blendTwoViews<1, false>, blendTwoViews<1, true>},
+                                       {blendTwoViews<2, false>, blendTwoViews<2, true>},
+                                       {blendTwoViews<3, false>, blendTwoViews<3, true>}},
+                                      VS_KERNEL_LEVEL};
+
+}  // namespace VS_LEVEL_NS
+}  // namespace vs

@@ -1,0 +1,110 @@
+#pragma once
+// The row loops of the warps and the blend (Warp.h's projections of a row, the 1D depth warp's
+// positions, the sub-pixel grid and the row tables of Interpolation.h, the two-view blend), compiled
+// for each x86-64 level the binary has (Rows.cpp, once per level) and chosen at start by the CPU
+// (x86Level(), Common/CpuLevel.h), as the rasteriser is (QuadRow.h). Plain functions on plain
+// pointers and plain structs (no member functions, so nothing of one level's code is shared with
+// another's). Every level writes the same bits: the same operations in the same order, no
+// contraction into fused multiply-adds (-ffp-contract=off), IEEE rounding in every lane.
+#include <cstddef>
+#include <cstdint>
+
+namespace vs {
+
+// The inverse depth of a hole, kNoDepth (Synth/Layer.h, which the kernels do not include; the callers
+// check that the two are equal).
+constexpr double kKernelNoDepth = -1.0;
+
+// The general projection of ViewProjection (Synth/Warp.h) as numbers: p = a (M (u, v, 1)) + o w.
+struct ProjectionCoefficients {
+  double m[3][3];
+  double o[3];
+};
+
+// What the two-view blend reads and writes (Synth/Blend.cpp's blendTwoViews: the decisions of its
+// general blend for two views, with the weights' consequences computed once).
+struct TwoViewBlendRows {
+  const double* depth0;
+  const double* depth1;
+  const uint8_t* edge0;
+  const uint8_t* edge1;
+  const float* colour0[3];
+  const float* colour1[3];
+  double weight0, weight1, tolerance;
+  float floatWeight0, floatWeight1;
+  bool dominantFirst, dominantSecond;                       // weight >= 1: copied where it is valid
+  bool pickSecondOfBoth, pickSecondAlone, pickFirstAlone;   // the general blend's bestView, from the weights
+  bool plain;  // no dominant view and both weights pickable: the short form of the decisions applies
+  float* colourOut[3];
+  double* depthOut;
+  uint8_t* holeOut;
+};
+
+struct RowKernels {
+  // ViewProjection::forwardRow's general loop (DepthType 0, not parallel): positions x, y of the
+  // reference samples (u, v), u in [0, n), and their inverse target depths wv (-1 where it fails).
+  void (*forwardRow)(const ProjectionCoefficients& forward, const double* inverseDepth, int n, double v, double* x,
+                     double* y, double* wv);
+  // ViewProjection::backwardRow's general loop: target samples (i * step + start, y) with inverse
+  // depth wv[i] -> reference positions u[i], v[i] and ok[i].
+  void (*backwardRow)(const ProjectionCoefficients& backward, const double* wv, int n, double y, double* u,
+                      double* v, uint8_t* ok, int step, double start);
+  // ViewProjection::rowSources: u[i] = snap((i * step + start - offset - shift wv[i]) * inverse), or
+  // divided by scale where inverse is 0.
+  void (*rowSources)(double offset, double shift, double inverse, double scale, const double* wv, int n, double* u,
+                     int step, double start);
+  // The 1D depth warp's positions (Synth/RowWarp.cpp): for x in [0, width), level = table[min(levels[x],
+  // beyond)] (pairs of displacement, depth), xs[x] = snap(scale x + offset + displacement), ws[x] =
+  // depth where xs[x] is finite, else -1.
+  void (*rowTargets)(const uint16_t* levels, int width, const double* table, size_t beyond, double scale,
+                     double offset, double* xs, double* ws);
+  // The 1D depth warp's points (Synth/RowWarp.cpp): each sample x with ws[x] >= 0 raises z at its
+  // nearest pixel centre floor(xs[x] + 0.5) when that lies in [0, outWidth) (the larger inverse depth,
+  // compared as signed 64-bit integers, as Synth/Raster.h's raiseCell does).
+  void (*rowPoints)(const double* xs, const double* ws, int width, double* z, int outWidth);
+  // Its segments between neighbours x, x + 1 on one surface (both ws >= 0, at most discontinuity
+  // apart; with splatting 2 only where nearBoundary flags one of them, with 0 none), rasterised at the
+  // pixel centres they cover (z raised as rowPoints does, with the depth interpolated along the
+  // segment), but for those that add nothing to the points. segments: width ints of working space.
+  void (*rowSegments)(const double* xs, const double* ws, int width, const uint8_t* nearBoundary, int splatting,
+                      double discontinuity, double* z, int outWidth, int* segments);
+  // The general texture warp's look-ups (Synth/TextureWarp.cpp) of reference positions (u[i], v[i]):
+  // their grid indices gridU[i] = floor(u[i] * precision + 0.5) (Interpolation.h's
+  // SampledRow::gridIndex) and gridV[i] likewise, and the index of their nearest
+  // reference sample, (clamp(floor(v + 0.5), 0, height - 1) * width + clamp(floor(u + 0.5), 0,
+  // width - 1), as a double (exact); 0 for a position that is not a number.
+  void (*textureLookups)(const double* u, const double* v, int n, double precision, int width, int height,
+                         double* gridU, double* gridV, double* nearest);
+  // The 1D texture warp's look-ups (Synth/RowPath.cpp) of reference positions u[i] along a row: their
+  // grid indices gridU[i], as textureLookups gives, and their nearest reference sample clamp(floor(u +
+  // 0.5), 0, width - 1), as a double; 0 for a position that is not a number.
+  void (*rowLookups)(const double* u, int n, double precision, int width, double* gridU, double* nearest);
+  // The chroma look-up positions on the 1D path (Synth/ChromaWarp.cpp): x[i] = (x[i] - offset) / block,
+  // then its grid index g[i] = floor(x[i] * precision + 0.5).
+  void (*chromaGridIndices)(double* x, int n, double offset, double block, double precision, double* g);
+  // A row table's interior for one phase (Interpolation.h's SampledRow::build): out[n] = the sum over
+  // the TAPS kernel weights k[t] * taps[n + t], in that order, from 0, for n in [0, count); TAPS 2, 4, 6.
+  // Phase 0 of a row table: out[n] = taps[n] (every kernel is (0, .., 1, .., 0) there).
+  void (*sampleRowPhase0)(const uint16_t* taps, long long count, float* out);
+  void (*sampleRowPhase2)(const uint16_t* taps, const float* k, long long count, float* out);
+  void (*sampleRowPhase4)(const uint16_t* taps, const float* k, long long count, float* out);
+  void (*sampleRowPhase6)(const uint16_t* taps, const float* k, long long count, float* out);
+  // MergingOption 2's hole counting (Synth/RowPath.cpp's flagCrowdedHoles). holeCounts: count[x] = the
+  // holes (depth < 0) among depth[x - 3 .. x + 3] of a row of width samples, none beyond its ends;
+  // padded: width + 6 bytes of working space whose first and last three are 0. windowStep: sum[x] +=
+  // entering[x], then sum[x] -= leaving[x] (byte arithmetic; either may be null: skipped), then, unless
+  // edge is null, edge[x] |= sum[x] > most.
+  void (*holeCounts)(const double* depth, int width, uint8_t* padded, uint8_t* count);
+  void (*windowStep)(uint8_t* sum, const uint8_t* entering, const uint8_t* leaving, uint8_t* edge, int width, int most);
+  // The two-view blend of samples [begin, end), for 1, 2 or 3 channels, each with and without
+  // NearestViewOnly ([channels - 1][nearestViewOnly]); true where the general blend finds no bestView.
+  bool (*blendTwoViews[3][2])(const TwoViewBlendRows& blend, size_t begin, size_t end);
+  int level;  // the x86-64 level they are compiled for (0: not x86-64)
+};
+
+// The kernels for x86Level().
+const RowKernels& rowKernels();
+// The kernels compiled for `level`; nullptr when this binary has none for it (tests compare levels).
+const RowKernels* rowKernelsFor(int level);
+
+}  // namespace vs

@@ -1,0 +1,188 @@
+// The adaptive mesh (MeshMaxError, DepthMesh.h) without OpenGL, against the full grid built from the same
+// depth map: it covers exactly the same area, has no T-junction (so no crack), keeps every depth sample
+// within the bound (with a texture, also within the colour bound: displacement times luma step), and
+// merges planes. Truth: the full grid's triangles, the depth samples and the texture.
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <set>
+#include <utility>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "Common/Camera.h"
+#include "Common/Depth.h"
+#include "Common/Frame.h"
+#include "Mesh/DepthMesh.h"
+
+namespace {
+
+constexpr int kWidth = 96, kHeight = 80;
+
+vs::Camera camera() {
+  vs::Camera c;
+  c.name = "test";
+  c.K[0][0] = 400.0, c.K[0][2] = 47.5;
+  c.K[1][1] = 400.0, c.K[1][2] = 39.5;
+  return c;
+}
+
+vs::DepthRange range8() {
+  vs::DepthRange range;
+  range.znear = 100.0;
+  range.zfar = 200.0;
+  range.bitDepth = 8;
+  return range;
+}
+
+// A tilted plane (levels affine in the image), a raised flat box (a depth step all around it) and a
+// paraboloid bump (curved): planes to merge, edges to keep, curvature to bound.
+vs::Plane depthMap() {
+  vs::Plane depth(kWidth, kHeight);
+  for (int y = 0; y < kHeight; ++y)
+    for (int x = 0; x < kWidth; ++x) {
+      double level = 40.0 + 0.37 * x + 0.21 * y;
+      if (x >= 10 && x < 34 && y >= 12 && y < 40) level = 200.0;
+      const double dx = x - 66.0, dy = y - 52.0;
+      if (dx * dx + dy * dy < 18.0 * 18.0) level += 40.0 - 40.0 * (dx * dx + dy * dy) / (18.0 * 18.0);
+      depth.at(x, y) = uint16_t(std::lround(level));
+    }
+  return depth;
+}
+
+// One depth level moves a point by about a quarter of a virtual-camera pixel (as on Middlebury's view 3).
+constexpr double kRate = 0.25 / ((1.0 / 100.0 - 1.0 / 200.0) / 255.0);
+
+double uOf(const vs::DepthMesh& mesh, uint32_t i) { return double(mesh.vertices[i * 4]) / double(mesh.vertices[i * 4 + 2]); }
+double vOf(const vs::DepthMesh& mesh, uint32_t i) { return double(mesh.vertices[i * 4 + 1]) / double(mesh.vertices[i * 4 + 2]); }
+double qOf(const vs::DepthMesh& mesh, uint32_t i) { return double(mesh.vertices[i * 4 + 3]) / double(mesh.vertices[i * 4 + 2]); }
+
+double area(const vs::DepthMesh& mesh, uint32_t a, uint32_t b, uint32_t c) {
+  return 0.5 * std::fabs((uOf(mesh, b) - uOf(mesh, a)) * (vOf(mesh, c) - vOf(mesh, a)) -
+                         (uOf(mesh, c) - uOf(mesh, a)) * (vOf(mesh, b) - vOf(mesh, a)));
+}
+
+double totalArea(const vs::DepthMesh& mesh) {
+  double sum = 0.0;
+  for (size_t t = 0; t < mesh.triangleCount(); ++t)
+    sum += area(mesh, mesh.triangles[3 * t], mesh.triangles[3 * t + 1], mesh.triangles[3 * t + 2]);
+  return sum;
+}
+
+// A texture with sharp vertical stripes on the right half and flat grey on the left.
+vs::Plane stripes() {
+  vs::Plane luma(kWidth, kHeight);
+  for (int y = 0; y < kHeight; ++y)
+    for (int x = 0; x < kWidth; ++x) luma.at(x, y) = uint16_t(x < kWidth / 2 ? 128 : (x / 3) % 2 ? 200 : 40);
+  return luma;
+}
+
+// The largest luma step from pixel (x, y) to its 8 neighbours.
+int lumaStep(const vs::Plane& luma, int x, int y) {
+  int step = 0;
+  for (int j = std::max(y - 1, 0); j <= std::min(y + 1, kHeight - 1); ++j)
+    for (int i = std::max(x - 1, 0); i <= std::min(x + 1, kWidth - 1); ++i)
+      step = std::max(step, std::abs(int(luma.at(i, j)) - int(luma.at(x, y))));
+  return step;
+}
+
+void build(double maxError, bool adaptive, vs::DepthMesh& mesh, double maxColourError = 0.0, const vs::Plane* luma = nullptr) {
+  vs::MeshOptions options;
+  options.maxError = maxError;
+  options.maxColourError = maxColourError;
+  const vs::DisplacementRate rate = [](double, double, double) { return kRate; };
+  const vs::DepthMeshBuilder builder(camera(), range8(), kWidth, kHeight, options,
+                                     adaptive ? rate : vs::DisplacementRate{});
+  builder.build(depthMap(), mesh, luma);
+}
+
+TEST(MeshAdaptive, SameAreaNoTJunctionAndEverySampleWithinTheBound) {
+  vs::DepthMesh grid;
+  build(0.1, false, grid);
+  const vs::Plane luma = stripes();
+  const struct {
+    double maxError, maxColourError;
+  } cases[] = {{0.0, 0.0}, {0.1, 0.0}, {0.5, 0.0}, {2.0, 0.0}, {2.0, 4.0}};
+  for (const auto& bounds : cases) {
+    const double maxError = bounds.maxError, maxColourError = bounds.maxColourError;
+    vs::DepthMesh mesh;
+    build(maxError, true, mesh, maxColourError, maxColourError > 0.0 ? &luma : nullptr);
+    EXPECT_EQ(mesh.gridTriangles, grid.triangleCount());
+    EXPECT_LT(mesh.triangleCount(), grid.triangleCount() / (maxError >= 0.5 && maxColourError == 0.0 ? 3 : 1))
+        << "MeshMaxError " << maxError;
+    // The same points and outline as the full grid.
+    EXPECT_EQ(mesh.points, grid.points);
+    EXPECT_EQ(mesh.farthestOrphans, grid.farthestOrphans);
+    EXPECT_NEAR(totalArea(mesh), totalArea(grid), 1e-6 * totalArea(grid)) << "MeshMaxError " << maxError;
+
+    // No vertex of the mesh lies inside a horizontal or vertical triangle side: no T-junction.
+    std::set<uint32_t> used(mesh.triangles.begin(), mesh.triangles.end());
+    const uint32_t columns = uint32_t(mesh.columns);
+    size_t junctions = 0;
+    for (size_t t = 0; t < mesh.triangleCount(); ++t)
+      for (int e = 0; e < 3; ++e) {
+        uint32_t a = mesh.triangles[3 * t + e], b = mesh.triangles[3 * t + (e + 1) % 3];
+        if (a > b) std::swap(a, b);
+        if (a / columns == b / columns) {
+          for (uint32_t i = a + 1; i < b; ++i) junctions += used.count(i);
+        } else if (a % columns == b % columns) {
+          for (uint32_t i = a + columns; i < b; i += columns) junctions += used.count(i);
+        }
+      }
+    EXPECT_EQ(junctions, size_t(0)) << "MeshMaxError " << maxError;
+
+    // Every vertex of a kept grid triangle lies, on the mesh, within the bound of its own depth: the
+    // inverse depth interpolated at its position in the triangles that contain it, times the rate.
+    std::vector<uint8_t> inGrid(grid.vertexCount(), 0);
+    for (uint32_t i : grid.triangles) inGrid[i] = 1;
+    double worst = 0.0;
+    size_t checked = 0;
+    for (uint32_t i = 0; i < uint32_t(grid.vertexCount()); ++i) {
+      if (!inGrid[i]) continue;
+      const double u = uOf(grid, i), v = vOf(grid, i), q = qOf(grid, i);
+      bool found = false;
+      for (size_t t = 0; t < mesh.triangleCount(); ++t) {
+        const uint32_t a = mesh.triangles[3 * t], b = mesh.triangles[3 * t + 1], c = mesh.triangles[3 * t + 2];
+        const double ua = uOf(mesh, a), va = vOf(mesh, a), ub = uOf(mesh, b), vb = vOf(mesh, b);
+        const double uc = uOf(mesh, c), vc = vOf(mesh, c);
+        if (std::max({ua, ub, uc}) < u || std::min({ua, ub, uc}) > u || std::max({va, vb, vc}) < v ||
+            std::min({va, vb, vc}) > v)
+          continue;
+        const double d = (ub - ua) * (vc - va) - (uc - ua) * (vb - va);
+        if (std::fabs(d) < 1e-12) continue;
+        const double beta = ((u - ua) * (vc - va) - (uc - ua) * (v - va)) / d;
+        const double gamma = ((ub - ua) * (v - va) - (u - ua) * (vb - va)) / d;
+        if (beta < -1e-9 || gamma < -1e-9 || beta + gamma > 1.0 + 1e-9) continue;
+        const double interpolated = (1.0 - beta - gamma) * qOf(mesh, a) + beta * qOf(mesh, b) + gamma * qOf(mesh, c);
+        const double error = std::fabs(interpolated - q) * kRate;
+        EXPECT_LE(error, maxError + 1e-6) << "vertex " << i << ", MeshMaxError " << maxError;
+        if (maxColourError > 0.0) {  // with the texture: the colour error the displacement causes
+          const int x = std::clamp(int(std::lround(u)), 0, kWidth - 1), y = std::clamp(int(std::lround(v)), 0, kHeight - 1);
+          EXPECT_LE(error * lumaStep(luma, x, y), maxColourError + 1e-6) << "vertex " << i;
+        }
+        worst = std::max(worst, error);
+        found = true;
+      }
+      EXPECT_TRUE(found) << "vertex " << i << " is not on the adaptive mesh";
+      ++checked;
+    }
+    EXPECT_GT(checked, size_t(kWidth * kHeight / 2));
+    std::printf("MeshMaxError %.2f, MeshMaxColourError %.1f: %zu triangles (grid %zu), largest sample displacement %.4f px\n",
+                maxError, maxColourError, mesh.triangleCount(), grid.triangleCount(), worst);
+  }
+}
+
+// A larger bound merges more (the flat top of the box merges even at 0).
+TEST(MeshAdaptive, LargerBoundsMergeMore) {
+  size_t previous = SIZE_MAX;
+  for (double maxError : {0.0, 0.05, 0.25, 1.0}) {
+    vs::DepthMesh mesh;
+    build(maxError, true, mesh);
+    EXPECT_LE(mesh.triangleCount(), previous) << "MeshMaxError " << maxError;
+    previous = mesh.triangleCount();
+  }
+}
+
+}  // namespace

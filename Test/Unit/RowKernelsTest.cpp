@@ -1,0 +1,401 @@
+// The row kernels (Synth/Kernels/Rows.h) of every x86-64 level this binary has and this CPU runs give
+// the bits of plain one-sample-at-a-time loops written here from the formulas they implement, on
+// rows that include the awkward values: holes, NaN, infinities, -0, ties of the rounding, positions
+// far outside any picture, widths that leave vector lanes unfilled. (The golden-output test checks
+// the same for whole syntheses, once per level, in scripts/test.sh.)
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <limits>
+#include <random>
+#include <vector>
+
+#include "Common/CpuLevel.h"
+#include "Synth/Kernels/Rows.h"
+
+namespace vs {
+namespace {
+
+// The kernels of every level this CPU runs that the binary has.
+std::vector<const RowKernels*> levels() {
+  std::vector<const RowKernels*> kernels;
+  for (int level = 0; level <= cpuX86Level(); ++level)
+    if (rowKernelsFor(level)) kernels.push_back(rowKernelsFor(level));
+  return kernels;
+}
+
+uint64_t bitsOf(double value) {
+  uint64_t bits;
+  std::memcpy(&bits, &value, sizeof bits);
+  return bits;
+}
+uint32_t bitsOf(float value) {
+  uint32_t bits;
+  std::memcpy(&bits, &value, sizeof bits);
+  return bits;
+}
+
+// A position rounded to 2^-30 px, as Synth/Warp.h's snapPosition states it: to the nearest multiple
+// (ties to even, the default rounding), by division.
+double snapPlainly(double position) { return std::nearbyint(position * 1073741824.0) / 1073741824.0; }
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+// Inverse depths and positions with the values that test each branch of the kernels.
+std::vector<double> awkwardRow(std::mt19937& rng, int n, double scale) {
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  std::vector<double> row(static_cast<size_t>(n));
+  for (double& value : row) {
+    const double u = unit(rng);
+    value = u < 0.05   ? -1.0
+            : u < 0.08 ? std::nan("")
+            : u < 0.10 ? kInf
+            : u < 0.12 ? -0.0
+            : u < 0.14 ? 0.0
+            : u < 0.16 ? 1e300
+            : u < 0.18 ? std::round(scale * unit(rng)) + 0.5  // a tie of floor(x + 0.5)
+            : u < 0.20 ? -0.5 - 0.5 * unit(rng)  // x + 0.5 in [-0.5, 0]: floor -1 (or -0 at 0)
+                       : scale * (2.0 * unit(rng) - 0.5);
+  }
+  return row;
+}
+
+ProjectionCoefficients randomProjection(std::mt19937& rng) {
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  ProjectionCoefficients c{};
+  for (auto& row : c.m)
+    for (double& m : row) m = unit(rng);
+  c.m[0][0] += 1.0;
+  c.m[1][1] += 1.0;
+  c.m[2][2] = 1.0 + 0.01 * unit(rng);
+  c.m[2][0] *= 1e-3;
+  c.m[2][1] *= 1e-3;
+  for (double& o : c.o) o = 50.0 * unit(rng);
+  return c;
+}
+
+const std::vector<int> kWidths = {1, 2, 3, 7, 8, 9, 15, 16, 17, 33, 100};
+
+TEST(RowKernels, EveryLevelThisCpuRunsIsTested) {
+  const std::vector<const RowKernels*> kernels = levels();
+  ASSERT_FALSE(kernels.empty());
+  for (const RowKernels* k : kernels) EXPECT_LE(k->level, cpuX86Level());
+  EXPECT_EQ(&rowKernels(), rowKernelsFor(rowKernels().level));
+}
+
+TEST(RowKernels, ForwardRowIsThePlainProjection) {
+  std::mt19937 rng(5);
+  for (const RowKernels* kernels : levels())
+    for (const int n : kWidths)
+      for (int trial = 0; trial < 20; ++trial) {
+        const ProjectionCoefficients c = randomProjection(rng);
+        const double v = double(trial) - 3.0;
+        const std::vector<double> w = awkwardRow(rng, n, 0.5);
+        std::vector<double> x(static_cast<size_t>(n)), y(static_cast<size_t>(n)), wv(static_cast<size_t>(n));
+        kernels->forwardRow(c, w.data(), n, v, x.data(), y.data(), wv.data());
+        for (int u = 0; u < n; ++u) {
+          const double px = (c.m[0][0] * u + c.m[0][1] * v + c.m[0][2]) + c.o[0] * w[size_t(u)];
+          const double py = (c.m[1][0] * u + c.m[1][1] * v + c.m[1][2]) + c.o[1] * w[size_t(u)];
+          const double pz = (c.m[2][0] * u + c.m[2][1] * v + c.m[2][2]) + c.o[2] * w[size_t(u)];
+          const double ex = snapPlainly(px / pz), ey = snapPlainly(py / pz), ew = w[size_t(u)] / pz;
+          const bool ok = w[size_t(u)] >= 0 && pz > 0 && std::fabs(px) <= 1e9 * pz && std::fabs(py) <= 1e9 * pz &&
+                          std::isfinite(ex) && std::isfinite(ey) && std::isfinite(ew);
+          SCOPED_TRACE(testing::Message() << "level " << kernels->level << " n " << n << " u " << u);
+          ASSERT_EQ(bitsOf(wv[size_t(u)]), bitsOf(ok ? ew : -1.0));
+          if (ok) {
+            ASSERT_EQ(bitsOf(x[size_t(u)]), bitsOf(ex));
+            ASSERT_EQ(bitsOf(y[size_t(u)]), bitsOf(ey));
+          }
+        }
+      }
+}
+
+TEST(RowKernels, BackwardRowIsThePlainProjection) {
+  std::mt19937 rng(6);
+  for (const RowKernels* kernels : levels())
+    for (const int n : kWidths)
+      for (const int step : {1, 2})
+        for (int trial = 0; trial < 20; ++trial) {
+          const ProjectionCoefficients c = randomProjection(rng);
+          const double y = 2.5 * trial, start = step == 2 ? 0.5 : 0.0;
+          const std::vector<double> w = awkwardRow(rng, n, 0.5);
+          std::vector<double> u(static_cast<size_t>(n)), v(static_cast<size_t>(n));
+          std::vector<uint8_t> ok(static_cast<size_t>(n));
+          kernels->backwardRow(c, w.data(), n, y, u.data(), v.data(), ok.data(), step, start);
+          for (int i = 0; i < n; ++i) {
+            const double x = i * step + start, wi = w[size_t(i)];
+            const double qx = c.m[0][0] * x + c.m[0][1] * y + c.m[0][2] + c.o[0] * wi;
+            const double qy = c.m[1][0] * x + c.m[1][1] * y + c.m[1][2] + c.o[1] * wi;
+            const double qz = c.m[2][0] * x + c.m[2][1] * y + c.m[2][2] + c.o[2] * wi;
+            const double eu = snapPlainly(qx / qz), ev = snapPlainly(qy / qz);
+            const bool expected = qz > 0 && std::fabs(qx) <= 1e9 * qz && std::fabs(qy) <= 1e9 * qz &&
+                                  std::isfinite(eu) && std::isfinite(ev);
+            SCOPED_TRACE(testing::Message() << "level " << kernels->level << " n " << n << " i " << i);
+            ASSERT_EQ(ok[size_t(i)], uint8_t(expected));
+            if (expected) {
+              ASSERT_EQ(bitsOf(u[size_t(i)]), bitsOf(eu));
+              ASSERT_EQ(bitsOf(v[size_t(i)]), bitsOf(ev));
+            }
+          }
+        }
+}
+
+TEST(RowKernels, RowSourcesAndTargetsAreThePlainRowFormulas) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  for (const RowKernels* kernels : levels())
+    for (const int n : kWidths)
+      for (const double scale : {1.0, 0.5, 0.75}) {  // 0.75: no exact reciprocal, divided
+        const double offset = 10.0 * unit(rng) - 5.0, shift = 200.0 * unit(rng) - 100.0;
+        const double inverse = scale == 0.75 ? 0.0 : 1.0 / scale;
+        const std::vector<double> w = awkwardRow(rng, n, 0.5);
+        std::vector<double> u(static_cast<size_t>(n));
+        kernels->rowSources(offset, shift, inverse, scale, w.data(), n, u.data(), 2, 0.5);
+        for (int i = 0; i < n; ++i) {
+          const double shifted = double(i * 2) + 0.5 - offset - shift * w[size_t(i)];
+          const double expected = snapPlainly(inverse != 0 ? shifted * inverse : shifted / scale);
+          ASSERT_EQ(bitsOf(u[size_t(i)]), bitsOf(expected)) << "level " << kernels->level << " i " << i;
+        }
+        // Levels 0 .. 9 and one past the table; levels beyond read the last pair.
+        std::vector<double> table;
+        for (int level = 0; level < 10; ++level) {
+          const bool warped = level % 4 != 3;
+          table.push_back(warped ? shift * (0.1 * level) : std::nan(""));
+          table.push_back(warped ? 0.1 * level : kKernelNoDepth);
+        }
+        table.push_back(std::nan(""));
+        table.push_back(kKernelNoDepth);
+        std::vector<uint16_t> levels(static_cast<size_t>(n));
+        for (uint16_t& level : levels) level = uint16_t(unit(rng) < 0.1 ? 60000 : 12 * unit(rng));
+        std::vector<double> xs(static_cast<size_t>(n)), ws(static_cast<size_t>(n));
+        kernels->rowTargets(levels.data(), n, table.data(), 10, scale, offset, xs.data(), ws.data());
+        for (int x = 0; x < n; ++x) {
+          const size_t level = std::min<size_t>(levels[size_t(x)], 10);
+          const double target = snapPlainly(scale * x + offset + table[2 * level]);
+          ASSERT_EQ(bitsOf(xs[size_t(x)]), bitsOf(target));
+          ASSERT_EQ(ws[size_t(x)], std::isfinite(target) ? table[2 * level + 1] : kKernelNoDepth);
+        }
+      }
+}
+
+TEST(RowKernels, RowLookupsAndChromaPositionsRoundToTheNearestGridPosition) {
+  std::mt19937 rng(8);
+  const int width = 41;
+  for (const RowKernels* kernels : levels())
+    for (const int n : kWidths)
+      for (const double precision : {1.0, 2.0, 4.0}) {
+        std::vector<double> x = awkwardRow(rng, n, 40.0), g(static_cast<size_t>(n)), nearest(static_cast<size_t>(n));
+        kernels->rowLookups(x.data(), n, precision, width, g.data(), nearest.data());
+        std::vector<double> chroma = x, chromaGrid(static_cast<size_t>(n));
+        kernels->chromaGridIndices(chroma.data(), n, 0.5, 2.0, precision, chromaGrid.data());
+        for (int i = 0; i < n; ++i) {
+          // floor(p + 0.5): the grid position at or below p + 1/2 (ties go up).
+          const double p = x[size_t(i)] * precision;
+          ASSERT_EQ(bitsOf(g[size_t(i)]), bitsOf(std::floor(p + 0.5))) << "level " << kernels->level;
+          if (std::isfinite(p) && std::fabs(p) < 1e15) {
+            EXPECT_LE(g[size_t(i)], p + 0.5);
+            EXPECT_GT(g[size_t(i)] + 1.0, p + 0.5);
+          }
+          if (x[size_t(i)] >= -0.5 && x[size_t(i)] <= width - 0.5) {
+            ASSERT_EQ(nearest[size_t(i)], double(std::clamp(int(std::floor(x[size_t(i)] + 0.5)), 0, width - 1)));
+          }
+          ASSERT_GE(nearest[size_t(i)], 0.0);
+          ASSERT_LE(nearest[size_t(i)], double(width - 1));
+          const double position = (x[size_t(i)] - 0.5) / 2.0;
+          ASSERT_EQ(bitsOf(chroma[size_t(i)]), bitsOf(position));
+          ASSERT_EQ(bitsOf(chromaGrid[size_t(i)]), bitsOf(std::floor(position * precision + 0.5)));
+        }
+      }
+}
+
+TEST(RowKernels, TextureLookupsAreTheGridIndicesAndTheNearestSample) {
+  std::mt19937 rng(11);
+  const int width = 37, height = 23;
+  for (const RowKernels* kernels : levels())
+    for (const int n : kWidths)
+      for (const double precision : {1.0, 2.0, 4.0}) {
+        const std::vector<double> u = awkwardRow(rng, n, width), v = awkwardRow(rng, n, height);
+        std::vector<double> gridU(static_cast<size_t>(n)), gridV(static_cast<size_t>(n)), nearest(static_cast<size_t>(n));
+        kernels->textureLookups(u.data(), v.data(), n, precision, width, height, gridU.data(), gridV.data(),
+                                nearest.data());
+        for (int i = 0; i < n; ++i) {
+          ASSERT_EQ(bitsOf(gridU[size_t(i)]), bitsOf(std::floor(u[size_t(i)] * precision + 0.5)));
+          ASSERT_EQ(bitsOf(gridV[size_t(i)]), bitsOf(std::floor(v[size_t(i)] * precision + 0.5)));
+          // The nearest sample of a position in the picture (within half a sample of its border).
+          const double x = u[size_t(i)], y = v[size_t(i)];
+          if (x >= -0.5 && y >= -0.5 && x <= width - 0.5 && y <= height - 0.5) {
+            const int nx = std::clamp(int(std::floor(x + 0.5)), 0, width - 1);
+            const int ny = std::clamp(int(std::floor(y + 0.5)), 0, height - 1);
+            ASSERT_EQ(nearest[size_t(i)], double(ny * width + nx)) << "level " << kernels->level;
+          }
+          ASSERT_GE(nearest[size_t(i)], 0.0);
+          ASSERT_LT(nearest[size_t(i)], double(width * height));
+        }
+      }
+}
+
+TEST(RowKernels, SampleRowPhaseIsTheWeightedSumInTapOrder) {
+  std::mt19937 rng(9);
+  std::uniform_int_distribution<int> sample(0, 65535);
+  std::uniform_real_distribution<float> weight(-0.3f, 1.0f);
+  for (const RowKernels* kernels : levels())
+    for (const int taps : {2, 4, 6})
+      for (const int n : kWidths) {
+        std::vector<uint16_t> row(size_t(n + taps));
+        for (uint16_t& s : row) s = uint16_t(sample(rng));
+        float k[6];
+        for (float& w : k) w = weight(rng);
+        std::vector<float> out(static_cast<size_t>(n));
+        std::vector<float> copy(static_cast<size_t>(n));
+        kernels->sampleRowPhase0(row.data(), n, copy.data());
+        for (int i = 0; i < n; ++i) ASSERT_EQ(copy[size_t(i)], float(row[size_t(i)]));
+        auto phase = taps == 2 ? kernels->sampleRowPhase2 : taps == 4 ? kernels->sampleRowPhase4 : kernels->sampleRowPhase6;
+        phase(row.data(), k, n, out.data());
+        for (int i = 0; i < n; ++i) {
+          float sum = 0.0f;
+          for (int t = 0; t < taps; ++t) {
+            const float term = k[t] * float(row[size_t(i + t)]);
+            sum = sum + term;
+          }
+          ASSERT_EQ(bitsOf(out[size_t(i)]), bitsOf(sum)) << "level " << kernels->level << " taps " << taps;
+        }
+      }
+}
+
+TEST(RowKernels, HoleCountsAndTheWindowCountHolesAroundEachSample) {
+  std::mt19937 rng(12);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  for (const RowKernels* kernels : levels())
+    for (const int width : kWidths) {
+      // Seven rows of depths, a hole in about half the samples; their counts, then the window's sum.
+      const int rows = 7;
+      std::vector<double> depth(size_t(rows) * width);
+      for (double& d : depth) d = unit(rng) < 0.5 ? -1.0 : unit(rng);
+      std::vector<uint8_t> counts(depth.size()), padded(size_t(width) + 6, 0), sum(size_t(width), 0);
+      for (int r = 0; r < rows; ++r)
+        kernels->holeCounts(depth.data() + size_t(r) * width, width, padded.data(), counts.data() + size_t(r) * width);
+      for (int r = 0; r < rows; ++r)
+        for (int x = 0; x < width; ++x) {
+          int holes = 0;
+          for (int k = std::max(0, x - 3); k <= std::min(width - 1, x + 3); ++k) holes += depth[size_t(r) * width + k] < 0;
+          ASSERT_EQ(counts[size_t(r) * width + x], holes) << "level " << kernels->level;
+        }
+      // Rows 0 .. 5 entered, then row 6 enters and row 0 leaves: the sum of rows 1 .. 6, marked above 20.
+      for (int r = 0; r < 6; ++r) kernels->windowStep(sum.data(), counts.data() + size_t(r) * width, nullptr, nullptr, width, 20);
+      std::vector<uint8_t> edge(static_cast<size_t>(width));
+      for (int x = 0; x < width; ++x) edge[size_t(x)] = uint8_t(x % 5 == 0);
+      const std::vector<uint8_t> before = edge;
+      kernels->windowStep(sum.data(), counts.data() + 6 * size_t(width), counts.data(), edge.data(), width, 20);
+      for (int x = 0; x < width; ++x) {
+        int total = 0;
+        for (int r = 1; r < rows; ++r) total += counts[size_t(r) * width + x];
+        ASSERT_EQ(sum[size_t(x)], total);
+        ASSERT_EQ(edge[size_t(x)], uint8_t(before[size_t(x)] | (total > 20)));
+      }
+    }
+}
+
+// The two-view blend against blendViews' rule written plainly: the nearest valid view's surface,
+// clean samples preferred, the weighted mean of the views on it (or the heaviest alone, or a view of
+// weight 1 wherever it is valid).
+TEST(RowKernels, TwoViewBlendIsThePlainRule) {
+  std::mt19937 rng(10);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  const std::vector<const RowKernels*> kernels = levels();
+  for (const int channels : {1, 2, 3})
+    for (const bool nearestOnly : {false, true})
+      for (const int dominant : {-1, 0, 1})
+        for (const int n : kWidths) {
+          std::vector<double> depth[2];
+          std::vector<uint8_t> edge[2];
+          std::vector<float> colour[2][3];
+          for (int view = 0; view < 2; ++view) {
+            for (int i = 0; i < n; ++i) {
+              const double u = unit(rng);
+              depth[view].push_back(u < 0.2 ? -1.0 : u < 0.3 ? 0.5 : u < 0.35 ? 0.501 : unit(rng));
+              edge[view].push_back(uint8_t(unit(rng) < 0.3));
+              for (int c = 0; c < 3; ++c) colour[view][c].push_back(float(255.0 * unit(rng)));
+            }
+          }
+          const double weight[2] = {dominant == 0 ? 1.0 : 0.3 + 0.2 * unit(rng), dominant == 1 ? 1.0 : 0.3 + 0.2 * unit(rng)};
+          const double tolerance = 0.01;
+          TwoViewBlendRows rows{};
+          rows.depth0 = depth[0].data();
+          rows.depth1 = depth[1].data();
+          rows.edge0 = edge[0].data();
+          rows.edge1 = edge[1].data();
+          for (int c = 0; c < 3; ++c) {
+            rows.colour0[c] = colour[0][c].data();
+            rows.colour1[c] = colour[1][c].data();
+          }
+          rows.weight0 = weight[0];
+          rows.weight1 = weight[1];
+          rows.tolerance = tolerance;
+          rows.floatWeight0 = float(weight[0]);
+          rows.floatWeight1 = float(weight[1]);
+          rows.dominantFirst = dominant == 0;
+          rows.dominantSecond = dominant == 1;
+          rows.pickFirstAlone = true;
+          rows.pickSecondAlone = true;
+          rows.pickSecondOfBoth = weight[1] > weight[0];
+          rows.plain = dominant < 0;
+          for (const RowKernels* k : kernels) {
+            std::vector<float> out[3];
+            for (auto& plane : out) plane.assign(size_t(n), -7.0f);
+            std::vector<double> depthOut(size_t(n), -7.0);
+            std::vector<uint8_t> holeOut(size_t(n), 7);
+            for (int c = 0; c < 3; ++c) rows.colourOut[c] = out[c].data();
+            rows.depthOut = depthOut.data();
+            rows.holeOut = holeOut.data();
+            ASSERT_FALSE(k->blendTwoViews[channels - 1][nearestOnly](rows, 0, size_t(n)));
+            for (int i = 0; i < n; ++i) {
+              SCOPED_TRACE(testing::Message() << "level " << k->level << " channels " << channels << " nearest "
+                                              << nearestOnly << " dominant " << dominant << " i " << i);
+              const double d[2] = {depth[0][size_t(i)], depth[1][size_t(i)]};
+              if (d[0] < 0 && d[1] < 0) {
+                ASSERT_EQ(holeOut[size_t(i)], 1);
+                ASSERT_EQ(depthOut[size_t(i)], kKernelNoDepth);
+                for (int c = 0; c < channels; ++c) ASSERT_EQ(out[c][size_t(i)], 0.0f);
+                continue;
+              }
+              ASSERT_EQ(holeOut[size_t(i)], 0);
+              if (dominant >= 0 && d[dominant] >= 0) {
+                ASSERT_EQ(depthOut[size_t(i)], d[dominant]);
+                for (int c = 0; c < channels; ++c) ASSERT_EQ(out[c][size_t(i)], colour[dominant][c][size_t(i)]);
+                continue;
+              }
+              const double nearest = std::max(d[0], d[1]);
+              bool on[2], anyClean = false;
+              for (int v = 0; v < 2; ++v) {
+                on[v] = d[v] >= 0 && nearest - d[v] <= tolerance;
+                anyClean = anyClean || (on[v] && !edge[v][size_t(i)]);
+              }
+              for (int v = 0; v < 2; ++v) on[v] = on[v] && !(anyClean && edge[v][size_t(i)]);
+              ASSERT_TRUE(on[0] || on[1]);
+              const int best = on[0] && on[1] ? (weight[1] > weight[0] ? 1 : 0) : on[0] ? 0 : 1;
+              if (nearestOnly) {
+                ASSERT_EQ(depthOut[size_t(i)], d[best]);
+                for (int c = 0; c < channels; ++c) ASSERT_EQ(out[c][size_t(i)], colour[best][c][size_t(i)]);
+                continue;
+              }
+              double weightSum = 0, depthSum = 0;
+              float colourSum[3] = {0, 0, 0};
+              for (int v = 0; v < 2; ++v) {
+                if (!on[v]) continue;
+                weightSum += weight[v];
+                depthSum += weight[v] * d[v];
+                for (int c = 0; c < channels; ++c) colourSum[c] += float(weight[v]) * colour[v][c][size_t(i)];
+              }
+              ASSERT_EQ(bitsOf(depthOut[size_t(i)]), bitsOf(depthSum / weightSum));
+              for (int c = 0; c < channels; ++c)
+                ASSERT_EQ(bitsOf(out[c][size_t(i)]), bitsOf(float(colourSum[c] / weightSum)));
+            }
+          }
+        }
+}
+
+}  // namespace
+}  // namespace vs
