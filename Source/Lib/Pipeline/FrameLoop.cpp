@@ -44,6 +44,9 @@ RunSummary runSequence(const std::string& toolName, const Scene& scene, FrameRen
         if (log)
           for (const std::string& line : decided) std::fprintf(log, "plan, first frame: %s\n", line.c_str());
       }
+      // A pose trace moves the virtual camera frame by frame (Common/RvsConfig.h).
+      if (!scene.virtualCameraPerFrame.empty() && !renderer.moveVirtualCamera(scene.virtualCameraPerFrame[size_t(f)]))
+        throw InputError(toolName + " cannot move its virtual camera: VirtualPoseTraceName is not supported by it");
       renderer.render(frame.references, output, times);
       const int64_t uncovered = renderer.uncoveredSamples();
       if (uncovered >= 0) {

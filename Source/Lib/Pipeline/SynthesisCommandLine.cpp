@@ -4,6 +4,7 @@
 #include <cctype>
 #include <cstdio>
 
+#include "Common/Error.h"
 #include "Common/Md5.h"
 #include "Pipeline/RunReport.h"
 
@@ -36,25 +37,46 @@ CommandLineTool synthesisCommandLine(const SynthesisTool& tool) {
   };
   front.run = [tool](const CommandLine& line) {
     const std::vector<std::string> overrides(line.positional.begin() + 1, line.positional.end());
-    const Config config = Config::load(*tool.keys, line.positional[0], overrides);
+    // A VSRS config gives one configuration; an RVS config one per virtual camera, handled in turn
+    // in this run, each writing its own output (Common/RvsConfig.h).
+    const std::vector<Config> configs = Config::loadAll(*tool.keys, line.positional[0], overrides);
+    if (line.has("--verify") && configs.size() != 1)
+      throw InputError(line.positional[0] + ": --verify checks one output, and this config has " +
+                       std::to_string(configs.size()) + " virtual cameras");
     if (!line.action.empty()) {
-      const Scene scene = loadScene(config);
-      if (tool.validate) tool.validate(config, scene);
+      // Every virtual camera's scene is loaded and planned before anything is printed.
+      std::vector<Scene> scenes;
+      for (const Config& config : configs) {
+        scenes.push_back(loadScene(config));
+        if (tool.validate) tool.validate(config, scenes.back());
+      }
       if (line.action == "--print-config") {
-        std::fputs(configJson(tool.name, config, scene).c_str(), stdout);
+        if (configs.size() > 1) std::fputs("[\n", stdout);
+        for (size_t k = 0; k < configs.size(); ++k) {
+          if (k) std::fputs(",\n", stdout);
+          std::fputs(configJson(tool.name, configs[k], scenes[k]).c_str(), stdout);
+        }
+        if (configs.size() > 1) std::fputs("]\n", stdout);
         return 0;
       }
-      printConfigCheck(tool.name, line.positional[0], config, scene);
-      // --check also opens every input (type, format, whole frames) and checks every output name, as
-      // the run does before frame 0; after the printout, so that a refusal follows what was read.
-      for (const std::string& warning : checkInputs(scene)) std::printf("warning: %s\n", warning.c_str());
-      checkOutputs(scene, tool.extraOutputs ? tool.extraOutputs(config, scene) : std::vector<NamedOutput>{});
-      std::printf("input files OK\n");
+      for (size_t k = 0; k < configs.size(); ++k) {
+        const Config& config = configs[k];
+        const Scene& scene = scenes[k];
+        if (configs.size() > 1)
+          std::printf("virtual camera %zu of %zu: %s\n", k + 1, configs.size(), scene.settings.virtualCameraName.c_str());
+        printConfigCheck(tool.name, line.positional[0], config, scene);
+        // --check also opens every input (type, format, whole frames) and checks every output name, as
+        // the run does before frame 0; after the printout, so that a refusal follows what was read.
+        for (const std::string& warning : checkInputs(scene)) std::printf("warning: %s\n", warning.c_str());
+        checkOutputs(scene, tool.extraOutputs ? tool.extraOutputs(config, scene) : std::vector<NamedOutput>{});
+        std::printf("input files OK\n");
+      }
       if (tool.describe) tool.describe(stdout);
       std::printf("configuration OK\n");
       return 0;
     }
-    tool.run(config);
+    for (const Config& config : configs) tool.run(config);
+    const Config& config = configs[0];
     if (!line.has("--verify")) return 0;
     // As dav1d's --verify: the digest of the whole output file, compared without regard to case.
     const std::string output = config.getPath("OutputVirtualViewImageName");

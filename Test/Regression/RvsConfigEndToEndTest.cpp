@@ -1,0 +1,166 @@
+// RVS synthesis configs end to end with the executables: a SceneGen scene written out as an RVS config
+// and an MPEG-I camera JSON gives, byte for byte, what the same scene gives from a VSRS config; a pose
+// trace moves the virtual camera frame by frame exactly as a fixed camera at each pose would.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "Common/CameraFile.h"
+#include "Common/CameraJson.h"
+#include "Common/Config.h"
+#include "Common/Options.h"
+#include "Process.h"
+#include "TestPaths.h"
+
+namespace vs {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string readBytes(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream bytes;
+  bytes << in.rdbuf();
+  return bytes.str();
+}
+
+double meanPsnrY(const std::string& output) {
+  const size_t at = output.find("mean PSNR: Y ");
+  return at == std::string::npos ? -1 : std::stod(output.substr(at + 13));
+}
+
+struct Rig {
+  fs::path dir;
+  int width = 0, height = 0;
+  std::string znear, zfar;
+  size_t frameBytes() const { return size_t(width) * size_t(height) * 3 / 2; }
+};
+
+// SceneGen's tiny scene seen by five cameras of a parallel rig, two frames, and its cameras as MPEG-I
+// JSON (cameras.json) beside the VSRS text file.
+Rig makeRig(const std::string& name) {
+  Rig rig;
+  const fs::path scratch = test::scratchDir(name);
+  rig.dir = scratch / "rig";
+  const test::ToolResult made = test::runTool(
+      "SceneGen", "Scene=tiny CameraCount=5 TotalNumberOfFrames=2 OutputFolder=" + test::quoted(rig.dir.string()), scratch);
+  EXPECT_EQ(made.exitCode, 0) << made.err;
+  const Config generated = Config::load(viewSynOptionTable(), (rig.dir / "viewsyn_cam2.cfg").string(), {});
+  rig.width = int(generated.getInt("SourceWidth"));
+  rig.height = int(generated.getInt("SourceHeight"));
+  rig.znear = generated.raw("LeftNearestDepthValue");
+  rig.zfar = generated.raw("LeftFarthestDepthValue");
+  const CameraFile cameras = readCameraFile((rig.dir / "cameras.txt").string());
+  CameraInfo info;
+  info.width = rig.width;
+  info.height = rig.height;
+  info.hasDepthRange = true;
+  info.znear = generated.getDouble("LeftNearestDepthValue");
+  info.zfar = generated.getDouble("LeftFarthestDepthValue");
+  info.bitDepthColor = 8;
+  info.bitDepthDepth = 8;
+  info.colorSpace = info.depthColorSpace = "YUV420";
+  writeCameraJson((rig.dir / "cameras.json").string(), cameras.cameras(),
+                  std::vector<CameraInfo>(cameras.cameras().size(), info));
+  return rig;
+}
+
+// A VSRS config synthesizing `virtualCamera` from cam0 and cam4 as RVS would: general path, half-pel
+// precision, depth level 0 meaning "no depth".
+std::string vsrsConfig(const Rig& rig, const std::string& virtualCamera, const std::string& output) {
+  return "SourceWidth " + std::to_string(rig.width) + "\nSourceHeight " + std::to_string(rig.height) +
+         "\nStartFrame 0\nTotalNumberOfFrames 2\nCameraParameterFile cameras.txt\nVirtualCameraName " + virtualCamera +
+         "\nReferenceCameraNames cam0,cam4\nReferenceViewImageNames texture_cam0.yuv,texture_cam4.yuv"
+         "\nReferenceDepthMapNames depth_cam0.yuv,depth_cam4.yuv\nReferenceNearestDepthValues " + rig.znear + "," +
+         rig.znear + "\nReferenceFarthestDepthValues " + rig.zfar + "," + rig.zfar +
+         "\nReferenceVirtualViewImageName texture_" + virtualCamera + ".yuv\nSynthesisMode 0\nPrecision 2"
+         "\nMissingDepthLevel 0\nColorSpace 0\nOutputVirtualViewImageName " + output + "\n";
+}
+
+// The same as an RVS config; names are relative to the working folder (the rig), as RVS has them.
+std::string rvsConfig(const std::vector<std::string>& virtualCameras, const std::vector<std::string>& outputs,
+                      const std::string& extra = "", int startFrame = 0, int frames = 2) {
+  auto list = [](const std::vector<std::string>& items) {
+    std::string out = "[";
+    for (size_t k = 0; k < items.size(); ++k) out += (k ? ", \"" : "\"") + items[k] + "\"";
+    return out + "]";
+  };
+  return "{\n  \"Version\": \"4.0\",\n  \"InputCameraParameterFile\": \"cameras.json\",\n"
+         "  \"VirtualCameraParameterFile\": \"cameras.json\",\n  \"InputCameraNames\": [\"cam0\", \"cam4\"],\n"
+         "  \"VirtualCameraNames\": " + list(virtualCameras) + ",\n"
+         "  \"ViewImageNames\": [\"texture_cam0.yuv\", \"texture_cam4.yuv\"],\n"
+         "  \"DepthMapNames\": [\"depth_cam0.yuv\", \"depth_cam4.yuv\"],\n  \"OutputFiles\": " + list(outputs) + ",\n"
+         "  \"StartFrame\": " + std::to_string(startFrame) + ",\n  \"NumberOfFrames\": " + std::to_string(frames) + ",\n"
+         "  \"Precision\": 2.0,\n  \"ColorSpace\": \"YUV\",\n  \"ViewSynthesisMethod\": \"Triangles\",\n"
+         "  \"BlendingMethod\": \"Simple\",\n  \"BlendingFactor\": 5.0" + extra + "\n}\n";
+}
+
+TEST(RvsConfigEndToEnd, AnRvsConfigGivesTheVsrsConfigsPictureByteForByte) {
+  const Rig rig = makeRig("rvs_end_to_end");
+  const fs::path scratch = rig.dir.parent_path();
+  // Two virtual cameras in one RVS config: one output each, in one run. The config lives in a
+  // subfolder: its names are relative to the working folder, not to it.
+  fs::create_directories(rig.dir / "rvs");
+  std::ofstream(rig.dir / "rvs" / "synthesis.json") << rvsConfig({"cam2", "cam1"}, {"rvs_cam2.yuv", "rvs_cam1.yuv"});
+  const test::ToolResult rvs = test::runTool("ViewSyn", "rvs/synthesis.json", scratch, rig.dir);
+  ASSERT_EQ(rvs.exitCode, 0) << rvs.out << rvs.err;
+  for (const std::string camera : {"cam2", "cam1"}) {
+    std::ofstream(rig.dir / ("vsrs_" + camera + ".cfg")) << vsrsConfig(rig, camera, "vsrs_" + camera + ".yuv");
+    const test::ToolResult vsrs = test::runTool("ViewSyn", "vsrs_" + camera + ".cfg", scratch, rig.dir);
+    ASSERT_EQ(vsrs.exitCode, 0) << vsrs.err;
+    // A real synthesis, not a copy nor an empty picture: close to SceneGen's exact render.
+    EXPECT_GT(meanPsnrY(vsrs.out), 25) << vsrs.out;
+    const std::string fromRvs = readBytes(rig.dir / ("rvs_" + camera + ".yuv"));
+    ASSERT_EQ(fromRvs.size(), 2 * rig.frameBytes()) << camera;
+    EXPECT_TRUE(fromRvs == readBytes(rig.dir / ("vsrs_" + camera + ".yuv"))) << camera;
+  }
+  // --check passes on it from the rig folder, naming both virtual cameras.
+  const test::ToolResult check = test::runTool("ViewSyn", "--check rvs/synthesis.json", scratch, rig.dir);
+  EXPECT_EQ(check.exitCode, 0) << check.err;
+  EXPECT_NE(check.out.find("virtual camera 2 of 2: cam1"), std::string::npos) << check.out;
+  // From another folder the same names do not resolve (RVS's rule), and the message names them.
+  const test::ToolResult elsewhere = test::runTool("ViewSyn", "--check rig/rvs/synthesis.json", scratch, scratch);
+  EXPECT_EQ(elsewhere.exitCode, 1);
+  EXPECT_NE(elsewhere.err.find("cameras.json"), std::string::npos) << elsewhere.err;
+}
+
+TEST(RvsConfigEndToEnd, APoseTraceMovesTheVirtualCameraFrameByFrame) {
+  const Rig rig = makeRig("rvs_pose_trace");
+  const fs::path scratch = rig.dir.parent_path();
+  // cam2 sits at the origin with no rotation: a pose is then the camera's absolute position and angles.
+  struct Row {
+    double x, y, z, yaw, pitch, roll;
+  };
+  const std::vector<Row> rows = {{0.0, 0.05, 0.0, 3.0, 0.0, 0.0}, {0.1, -0.04, 0.02, -2.0, 1.5, 1.0}};
+  std::ofstream trace(rig.dir / "trace.csv");
+  trace << "X, Y, Z, Yaw, Pitch, Roll\n";
+  for (const Row& r : rows) trace << r.x << ", " << r.y << ", " << r.z << ", " << r.yaw << ", " << r.pitch << ", " << r.roll << "\n";
+  trace.close();
+  std::ofstream(rig.dir / "traced.json") << rvsConfig({"cam2"}, {"traced.yuv"}, ",\n  \"VirtualPoseTraceName\": \"trace.csv\"");
+  const test::ToolResult traced = test::runTool("ViewSyn", "traced.json", scratch, rig.dir);
+  ASSERT_EQ(traced.exitCode, 0) << traced.err;
+  std::ofstream(rig.dir / "still.json") << rvsConfig({"cam2"}, {"still.yuv"});
+  ASSERT_EQ(test::runTool("ViewSyn", "still.json", scratch, rig.dir).exitCode, 0);
+  const std::string tracedBytes = readBytes(rig.dir / "traced.yuv"), still = readBytes(rig.dir / "still.yuv");
+  ASSERT_EQ(tracedBytes.size(), 2 * rig.frameBytes());
+  for (size_t f = 0; f < rows.size(); ++f) {
+    // The same frame with the camera fixed at that pose (VirtualOverrides), on its own.
+    const Row& r = rows[f];
+    std::ostringstream overrides;
+    overrides << ",\n  \"VirtualOverrides\": {\"Position\": [" << r.x << ", " << r.y << ", " << r.z << "], \"Rotation\": ["
+              << r.yaw << ", " << r.pitch << ", " << r.roll << "]}";
+    const std::string name = "fixed" + std::to_string(f);
+    std::ofstream(rig.dir / (name + ".json")) << rvsConfig({"cam2"}, {name + ".yuv"}, overrides.str(), int(f), 1);
+    const test::ToolResult fixed = test::runTool("ViewSyn", name + ".json", scratch, rig.dir);
+    ASSERT_EQ(fixed.exitCode, 0) << fixed.err;
+    const std::string tracedFrame = tracedBytes.substr(f * rig.frameBytes(), rig.frameBytes());
+    EXPECT_TRUE(tracedFrame == readBytes(rig.dir / (name + ".yuv"))) << "frame " << f;
+    // And the pose did move the camera: the frame differs from the unmoved camera's.
+    EXPECT_FALSE(tracedFrame == still.substr(f * rig.frameBytes(), rig.frameBytes())) << "frame " << f;
+  }
+}
+
+}  // namespace
+}  // namespace vs
