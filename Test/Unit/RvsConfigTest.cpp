@@ -93,6 +93,7 @@ struct RvsFixture : ::testing::Test {
 TEST(RvsConfig, RecognisedByContentNotByName) {
   EXPECT_TRUE(looksLikeJsonConfig("{}"));
   EXPECT_TRUE(looksLikeJsonConfig("\xEF\xBB\xBF \r\n\t{\"a\": 1}"));
+  EXPECT_TRUE(looksLikeJsonConfig("[1, 2]"));  // JSON, refused later as not an object
   EXPECT_FALSE(looksLikeJsonConfig("SourceWidth 1024\n"));
   EXPECT_FALSE(looksLikeJsonConfig("# {\n"));
   EXPECT_FALSE(looksLikeJsonConfig(""));

@@ -309,7 +309,7 @@ std::string chromaOf(const std::string& colorSpace) {
 bool looksLikeJsonConfig(const std::string& text) {
   size_t k = text.compare(0, 3, "\xEF\xBB\xBF") == 0 ? 3 : 0;
   while (k < text.size() && (text[k] == ' ' || text[k] == '\t' || text[k] == '\r' || text[k] == '\n')) ++k;
-  return k < text.size() && text[k] == '{';
+  return k < text.size() && (text[k] == '{' || text[k] == '[');
 }
 
 std::vector<std::vector<TranslatedSetting>> translateRvsConfig(const std::string& text, const std::string& path,

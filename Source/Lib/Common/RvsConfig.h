@@ -21,8 +21,8 @@ namespace vs {
 
 class OptionTable;
 
-// True when `text` is a JSON object: its first byte that is not blank (after a UTF-8 BOM) is '{'. A
-// VSRS config cannot start so (a key is a word).
+// True when `text` is JSON: its first byte that is not blank (after a UTF-8 BOM) is '{' or '['. A
+// VSRS config cannot start so (a key is a word); an array is then refused as not an RVS config.
 bool looksLikeJsonConfig(const std::string& text);
 
 // One of our keys with its value and where it came from ("rvs.json:12"); `baseDir` is the folder a
