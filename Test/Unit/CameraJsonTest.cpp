@@ -121,7 +121,7 @@ TEST(CameraJson, ErrorsNameFileLineAndField) {
                   "\"Principle_point\": [0,0]}]}")
                 .find("focal"),
             std::string::npos);
-  EXPECT_NE(error(R"({"cameras": [{"Name": "v", "Projection": "Equirectangular"}]})").find("only \"Perspective\""),
+  EXPECT_NE(error(R"({"cameras": [{"Name": "v", "Projection": "Fisheye"}]})").find("expected \"Perspective\" or \"Equirectangular\""),
             std::string::npos);
   EXPECT_NE(error("{\"cameras\": [\n\n{\"Name\": 3}").find("bad.json:3:"), std::string::npos);
   EXPECT_NE(error("{\"cameras\": [1e999]}").find("not a finite number"), std::string::npos);

@@ -22,7 +22,33 @@ Vec3 Camera::worldToCamera(const Vec3& X) const { return R * (X - t); }
 
 Vec3 Camera::cameraToWorld(const Vec3& xc) const { return inverse(R) * xc + t; }
 
+namespace {
+
+constexpr double kRadians = M_PI / 180.0;
+
+// Longitude of pixel column u and latitude of row v (radians), and back.
+double longitudeOf(const EquirectangularRange& e, double u) {
+  return (e.lonMax - (u + 0.5) * (e.lonMax - e.lonMin) / e.width) * kRadians;
+}
+double latitudeOf(const EquirectangularRange& e, double v) {
+  return (e.latMax - (v + 0.5) * (e.latMax - e.latMin) / e.height) * kRadians;
+}
+
+}  // namespace
+
+Vec3 Camera::rayCamera(double u, double v) const {
+  if (isEquirectangular()) {
+    const double phi = longitudeOf(erp, u), theta = latitudeOf(erp, v);
+    const double c = std::cos(theta);
+    return {-c * std::sin(phi), -std::sin(theta), c * std::cos(phi)};
+  }
+  return pixelToCamera(u, v, 1.0);
+}
+
+double Camera::depthOf(const Vec3& xc) const { return isEquirectangular() ? norm(xc) : xc.z; }
+
 Vec3 Camera::pixelToCamera(double u, double v, double zCam) const {
+  if (isEquirectangular()) return rayCamera(u, v) * zCam;
   // Solve the upper 2x2 block of K for the normalised coordinates (xn, yn) of the ray z = 1; the last
   // row of K is (0, 0, 1) (validateCamera). The usual K has K[1][0] = 0, which keeps this exact-ish.
   const double p = u - K[0][2];
@@ -41,6 +67,20 @@ Vec3 Camera::pixelToCamera(double u, double v, double zCam) const {
 }
 
 bool Camera::cameraToPixel(const Vec3& xc, double& u, double& v) const {
+  if (isEquirectangular()) {
+    const double horizontal = std::hypot(xc.x, xc.z);
+    if (!(horizontal > 0.0 || xc.y != 0.0)) return false;  // the centre itself (or NaN)
+    const double phi = std::atan2(-xc.x, xc.z), theta = std::atan2(-xc.y, horizontal);
+    const double span = (erp.lonMax - erp.lonMin) * kRadians;
+    // Longitude measured from the left edge, taken within half a turn of the range's middle: [0, 2 pi)
+    // for a full circle, so that the wrap lies exactly at the picture's edges.
+    double fromLeft = erp.lonMax * kRadians - phi;
+    const double low = 0.5 * span - M_PI;
+    fromLeft -= 2.0 * M_PI * std::floor((fromLeft - low) / (2.0 * M_PI));
+    u = fromLeft * erp.width / span - 0.5;
+    v = (erp.latMax * kRadians - theta) * erp.height / ((erp.latMax - erp.latMin) * kRadians) - 0.5;
+    return std::isfinite(u) && std::isfinite(v);
+  }
   if (!(xc.z > 0.0)) return false;
   const double xn = xc.x / xc.z;
   const double yn = xc.y / xc.z;
@@ -51,14 +91,14 @@ bool Camera::cameraToPixel(const Vec3& xc, double& u, double& v) const {
 
 bool Camera::project(const Vec3& X, double& u, double& v, double& zCam) const {
   const Vec3 xc = worldToCamera(X);
-  zCam = xc.z;
+  zCam = depthOf(xc);
   return cameraToPixel(xc, u, v);
 }
 
 Vec3 Camera::backProject(double u, double v, double zCam) const { return cameraToWorld(pixelToCamera(u, v, zCam)); }
 
 Vec3 Camera::rayDirectionWorld(double u, double v) const {
-  const Vec3 d = inverse(R) * pixelToCamera(u, v, 1.0);
+  const Vec3 d = inverse(R) * rayCamera(u, v);
   return d / norm(d);
 }
 
@@ -90,6 +130,18 @@ void validateCamera(const Camera& camera, const std::string& where, std::vector<
       throw InputError(at + "t[" + std::to_string(i) + "] (the camera centre) is " + formatNumber("%g", camera.t[i]) +
                        ", expected a coordinate within +-1e100 (distances between cameras would overflow)");
 
+  if (camera.isEquirectangular()) {
+    const EquirectangularRange& e = camera.erp;
+    const std::string range = "Hor_range [" + formatNumber("%g", e.lonMin) + ", " + formatNumber("%g", e.lonMax) +
+                              "], Ver_range [" + formatNumber("%g", e.latMin) + ", " + formatNumber("%g", e.latMax) + "]";
+    if (!(e.width > 0 && e.height > 0))
+      throw InputError(at + "an equirectangular camera needs its Resolution (width and height in pixels)");
+    if (!(std::isfinite(e.lonMin) && std::isfinite(e.lonMax) && e.lonMin < e.lonMax && e.lonMax - e.lonMin <= 360.0 &&
+          std::fabs(e.lonMin) <= 360.0 && std::fabs(e.lonMax) <= 360.0))
+      throw InputError(at + range + ": expected a longitude range min < max spanning at most 360 degrees, within +-360");
+    if (!(e.latMin >= -90.0 && e.latMin < e.latMax && e.latMax <= 90.0))
+      throw InputError(at + range + ": expected a latitude range -90 <= min < max <= 90 degrees");
+  }
   const Mat3& K = camera.K;
   if (!(K[0][0] > 0.0))
     throw InputError(at + "focal length fx = K[0][0] = " + formatNumber("%.17g", K[0][0]) +

@@ -292,6 +292,9 @@ void writeCameraFile(const std::string& path, const std::vector<Camera>& cameras
     if (tokens.size() != 1 || tokens[0] != camera.name)
       throw InputError("cannot write camera file '" + path + "': camera name '" + camera.name +
                        "' is not one token without spaces or '#'");
+    if (camera.isEquirectangular())
+      throw InputError("cannot write camera file '" + path + "': camera '" + camera.name +
+                       "' is equirectangular, and the VSRS text format holds pinhole cameras only (write MPEG-I JSON)");
     bool finite = isFinite(camera.K) && isFinite(camera.R) && isFinite(camera.t) &&
                   std::isfinite(camera.distortion[0]) && std::isfinite(camera.distortion[1]);
     if (!finite)

@@ -61,7 +61,8 @@ CameraFile parseCameraText(const std::string& text, const std::string& sourceNam
 
 // Writes the cameras in the VSRS 4.x layout (R world to camera) with the shortest decimal form that
 // reads back to the identical double, so write -> read is exact. Throws InputError when the file
-// cannot be written, a name is not one token free of '#', or a number is not finite.
+// cannot be written, a name is not one token free of '#', a number is not finite, or a camera is
+// equirectangular (the VSRS format knows pinhole cameras only; MPEG-I JSON holds both).
 void writeCameraFile(const std::string& path, const std::vector<Camera>& cameras);
 
 // One camera block exactly as writeCameraFile writes it (name line, then 8 lines of numbers), for

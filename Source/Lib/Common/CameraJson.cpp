@@ -136,20 +136,32 @@ CameraFile parseCameraJson(const std::string& text, const std::string& source) {
     for (const Camera& other : cameras)
       if (other.name == camera.name) reader.fail(nameValue, "camera name '" + camera.name + "' appears twice");
     const std::string projection = reader.text("Projection");
-    if (!projection.empty() && projection != "Perspective")
-      reader.fail(entry, "camera '" + camera.name + "' has Projection \"" + projection +
-                             "\"; only \"Perspective\" cameras can be synthesized");
+    if (!projection.empty() && projection != "Perspective" && projection != "Equirectangular")
+      reader.fail(*entry.find("Projection"), "camera '" + camera.name + "' has Projection \"" + projection +
+                                                 "\"; expected \"Perspective\" or \"Equirectangular\"");
     const std::vector<double> position = reader.numbers("Position", 3);
     const std::vector<double> rotation = reader.numbers("Rotation", 3);
-    const std::vector<double> focal = reader.numbers("Focal", 2);
-    const std::vector<double> principal = reader.numbers("Principle_point", 2);
     camera.t = axisPermutation() * Vec3(position[0], position[1], position[2]);
     camera.R = rotationFromYawPitchRoll(rotation[0], rotation[1], rotation[2]);
     camera.K = Mat3::identity();
-    camera.K[0][0] = focal[0];
-    camera.K[1][1] = focal[1];
-    camera.K[0][2] = principal[0] - 0.5;
-    camera.K[1][2] = principal[1] - 0.5;
+    if (projection == "Equirectangular") {
+      // Angles and picture size; no focal length or principal point (K stays the identity).
+      camera.projection = Projection::Equirectangular;
+      const std::vector<double> horizontal = reader.numbers("Hor_range", 2);
+      const std::vector<double> vertical = reader.numbers("Ver_range", 2);
+      camera.erp.lonMin = horizontal[0];
+      camera.erp.lonMax = horizontal[1];
+      camera.erp.latMin = vertical[0];
+      camera.erp.latMax = vertical[1];
+      reader.member("Resolution");  // required: the angles of a pixel depend on it
+    } else {
+      const std::vector<double> focal = reader.numbers("Focal", 2);
+      const std::vector<double> principal = reader.numbers("Principle_point", 2);
+      camera.K[0][0] = focal[0];
+      camera.K[1][1] = focal[1];
+      camera.K[0][2] = principal[0] - 0.5;
+      camera.K[1][2] = principal[1] - 0.5;
+    }
     if (entry.find("Resolution")) {
       const std::vector<double> resolution = reader.numbers("Resolution", 2);
       for (double r : resolution)
@@ -157,6 +169,8 @@ CameraFile parseCameraJson(const std::string& text, const std::string& source) {
           reader.fail(*entry.find("Resolution"), "camera '" + camera.name + "' \"Resolution\" must hold two integers in 1..65536");
       info.width = int(resolution[0]);
       info.height = int(resolution[1]);
+      camera.erp.width = camera.isEquirectangular() ? info.width : 0;
+      camera.erp.height = camera.isEquirectangular() ? info.height : 0;
     }
     if (entry.find("Depth_range")) {
       const std::vector<double> range = reader.numbers("Depth_range", 2, true);
@@ -192,20 +206,25 @@ void writeCameraJson(const std::string& path, const std::vector<Camera>& cameras
   for (size_t k = 0; k < cameras.size(); ++k) {
     const Camera& c = cameras[k];
     const CameraInfo& i = info[k];
-    if (c.K[0][1] != 0 || c.K[1][0] != 0 || c.K[2][0] != 0 || c.K[2][1] != 0 || c.K[2][2] != 1)
+    if (!c.isEquirectangular() && (c.K[0][1] != 0 || c.K[1][0] != 0 || c.K[2][0] != 0 || c.K[2][1] != 0 || c.K[2][2] != 1))
       throw InputError(path + ": camera '" + c.name + "' has skew or a K the JSON format cannot hold");
     const Vec3 position = transpose(p) * c.t;
     double yaw, pitch, roll;
     yawPitchRollFromRotation(c.R, yaw, pitch, roll);
     auto pair = [](double a, double b) { return "[" + jsonNumber(a) + ", " + jsonNumber(b) + "]"; };
     out << (k ? ",\n" : "\n") << "    {\n      \"Name\": " << jsonString(c.name) << ",\n"
-        << "      \"Projection\": \"Perspective\",\n"
+        << "      \"Projection\": \"" << (c.isEquirectangular() ? "Equirectangular" : "Perspective") << "\",\n"
         << "      \"Position\": [" << jsonNumber(position.x) << ", " << jsonNumber(position.y) << ", "
         << jsonNumber(position.z) << "],\n"
-        << "      \"Rotation\": [" << jsonNumber(yaw) << ", " << jsonNumber(pitch) << ", " << jsonNumber(roll) << "],\n"
-        << "      \"Focal\": " << pair(c.K[0][0], c.K[1][1]) << ",\n"
-        << "      \"Principle_point\": " << pair(c.K[0][2] + 0.5, c.K[1][2] + 0.5);
-    if (i.width > 0) out << ",\n      \"Resolution\": [" << i.width << ", " << i.height << "]";
+        << "      \"Rotation\": [" << jsonNumber(yaw) << ", " << jsonNumber(pitch) << ", " << jsonNumber(roll) << "],\n";
+    if (c.isEquirectangular())
+      out << "      \"Hor_range\": " << pair(c.erp.lonMin, c.erp.lonMax) << ",\n"
+          << "      \"Ver_range\": " << pair(c.erp.latMin, c.erp.latMax) << ",\n"
+          << "      \"Resolution\": [" << c.erp.width << ", " << c.erp.height << "]";
+    else
+      out << "      \"Focal\": " << pair(c.K[0][0], c.K[1][1]) << ",\n"
+          << "      \"Principle_point\": " << pair(c.K[0][2] + 0.5, c.K[1][2] + 0.5);
+    if (i.width > 0 && !c.isEquirectangular()) out << ",\n      \"Resolution\": [" << i.width << ", " << i.height << "]";
     if (i.hasDepthRange) out << ",\n      \"Depth_range\": " << pair(i.znear, i.zfar);
     if (i.bitDepthColor > 0) out << ",\n      \"BitDepthColor\": " << i.bitDepthColor;
     if (i.bitDepthDepth > 0) out << ",\n      \"BitDepthDepth\": " << i.bitDepthDepth;

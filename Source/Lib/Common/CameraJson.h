@@ -12,6 +12,9 @@
 // Rx(roll) maps camera to world. Ours (../shared/DESIGN.md) are x right, y down, z forward with R
 // world to camera. With P the axis permutation (ours = P omaf: x = -y', y = -z', z = x'):
 //   R = P R_omaf^T P^T,   t = P Position.
+// An equirectangular camera has "Projection": "Equirectangular", "Hor_range": [lonMin, lonMax] and
+// "Ver_range": [latMin, latMax] (degrees) and a required "Resolution" instead of Focal and
+// Principle_point (Camera.h gives the pixel <-> ray mapping; its Depth_range is a distance along rays).
 // Its pixel coordinates put the top-left pixel's corner at (0, 0), so its centre is (0.5, 0.5);
 // ours put that centre at (0, 0): cx = Principle_point x - 0.5, likewise cy.
 #include <string>
