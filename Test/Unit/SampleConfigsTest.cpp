@@ -256,7 +256,8 @@ TEST(SampleConfigs, EveryRvsCameraFileListsItsCamerasThroughCheck) {
     if (result.err.find("Projection \"Equirectangular\"") != std::string::npos) continue;  // not read yet (issue 26)
     EXPECT_NE(result.err.find("camera 'no_such_camera' named by VirtualCameraName is not in the file"), std::string::npos)
         << result.err;
-    for (const JsonValue& camera : readJson(rvs / cameras).find("cameras")->items)
+    const JsonValue document = readJson(rvs / cameras);
+    for (const JsonValue& camera : document.find("cameras")->items)
       EXPECT_NE(result.err.find(camera.find("Name")->text), std::string::npos) << file << " " << camera.find("Name")->text;
   }
 }

@@ -110,6 +110,17 @@ Plan makePlan(const Scene& scene, Tool tool) {
     throw InputError("OutputVirtualDepthMapName '" + s.virtualDepthPath +
                      "': MeshRender cannot write the virtual view's depth (ViewSyn can); remove the key or set it to -");
   plan.virtualDepthOutput = !s.virtualDepthPath.empty();
+  // Interim guard (h-rvs, issue 26): the camera model reads equirectangular cameras, but no renderer
+  // maps them yet; until the ERP warp lands (h-erp replaces this), they are refused, not mis-drawn.
+  for (const Camera* camera : [&] {
+         std::vector<const Camera*> all{&scene.virtualCamera};
+         for (const ReferenceView& view : s.references) all.push_back(&view.camera);
+         return all;
+       }())
+    if (camera->isEquirectangular())
+      throw InputError("camera '" + camera->name + "' is equirectangular (Projection \"Equirectangular\"): " +
+                       std::string(tool == Tool::MeshRender ? "MeshRender" : "ViewSyn") +
+                       " cannot synthesize from or to it yet (issue 26); only perspective cameras");
 
   for (size_t k = 0; k < s.references.size() && tool == Tool::ViewSyn; ++k)
     if (sameCamera(s.references[k].camera, scene.virtualCamera)) {
