@@ -10,6 +10,7 @@
 #include "Common/CameraFile.h"
 #include "Common/CameraJson.h"
 #include "Common/Config.h"
+#include "Common/Json.h"
 #include "Common/Options.h"
 #include "Process.h"
 #include "TestPaths.h"
@@ -120,6 +121,12 @@ TEST(RvsConfigEndToEnd, AnRvsConfigGivesTheVsrsConfigsPictureByteForByte) {
   const test::ToolResult check = test::runTool("ViewSyn", "--check rvs/synthesis.json", scratch, rig.dir);
   EXPECT_EQ(check.exitCode, 0) << check.err;
   EXPECT_NE(check.out.find("virtual camera 2 of 2: cam1"), std::string::npos) << check.out;
+  // --print-config gives one JSON document per virtual camera, as an array.
+  const test::ToolResult printed = test::runTool("ViewSyn", "--print-config rvs/synthesis.json", scratch, rig.dir);
+  ASSERT_EQ(printed.exitCode, 0) << printed.err;
+  const JsonValue documents = parseJson(printed.out, "--print-config");
+  ASSERT_EQ(documents.type, JsonValue::Type::Array);
+  EXPECT_EQ(documents.items.size(), 2u);
   // From another folder the same names do not resolve (RVS's rule), and the message names them.
   const test::ToolResult elsewhere = test::runTool("ViewSyn", "--check rig/rvs/synthesis.json", scratch, scratch);
   EXPECT_EQ(elsewhere.exitCode, 1);

@@ -71,7 +71,8 @@ std::string baseConfig(const std::string& extra = "") {
 }
 
 struct RvsFixture : ::testing::Test {
-  fs::path dir = test::scratchDir("rvs_config");
+  // One folder per test: ctest runs the tests of this fixture side by side.
+  fs::path dir = test::scratchDir(std::string("rvs_config_") + ::testing::UnitTest::GetInstance()->current_test_info()->name());
   fs::path config = dir / "configs" / "rvs.json";  // in a subfolder: names are not relative to it
   void SetUp() override {
     fs::create_directories(dir / "cams");
