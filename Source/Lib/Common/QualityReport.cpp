@@ -64,7 +64,7 @@ void QualityReport::score(const Frame& truth, const Frame& output) {
     if (hasChroma_) values.push_back(q.yuv);
   };
   if (ivpsnr_) values.push_back(ivPsnr(truth, output).ivpsnr);
-  if (wspsnr_) addPlanes(wsPsnr(truth, output));
+  if (wspsnr_) addPlanes(wsPsnr(truth, output, latitudeRangeDeg_));
   if (ssim_) addPlanes(ssim(truth, output));
   if (msssim_) addPlanes(msSsim(truth, output));
   last_ = values;

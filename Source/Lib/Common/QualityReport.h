@@ -17,6 +17,9 @@ public:
 
   QualityReport(const std::vector<std::string>& metrics, bool hasChroma);
   bool empty() const { return keys_.empty(); }
+  // The latitude range (degrees, centred on the equator) of the equirectangular pictures WS-PSNR scores:
+  // an ERP virtual camera's Ver_range span; 180 (the whole sphere) unless set.
+  void setLatitudeRange(double degrees) { latitudeRangeDeg_ = degrees; }
   // CSV column names, each preceded by a comma ("" when empty()).
   std::string csvHeader() const;
   // Scores one frame; then csvCells() (each value preceded by a comma) and logText() describe it.
@@ -37,6 +40,7 @@ public:
 
 private:
   bool ivpsnr_ = false, wspsnr_ = false, ssim_ = false, msssim_ = false, hasChroma_ = true;
+  double latitudeRangeDeg_ = 180.0;
   std::vector<std::string> keys_;  // ivpsnr, wspsnr_y, ..., ssim_yuv, msssim_y, ...
   std::vector<bool> decibel_;
   std::vector<double> last_, sum_;

@@ -1,5 +1,6 @@
 #include "Common/Scene.h"
 
+#include <algorithm>
 #include <cctype>
 #include <cstdio>
 #include <filesystem>
@@ -336,6 +337,11 @@ Scene loadScene(const Config& config) {
   }
   lookUpIn(virtualCameras, "VirtualCameraName", s.virtualCameraName, scene.virtualCamera);
   const bool virtualKnown = virtualCameras.contains(s.virtualCameraName);
+  // An equirectangular output is scored with WS-PSNR as well (its rows do not cover equal areas of the
+  // sphere), whether or not QualityMetrics names it.
+  if (scene.virtualCamera.isEquirectangular() && !s.referenceViewPath.empty() &&
+      std::find(s.qualityMetrics.begin(), s.qualityMetrics.end(), "wspsnr") == s.qualityMetrics.end())
+    s.qualityMetrics.push_back("wspsnr");
   if (!s.virtualDepthRangeSet && !s.references.empty()) {
     const bool jsonRange = virtualKnown && virtualCameras.info(s.virtualCameraName).hasDepthRange;
     s.virtualDepthRange = s.references[0].depthRange;
@@ -376,6 +382,11 @@ std::string describeCameras(const Scene& scene) {
                   c.K[2][1], c.K[2][2], c.R[0][0], c.R[0][1], c.R[0][2], c.R[1][0], c.R[1][1], c.R[1][2], c.R[2][0],
                   c.R[2][1], c.R[2][2], c.t.x, c.t.y, c.t.z);
     out << line;
+    if (c.isEquirectangular()) {
+      std::snprintf(line, sizeof line, "  equirectangular %dx%d: longitude %.10g to %.10g, latitude %.10g to %.10g deg (K unused)\n",
+                    c.erp.width, c.erp.height, c.erp.lonMin, c.erp.lonMax, c.erp.latMin, c.erp.latMax);
+      out << line;
+    }
   };
   const SynthesisSettings& s = scene.settings;
   const bool leftRight = !s.references.empty() && s.references[0].label == "Left";

@@ -33,6 +33,8 @@ RunSummary runSequence(const std::string& toolName, const Scene& scene, FrameRen
   // Metrics besides PSNR against the reference view (QualityMetrics, doc/metrics.md).
   QualityReport quality(s.referenceViewPath.empty() ? std::vector<std::string>{} : s.qualityMetrics,
                         s.textureFormat.chroma != ChromaFormat::Yuv400);
+  if (scene.virtualCamera.isEquirectangular())
+    quality.setLatitudeRange(scene.virtualCamera.erp.latMax - scene.virtualCamera.erp.latMin);
   Frame output;
   int64_t leastCovered = -1, leastCoveredFrame = 0;  // samples warped from any view, in the worst frame
   for (int64_t f = 0; f < inputs.available(); ++f) try {

@@ -60,17 +60,18 @@ CommandLineTool synthesisCommandLine(const SynthesisTool& tool) {
         return 0;
       }
       for (size_t k = 0; k < configs.size(); ++k) {
-        const Config& config = configs[k];
-        const Scene& scene = scenes[k];
         if (configs.size() > 1)
-          std::printf("virtual camera %zu of %zu: %s\n", k + 1, configs.size(), scene.settings.virtualCameraName.c_str());
-        printConfigCheck(tool.name, line.positional[0], config, scene);
-        // --check also opens every input (type, format, whole frames) and checks every output name, as
-        // the run does before frame 0; after the printout, so that a refusal follows what was read.
-        for (const std::string& warning : checkInputs(scene)) std::printf("warning: %s\n", warning.c_str());
-        checkOutputs(scene, tool.extraOutputs ? tool.extraOutputs(config, scene) : std::vector<NamedOutput>{});
-        std::printf("input files OK\n");
+          std::printf("virtual camera %zu of %zu: %s\n", k + 1, configs.size(), scenes[k].settings.virtualCameraName.c_str());
+        printConfigCheck(tool.name, line.positional[0], configs[k], scenes[k]);
       }
+      // --check also opens every input (type, format, whole frames) and checks every output name, as
+      // the run does before frame 0; after the printout (of every virtual camera), so that a refusal
+      // follows what was read.
+      for (size_t k = 0; k < configs.size(); ++k) {
+        for (const std::string& warning : checkInputs(scenes[k])) std::printf("warning: %s\n", warning.c_str());
+        checkOutputs(scenes[k], tool.extraOutputs ? tool.extraOutputs(configs[k], scenes[k]) : std::vector<NamedOutput>{});
+      }
+      std::printf("input files OK\n");
       if (tool.describe) tool.describe(stdout);
       std::printf("configuration OK\n");
       return 0;

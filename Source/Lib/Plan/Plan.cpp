@@ -10,7 +10,42 @@ namespace vs {
 
 namespace {
 
-bool sameCamera(const Camera& a, const Camera& b) { return a.K == b.K && a.R == b.R && a.t == b.t; }
+bool sameCamera(const Camera& a, const Camera& b) {
+  return a.projection == b.projection && a.K == b.K && a.R == b.R && a.t == b.t &&
+         (!a.isEquirectangular() || a.erp == b.erp);
+}
+
+// Pixels per radian across the picture near its centre: the focal length of a pinhole camera, the
+// columns per radian of longitude of an ERP one.
+double pixelsPerRadian(const Camera& camera) {
+  if (camera.isEquirectangular()) return camera.erp.width / ((camera.erp.lonMax - camera.erp.lonMin) * M_PI / 180.0);
+  return camera.K[0][0];
+}
+
+// What no stage can do with an equirectangular camera, refused with the reason.
+void refuseEquirectangular(const Scene& scene, Tool tool) {
+  std::vector<const Camera*> erp;
+  for (const ReferenceView& view : scene.settings.references)
+    if (view.camera.isEquirectangular()) erp.push_back(&view.camera);
+  if (scene.virtualCamera.isEquirectangular()) erp.push_back(&scene.virtualCamera);
+  if (erp.empty()) return;
+  // Every picture has the texture format's size (one size for inputs and output); an ERP camera's
+  // angles per pixel come from its Resolution, so the two must agree.
+  const FrameFormat& format = scene.settings.textureFormat;
+  for (const Camera* camera : erp)
+    if (camera->erp.width != format.width || camera->erp.height != format.height)
+      throw InputError("camera '" + camera->name + "' is equirectangular with Resolution " +
+                       std::to_string(camera->erp.width) + "x" + std::to_string(camera->erp.height) +
+                       ", but the pictures are " + std::to_string(format.width) + "x" + std::to_string(format.height) +
+                       "; an ERP picture must have its camera's resolution");
+  if (tool == Tool::MeshRender)
+    throw InputError("camera '" + erp[0]->name +
+                     "' is equirectangular: MeshRender renders pinhole cameras only (its OpenGL projection is a "
+                     "pinhole one); use ViewSyn, whose general path maps ERP cameras");
+  if (scene.settings.depthType == 1)
+    throw InputError("DepthType 1 (depth values are world z coordinates) with the equirectangular camera '" +
+                     erp[0]->name + "': an ERP depth map holds distances along the rays (MPEG-I); use DepthType 0");
+}
 
 // Blend weights, tolerances and the discontinuity threshold from the cameras and depth ranges.
 void decideDepthAndWeights(const Scene& scene, Plan& plan) {
@@ -45,7 +80,7 @@ void decideDepthAndWeights(const Scene& scene, Plan& plan) {
     const ReferenceView& reference = s.references[k];
     const double nearest = std::max(std::fabs(1.0 / reference.depthRange.znear),
                                     std::isinf(reference.depthRange.zfar) ? 0.0 : std::fabs(1.0 / reference.depthRange.zfar));
-    const double parallax = scene.virtualCamera.K[0][0] * (distances[k] * nearest + angles[k]);
+    const double parallax = pixelsPerRadian(scene.virtualCamera) * (distances[k] * nearest + angles[k]);
     if (parallax < 1e-3) distances[k] = 0;
     else distances[k] += meanDistance * angles[k];
   }
@@ -110,17 +145,7 @@ Plan makePlan(const Scene& scene, Tool tool) {
     throw InputError("OutputVirtualDepthMapName '" + s.virtualDepthPath +
                      "': MeshRender cannot write the virtual view's depth (ViewSyn can); remove the key or set it to -");
   plan.virtualDepthOutput = !s.virtualDepthPath.empty();
-  // Interim guard (h-rvs, issue 26): the camera model reads equirectangular cameras, but no renderer
-  // maps them yet; until the ERP warp lands (h-erp replaces this), they are refused, not mis-drawn.
-  for (const Camera* camera : [&] {
-         std::vector<const Camera*> all{&scene.virtualCamera};
-         for (const ReferenceView& view : s.references) all.push_back(&view.camera);
-         return all;
-       }())
-    if (camera->isEquirectangular())
-      throw InputError("camera '" + camera->name + "' is equirectangular (Projection \"Equirectangular\"): " +
-                       std::string(tool == Tool::MeshRender ? "MeshRender" : "ViewSyn") +
-                       " cannot synthesize from or to it yet (issue 26); only perspective cameras");
+  refuseEquirectangular(scene, tool);
 
   for (size_t k = 0; k < s.references.size() && tool == Tool::ViewSyn; ++k)
     if (sameCamera(s.references[k].camera, scene.virtualCamera)) {

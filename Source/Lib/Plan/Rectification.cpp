@@ -21,10 +21,14 @@ constexpr double kMaxSkew = 1e-9;
 
 bool Rectification::rectified() const {
   return rotationDegrees <= kMaxRotationDegrees && offAxis <= kMaxOffAxis && fyDifference <= kMaxFyDifference &&
-         cyDifference <= kMaxCyDifference && skew <= kMaxSkew && depthTypeOk;
+         cyDifference <= kMaxCyDifference && skew <= kMaxSkew && depthTypeOk &&
+         !equirectangular;
 }
 
 std::string Rectification::describe() const {
+  if (equirectangular)
+    return "an equirectangular camera (pixels of an ERP picture do not move along rows by a disparity; "
+           "only the general path maps them)";
   std::string text = formatNumber("rotation differs by %.3g deg", rotationDegrees) +
                      formatNumber(", centre off the x axis by %.3g of the baseline", offAxis) +
                      formatNumber(", fy differs by %.3g (relative)", fyDifference) + formatNumber(", cy differs by %.3g px", cyDifference) +
@@ -35,6 +39,7 @@ std::string Rectification::describe() const {
 
 Rectification checkRectification(const Camera& reference, const Camera& virtualCamera, int depthType) {
   Rectification r;
+  r.equirectangular = reference.isEquirectangular() || virtualCamera.isEquirectangular();
   const RelativePose pose = relativePose(reference, virtualCamera);
   const double trace = pose.R[0][0] + pose.R[1][1] + pose.R[2][2];
   r.rotationDegrees = std::acos(std::clamp((trace - 1) / 2, -1.0, 1.0)) * 180.0 / M_PI;

@@ -16,6 +16,10 @@ struct Rectification {
   double cyDifference = 0;     // |cy_ref - cy_virtual| in pixels
   double skew = 0;             // largest |K[0][1]| of the two cameras, pixels
   bool depthTypeOk = true;     // DepthType 1 maps to camera depth only when the camera z axis is world z
+  // An equirectangular camera on either side: its rows are circles of latitude, and a point's
+  // displacement between two ERP (or ERP and pinhole) pictures is not a shift along a row by a
+  // function of depth, however the cameras are placed. Never rectified.
+  bool equirectangular = false;
   bool rectified() const;
   std::string describe() const;  // "rotation 0.3 deg, centre off the x axis by 2%, ..."
 };

@@ -117,14 +117,19 @@ void forEachRow(int rows, int threads, const std::function<void(int)>& rowFuncti
 
 namespace {
 
-// World ray of a pixel position: origin at the camera centre, direction R^-1 K^-1 (u, v, 1) whose
-// camera-frame z is 1, so the ray parameter t of a hit is its camera-frame z.
+// World ray of a pixel position from the camera centre: R^-1 K^-1 (u, v, 1) for a pinhole camera,
+// whose camera-frame z is 1, so the ray parameter t of a hit is its camera-frame z; the unit ray
+// for an equirectangular one, so t is the distance along the ray (MPEG-I's ERP depth).
 struct CameraRays {
   explicit CameraRays(const Camera& camera) : camera_(camera), cameraToWorld_(inverse(camera.R)) {}
-  Vec3 direction(double u, double v) const { return cameraToWorld_ * camera_.pixelToCamera(u, v, 1.0); }
+  Vec3 direction(double u, double v) const { return cameraToWorld_ * camera_.rayCamera(u, v); }
   const Vec3& origin() const { return camera_.t; }
-  // World size of a pixel per unit of camera z.
-  double pixelScale() const { return 1.0 / std::sqrt(camera_.K[0][0] * camera_.K[1][1]); }
+  // World size of a pixel per unit of t: 1 / focal length, or the angle of a column (ERP).
+  double pixelScale() const {
+    if (camera_.isEquirectangular())
+      return (camera_.erp.lonMax - camera_.erp.lonMin) * (M_PI / 180.0) / camera_.erp.width;
+    return 1.0 / std::sqrt(camera_.K[0][0] * camera_.K[1][1]);
+  }
 
  private:
   const Camera& camera_;

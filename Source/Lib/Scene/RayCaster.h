@@ -1,6 +1,6 @@
 #pragma once
 // Ray casting of analytic scenes: SceneGen's ground truth. Depth is the camera-frame z of the nearest
-// surface on the pixel centre's ray; colour is the mean of a few sub-pixel rays (anti-aliasing), each
+// surface on the pixel centre's ray (for an equirectangular camera: its distance along the ray); colour is the mean of a few sub-pixel rays (anti-aliasing), each
 // finding its own nearest surface, so object edges blend as a real camera would blur them.
 #include <functional>
 #include <limits>

@@ -13,6 +13,7 @@
 #include <sstream>
 
 #include "Common/CameraFile.h"
+#include "Common/CameraJson.h"
 #include "Common/Error.h"
 #include "Common/SafeOutput.h"
 #include "Common/Yuv.h"
@@ -229,7 +230,7 @@ OptionTable sceneGenOptionTable() {
                  "sphere scene: z of the sphere's centre, on the world z axis"),
       });
   OptionSpec cameraFile = option("CameraParameterFile", OptionType::Path, "", 0, 0,
-                                 "Rig file: VSRS camera parameter file whose cameras (in file order) render the scene");
+                                 "Rig file: camera file (VSRS text, or MPEG-I JSON with pinhole and equirectangular cameras) whose cameras (in file order) render the scene");
   addSection(
       table, "Cameras",
       {
@@ -397,8 +398,17 @@ std::vector<Camera> buildCameras(const SceneGenSettings& s) {
       return parallelRig(s.cameraCount, s.baseline, K);
     case RigType::Arc:
       return arcRig(s.cameraCount, s.arcRadius, s.arcStepDegrees, K);
-    case RigType::File:
-      return readCameraFile(s.cameraFile).cameras();
+    case RigType::File: {
+      std::vector<Camera> cameras = readCameraFile(s.cameraFile).cameras();
+      // An ERP picture's angles come from its camera's Resolution: it must be the picture SceneGen renders.
+      for (const Camera& camera : cameras)
+        if (camera.isEquirectangular() && (camera.erp.width != s.width || camera.erp.height != s.height))
+          throw InputError(s.cameraFile + ": camera '" + camera.name + "' is equirectangular with Resolution " +
+                           std::to_string(camera.erp.width) + "x" + std::to_string(camera.erp.height) +
+                           ", but SceneGen renders " + std::to_string(s.width) + "x" + std::to_string(s.height) +
+                           " (set Width and Height to its resolution)");
+      return cameras;
+    }
   }
   return {};
 }
@@ -508,8 +518,21 @@ SceneGenResult generateScene(const SceneGenSettings& s, std::ostream& log) {
     textureWriters.push_back(std::make_unique<YuvWriter>(result.texturePaths.back(), textureFormat));
     depthWriters.push_back(std::make_unique<YuvWriter>(result.depthPaths.back(), depthFormat));
   }
-  result.cameraFile = (folder / "cameras.txt").string();
-  writeCameraFile(result.cameraFile, result.cameras);
+  // The VSRS text format holds pinhole cameras only: a rig with an equirectangular camera is written
+  // as MPEG-I JSON, which ViewSyn reads the same way.
+  bool equirectangular = false;
+  for (const Camera& camera : result.cameras) equirectangular = equirectangular || camera.isEquirectangular();
+  result.cameraFile = (folder / (equirectangular ? "cameras.json" : "cameras.txt")).string();
+  if (equirectangular) {
+    std::vector<CameraInfo> info(result.cameras.size());
+    for (CameraInfo& i : info) {
+      i.width = s.width;
+      i.height = s.height;
+    }
+    writeCameraJson(result.cameraFile, result.cameras, info);
+  } else {
+    writeCameraFile(result.cameraFile, result.cameras);
+  }
 
   // Render and write, frame by frame.
   Frame texture, depth;

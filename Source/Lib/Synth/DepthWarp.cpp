@@ -1,6 +1,7 @@
 // The general path's depth warp (doc/algorithms.md, "Warping"): every reference sample is projected
 // into the virtual camera; the depth grid is rasterised as triangles (those spanning a depth
 // discontinuity are dropped) and as points into a z-buffer of inverse depth; then cracks are closed.
+#include <algorithm>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -12,6 +13,58 @@
 #include "Synth/Synthesizer.h"
 
 namespace vs {
+
+namespace {
+
+// Equirectangular cameras (Synth/Warp.h): the quads between two projected rows, drawn so that none
+// spans the virtual ERP picture across its longitude wrap. The row is rasterised in runs that stop
+// at a quad whose warped corners land on both sides of the wrap (more than half the picture apart);
+// such a quad is drawn twice, once with its left-side corners a whole turn to the right and once
+// with its right-side corners a turn to the left, each clipped by the picture. With a full-circle
+// reference, the quad closing its rows (last column to first) is drawn the same way.
+template <class Rasterise>
+void rasteriseSphericalRow(const Rasterise& rasteriseRow, int width, int wrapWidth, bool closeReference,
+                           const double* xTop, const double* yTop, const double* wTop, const double* xBottom,
+                           const double* yBottom, const double* wBottom) {
+  const double half = 0.5 * wrapWidth;
+  const auto crosses = [&](int c0, int c1) {
+    if (wrapWidth == 0) return false;
+    double lo = HUGE_VAL, hi = -HUGE_VAL;
+    for (const int c : {c0, c1}) {
+      if (wTop[c] >= 0) lo = std::min(lo, xTop[c]), hi = std::max(hi, xTop[c]);
+      if (wBottom[c] >= 0) lo = std::min(lo, xBottom[c]), hi = std::max(hi, xBottom[c]);
+    }
+    return hi - lo > half;
+  };
+  const auto drawQuad = [&](int c0, int c1) {
+    double x[4] = {xTop[c0], xTop[c1], xBottom[c0], xBottom[c1]};
+    const double y[4] = {yTop[c0], yTop[c1], yBottom[c0], yBottom[c1]};
+    const double w[4] = {wTop[c0], wTop[c1], wBottom[c0], wBottom[c1]};
+    if (!crosses(c0, c1)) {
+      rasteriseRow(2, x, y, w, x + 2, y + 2, w + 2);
+      return;
+    }
+    double shifted[4];
+    for (int i = 0; i < 4; ++i) shifted[i] = x[i] < half ? x[i] + wrapWidth : x[i];
+    rasteriseRow(2, shifted, y, w, shifted + 2, y + 2, w + 2);
+    for (int i = 0; i < 4; ++i) shifted[i] = x[i] >= half ? x[i] - wrapWidth : x[i];
+    rasteriseRow(2, shifted, y, w, shifted + 2, y + 2, w + 2);
+  };
+  int start = 0;
+  for (int c = 0; c + 1 < width && wrapWidth > 0; ++c)
+    if (crosses(c, c + 1)) {
+      if (c > start) rasteriseRow(c + 1 - start, xTop + start, yTop + start, wTop + start, xBottom + start,
+                                  yBottom + start, wBottom + start);
+      drawQuad(c, c + 1);
+      start = c + 1;
+    }
+  if (width - start >= 2)
+    rasteriseRow(width - start, xTop + start, yTop + start, wTop + start, xBottom + start, yBottom + start,
+                 wBottom + start);
+  if (closeReference && width >= 2) drawQuad(width - 1, 0);
+}
+
+}  // namespace
 
 void Synthesizer::warpDepth(ViewState& view, const Plane& depth) {
   const int w = depth.width, h = depth.height;
@@ -36,6 +89,7 @@ void Synthesizer::warpDepth(ViewState& view, const Plane& depth) {
       const double* levelToInverseDepth = view.levelToInverseDepth.data();
       const int width = w, height = h, outWidth = outW, outHeight = outH;
       const double discontinuity = plan_.discontinuity;
+      const bool spherical = projection.spherical();
       const auto put = raise;  // a copy no store can change: what it holds stays in registers
       // A row's inverse depths first (a look-up per sample), then its projection in a loop that
       // vectorises. A level declared missing has a NaN inverse depth: not warped.
@@ -64,8 +118,12 @@ void Synthesizer::warpDepth(ViewState& view, const Plane& depth) {
             put(size_t(py) * outWidth + size_t(px), ws[x]);
           }
         }
-        if (y > y0)
+        if (y > y0 && !spherical)
           rasteriseRow(width, outWidth, outHeight, discontinuity, xAbove, yAbove, wAbove, xs, ys, ws);
+        else if (y > y0)
+          rasteriseSphericalRow(
+              [&](int n, auto... rows) { rasteriseRow(n, outWidth, outHeight, discontinuity, rows...); }, width,
+              projection.wrapWidth(), projection.referenceWraps(), xAbove, yAbove, wAbove, xs, ys, ws);
         std::swap(xAbove, xs);
         std::swap(yAbove, ys);
         std::swap(wAbove, ws);

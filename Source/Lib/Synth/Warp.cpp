@@ -1,5 +1,6 @@
 #include "Synth/Warp.h"
 
+#include "Common/Error.h"
 #include "Synth/ExactDivision.h"
 
 namespace vs {
@@ -23,6 +24,45 @@ ViewProjection::ViewProjection(const Camera& reference, const Camera& target, in
     rowShift_ = target.K[0][0] * pose.t.x;
     rowScaleInverse_ = exactReciprocal(rowScale_);
   }
+  if (reference.isEquirectangular() || target.isEquirectangular()) {
+    VS_CHECK(!parallel_ && depthType_ == 0);  // the plan refuses both for ERP cameras
+    spherical_ = true;
+    referenceCamera_ = reference;
+    targetCamera_ = target;
+    pose_ = pose;
+    poseRotationInverse_ = rotationInverse;
+    if (target.isEquirectangular() && target.erp.wraps()) wrapWidth_ = target.erp.width;
+    referenceWraps_ = reference.isEquirectangular() && reference.erp.wraps();
+  }
+}
+
+bool ViewProjection::forwardSpherical(double u, double v, double inverseDepth, double& x, double& y, double& wv) const {
+  // The point (d, w) ~ d / w in reference coordinates, d the pixel's ray: the unit direction (ERP,
+  // w = 1 / distance) or K^-1 (u, v, 1) (pinhole, w = 1 / z). In target coordinates (R d + t w, w).
+  const double w = inverseDepth;
+  if (!(w >= 0.0)) return false;
+  const Vec3 p = pose_.R * referenceCamera_.rayCamera(u, v) + pose_.t * w;
+  const double depth = targetCamera_.depthOf(p);  // the target's depth of the point, times w
+  if (!(depth > 0.0)) return false;
+  double px, py;
+  if (!targetCamera_.cameraToPixel(p, px, py)) return false;
+  if (!(std::fabs(px) <= kMaxPixelRadius && std::fabs(py) <= kMaxPixelRadius)) return false;
+  x = snapPosition(px);
+  y = snapPosition(py);
+  wv = w / depth;
+  return std::isfinite(wv);
+}
+
+bool ViewProjection::backwardSpherical(double x, double y, double wv, double& u, double& v) const {
+  if (!(wv >= 0.0)) return false;
+  // The target pixel's point (d_t, wv) ~ d_t / wv; in reference coordinates (R^-1 (d_t - t wv), wv).
+  const Vec3 q = poseRotationInverse_ * (targetCamera_.rayCamera(x, y) - pose_.t * wv);
+  double qu, qv;
+  if (!referenceCamera_.cameraToPixel(q, qu, qv)) return false;
+  if (!(std::fabs(qu) <= kMaxPixelRadius && std::fabs(qv) <= kMaxPixelRadius)) return false;
+  u = snapPosition(qu);
+  v = snapPosition(qv);
+  return true;
 }
 
 }  // namespace vs

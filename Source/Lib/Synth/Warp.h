@@ -10,6 +10,13 @@
 //
 // Depth is carried as the inverse virtual-camera depth wv = 1 / z_virtual: larger is nearer, 0 is
 // infinitely far, and it interpolates linearly across a planar triangle in screen space.
+//
+// Equirectangular cameras (either side or both; Common/Camera.h): the same homogeneous point, with the
+// reference ray d the unit direction of the pixel and w = 1 / distance (an ERP depth is the distance
+// along the ray); for an ERP target wv = 1 / distance too. These pairs take a separate, out-of-line
+// mapping (forwardSpherical, backwardSpherical) chosen by one flag, so that the pinhole pair's code and
+// results stay as they were. Across an ERP triangle wv is interpolated linearly as well: exact at the
+// vertices, an approximation inside, as fine as the grid is.
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -35,6 +42,14 @@ public:
   bool backward(double x, double y, double wv, double& u, double& v) const;
 
   bool parallel() const { return parallel_; }
+  // An equirectangular camera on either side.
+  bool spherical() const { return spherical_; }
+  // The virtual camera is equirectangular with a full 360-degree circle of columns of this width
+  // (0 otherwise): a triangle whose corners land on both sides of the wrap must be drawn split.
+  int wrapWidth() const { return wrapWidth_; }
+  // The reference camera is equirectangular with a full circle: its last column's quads close up
+  // with its first column's.
+  bool referenceWraps() const { return referenceWraps_; }
   // The parallel forms, inline for the 1D path's row loops: the same values forward() and backward()
   // give when parallel(). rowTarget's inverseDepth is the inverse camera depth (DepthType 0).
   double rowTarget(double u, double inverseDepth) const {
@@ -89,8 +104,17 @@ public:
 private:
   static constexpr double kMaxPixelRadius = 1e9;  // projections farther than this from pixel (0, 0) are dropped
 
+  bool forwardSpherical(double u, double v, double inverseDepth, double& x, double& y, double& wv) const;
+  bool backwardSpherical(double x, double y, double wv, double& u, double& v) const;
+
   int depthType_;
   bool parallel_;
+  bool spherical_ = false;
+  int wrapWidth_ = 0;
+  bool referenceWraps_ = false;
+  Camera referenceCamera_, targetCamera_;  // spherical only: their pixel <-> ray mappings
+  RelativePose pose_;                      // spherical only
+  Mat3 poseRotationInverse_;
   double rowScale_ = 1, rowOffset_ = 0, rowShift_ = 0;  // parallel: x = rowScale u + rowOffset + rowShift w
   double rowScaleInverse_ = 1;  // exactReciprocal(rowScale): 1 / rowScale for a power of two, else 0
   Mat3 forwardMatrix_;   // K_tgt R K_ref^-1
@@ -103,6 +127,7 @@ private:
 
 // forward() and backward() run for every sample: inline, so that they inline into the warps' loops.
 inline bool ViewProjection::forward(double u, double v, double inverseDepth, double& x, double& y, double& wv) const {
+  if (spherical_) return forwardSpherical(u, v, inverseDepth, x, y, wv);
   if (parallel_) {
     // DepthType 1 here has the camera z axis along world z (checked by the plan): z_cam = Z - C_z.
     const double w = depthType_ == 1 ? inverseDepth / (1.0 - centreZ_ * inverseDepth) : inverseDepth;
@@ -138,7 +163,7 @@ inline bool ViewProjection::forward(double u, double v, double inverseDepth, dou
 
 inline void ViewProjection::forwardRow(const double* inverseDepth, int n, double v, double* xs, double* ys,
                                        double* ws) const {
-  if (parallel_ || depthType_ != 0) {
+  if (parallel_ || depthType_ != 0 || spherical_) {
     for (int u = 0; u < n; ++u) {
       double x, y, w;
       const bool ok = !std::isnan(inverseDepth[u]) && forward(u, v, inverseDepth[u], x, y, w);
@@ -172,7 +197,7 @@ inline void ViewProjection::forwardRow(const double* inverseDepth, int n, double
 
 inline void ViewProjection::backwardRow(const double* wv, int n, double y, double* us, double* vs, uint8_t* ok,
                                         int step, double start) const {
-  if (parallel_) {
+  if (parallel_ || spherical_) {
     for (int i = 0; i < n; ++i) ok[i] = uint8_t(backward(double(i * step) + start, y, wv[i], us[i], vs[i]));
     return;
   }
@@ -195,6 +220,7 @@ inline void ViewProjection::backwardRow(const double* wv, int n, double y, doubl
 }
 
 inline bool ViewProjection::backward(double x, double y, double wv, double& u, double& v) const {
+  if (spherical_) return backwardSpherical(x, y, wv, u, v);
   if (parallel_) {
     u = rowSource(x, wv);
     v = y;

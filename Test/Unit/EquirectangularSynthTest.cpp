@@ -1,0 +1,362 @@
+// Equirectangular (ERP) cameras in the general path: the warp's mapping against formulas written out
+// here, an ERP reference warped onto itself, and the room scene (cfg/scenes/room.scene) synthesized from
+// two ERP references into an ERP and a perspective virtual camera against SceneGen's exact render,
+// compared with perspective references of the same pixel count.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <memory>
+
+#include "Common/CameraJson.h"
+#include "Common/IvPsnr.h"
+#include "Common/Metrics.h"
+#include "Common/Options.h"
+#include "Common/Yuv.h"
+#include "Plan/Plan.h"
+#include "StabilityScene.h"
+#include "Synth/Warp.h"
+#include "TestPaths.h"
+
+namespace vs {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+Camera erpCamera(const std::string& name, int width, int height, const Vec3& centre) {
+  Camera c;
+  c.name = name;
+  c.projection = Projection::Equirectangular;
+  c.erp.width = width;
+  c.erp.height = height;
+  c.t = centre;
+  return c;
+}
+
+// Our camera axes of MPEG's longitude and latitude (degrees to radians done by the caller), written
+// independently of Camera.cpp.
+Vec3 sphereDirection(double lon, double lat) {
+  return {-std::cos(lat) * std::sin(lon), -std::sin(lat), std::cos(lat) * std::cos(lon)};
+}
+
+TEST(EquirectangularWarp, ErpOntoItselfLandsOnEveryPixelCentreExactly) {
+  const Camera c = erpCamera("e", 96, 48, Vec3(0.5, -1.0, 2.0));
+  const ViewProjection projection(c, c, 0);
+  ASSERT_TRUE(projection.spherical());
+  EXPECT_EQ(projection.wrapWidth(), 96);
+  EXPECT_TRUE(projection.referenceWraps());
+  for (int v = 0; v < 48; ++v)
+    for (int u = 0; u < 96; ++u)
+      for (double distance : {0.5, 3.0, 1e6}) {
+        double x, y, wv;
+        ASSERT_TRUE(projection.forward(u, v, 1.0 / distance, x, y, wv));
+        EXPECT_EQ(x, double(u));
+        EXPECT_EQ(y, double(v));
+        EXPECT_NEAR(wv, 1.0 / distance, 1e-15 / distance);
+        double bu, bv;
+        ASSERT_TRUE(projection.backward(u, v, wv, bu, bv));
+        EXPECT_EQ(bu, double(u));
+        EXPECT_EQ(bv, double(v));
+      }
+}
+
+TEST(EquirectangularWarp, MixedPairsMapAsTheFormulasSay) {
+  // ERP reference at (1, 0, 0) (ours), a pinhole target at the origin turned 20 degrees to the right.
+  const Camera erp = erpCamera("e", 72, 36, Vec3(1.0, 0.0, 0.0));
+  Camera pinhole;
+  pinhole.name = "p";
+  pinhole.K[0][0] = pinhole.K[1][1] = 50.0;
+  pinhole.K[0][2] = 40.0;
+  pinhole.K[1][2] = 30.0;
+  const double turn = 20 * kPi / 180;
+  pinhole.R = Mat3::identity();
+  pinhole.R[0][0] = std::cos(turn);
+  pinhole.R[0][2] = -std::sin(turn);
+  pinhole.R[2][0] = std::sin(turn);
+  pinhole.R[2][2] = std::cos(turn);
+  const ViewProjection forward(erp, pinhole, 0), backward(pinhole, erp, 0);
+  int checked = 0;
+  for (int v = 0; v < 36; ++v)
+    for (int u = 0; u < 72; ++u) {
+      const double distance = 2.0 + 0.1 * (u % 7);
+      const double lon = (180.0 - (u + 0.5) * 5.0) * kPi / 180, lat = (90.0 - (v + 0.5) * 5.0) * kPi / 180;
+      const Vec3 world = Vec3(1.0, 0.0, 0.0) + sphereDirection(lon, lat) * distance;
+      const Vec3 xc = pinhole.R * world;  // the target's centre is the origin
+      double x, y, wv;
+      const bool ok = forward.forward(u, v, 1.0 / distance, x, y, wv);
+      EXPECT_EQ(ok, xc.z > 0) << u << "," << v;
+      if (!ok || xc.z <= 0) continue;
+      ++checked;
+      EXPECT_NEAR(x, 50.0 * xc.x / xc.z + 40.0, 1e-8 * (1 + std::fabs(x)));
+      EXPECT_NEAR(y, 50.0 * xc.y / xc.z + 30.0, 1e-8 * (1 + std::fabs(y)));
+      EXPECT_NEAR(wv, 1.0 / xc.z, 1e-12 / xc.z);
+      // Back from the target: the same ERP pixel.
+      double bu, bv;
+      ASSERT_TRUE(forward.backward(x, y, wv, bu, bv));
+      EXPECT_NEAR(bu, u, 1e-6);
+      EXPECT_NEAR(bv, v, 1e-6);
+      // The pinhole camera as the reference: the point lands on the ERP pixel, with 1 / distance.
+      double ex, ey, ew;
+      ASSERT_TRUE(backward.forward(x, y, 1.0 / xc.z, ex, ey, ew));
+      EXPECT_NEAR(ex, u, 1e-6);
+      EXPECT_NEAR(ey, v, 1e-6);
+      EXPECT_NEAR(ew, 1.0 / distance, 1e-10);  // through (x, y) snapped to 2^-30 px
+    }
+  EXPECT_GT(checked, 72 * 36 / 4);
+}
+
+TEST(EquirectangularWarp, PlanRefusesWhatNoStageDoesWithErp) {
+  const Camera a = erpCamera("a", 64, 32, Vec3(-0.1, 0, 0)), b = erpCamera("b", 64, 32, Vec3(0.1, 0, 0));
+  const Camera v = erpCamera("v", 64, 32, Vec3(0, 0, 0));
+  const FrameFormat format{64, 32, 8, ChromaFormat::Yuv420};
+  const DepthRange range{1.0, 10.0, 8};
+  Scene scene = test::makeScene({a, b}, v, format, range);
+  // Auto picks the general path and says why; the 1D path is refused with the reason.
+  scene.settings.mode = SynthesisMode::Auto;
+  const Plan plan = makePlan(scene);
+  EXPECT_EQ(plan.mode, SynthesisMode::General);
+  EXPECT_NE(plan.rigDeviations.find("equirectangular"), std::string::npos);
+  scene.settings.mode = SynthesisMode::Parallel1D;
+  EXPECT_THROW(makePlan(scene), InputError);
+  scene.settings.mode = SynthesisMode::General;
+  // MeshRender, DepthType 1 and a picture size other than the camera's Resolution are refused.
+  try {
+    makePlan(scene, Tool::MeshRender);
+    ADD_FAILURE() << "MeshRender accepted an ERP camera";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("equirectangular"), std::string::npos);
+  }
+  Scene worldZ = test::makeScene({a, b}, v, format, range, kDepthTypeWorld);
+  EXPECT_THROW(makePlan(worldZ), InputError);
+  Scene wrongSize = test::makeScene({a, b}, v, FrameFormat{64, 48, 8, ChromaFormat::Yuv420}, range);
+  EXPECT_THROW(makePlan(wrongSize), InputError);
+}
+
+// The room scene, rendered in process at 256x128 (SceneGen's truth, distance-along-ray depth for ERP).
+const test::GeneratedScene& room() {
+  static const test::GeneratedScene scene(std::vector<std::string>{
+      "SceneFile=" + (std::filesystem::path(VS_SOURCE_DIR) / "cfg" / "scenes" / "room.scene").string(),
+      "SourceWidth=256", "SourceHeight=128"});
+  return scene;
+}
+
+double wsPsnrY(const Frame& truth, const Frame& output) { return wsPsnr(truth, output).plane[0]; }
+double psnrY(const Frame& truth, const Frame& output) { return framePsnr(truth, output).y; }
+
+TEST(EquirectangularSynth, ErpReferenceOntoItselfIsExactThroughTheWarp) {
+  const test::GeneratedScene& scene = room();
+  const Camera reference = erpCamera("ring0", 256, 128, Vec3(-0.15, 0, 0));
+  const DepthRange range = scene.cameraRange({reference}, 16);
+  const Scene s = test::makeScene({reference}, reference, scene.textureFormat(), range);
+  const test::SynthesisInputs inputs = test::renderInputs(scene, s);
+  // Through the copy the plan chooses, and through the whole warp with the copy switched off.
+  Plan plan = test::planOnPath(s);
+  EXPECT_EQ(plan.copyOf, 0);
+  for (int copy : {0, -1}) {
+    plan.copyOf = copy;
+    Synthesizer synthesizer(s, plan);
+    Frame output;
+    StageTimes times;
+    synthesizer.synthesize(inputs.frames(), output, times);
+    EXPECT_TRUE(output == inputs.textures[0]) << "copyOf " << copy << ": " << test::compareFrames(output, inputs.textures[0]).differing
+                                              << " samples differ";
+  }
+}
+
+// PSNR of the columns within 4 of the wrap (both edges) of an ERP picture's luma.
+double seamPsnr(const Frame& truth, const Frame& output) {
+  double sum = 0;
+  int count = 0;
+  const Plane &a = truth.planes[0], &b = output.planes[0];
+  for (int y = 0; y < a.height; ++y)
+    for (int x : {0, 1, 2, 3, a.width - 4, a.width - 3, a.width - 2, a.width - 1}) {
+      const double d = double(a.at(x, y)) - double(b.at(x, y));
+      sum += d * d;
+      ++count;
+    }
+  return psnrFromMse(sum / count, 8);
+}
+
+// PSNR of the 4 rows at each pole of an ERP picture's luma.
+double polePsnr(const Frame& truth, const Frame& output) {
+  double sum = 0;
+  int count = 0;
+  const Plane &a = truth.planes[0], &b = output.planes[0];
+  for (int y : {0, 1, 2, 3, a.height - 4, a.height - 3, a.height - 2, a.height - 1})
+    for (int x = 0; x < a.width; ++x) {
+      const double d = double(a.at(x, y)) - double(b.at(x, y));
+      sum += d * d;
+      ++count;
+    }
+  return psnrFromMse(sum / count, 8);
+}
+
+// Fraction of an ERP virtual camera's samples whose synthesized distance is off the true one by more
+// than 5 %: a triangle drawn across the picture at the wrap would put its depth along whole rows.
+double wrongDepthFraction(const test::GeneratedScene& scene, const Scene& s, const test::SynthesisInputs& inputs,
+                          const DepthRange& range) {
+  Synthesizer synthesizer(s, test::planOnPath(s));
+  Frame output;
+  StageTimes times;
+  synthesizer.synthesize(inputs.frames(), output, times);
+  Plane levels;
+  synthesizer.virtualDepth(range, levels);
+  const std::vector<double> truth = scene.depth(s.virtualCamera);
+  size_t wrong = 0;
+  for (int y = 0; y < levels.height; ++y)
+    for (int x = 0; x < levels.width; ++x) {
+      const double distance = levelToZ(levels.at(x, y), range), exact = truth[size_t(y) * levels.width + x];
+      wrong += std::fabs(distance - exact) > 0.05 * exact;
+    }
+  return double(wrong) / double(truth.size());
+}
+
+// A pinhole camera of the room's picture size, horizontal field of view `degrees`, turned `yaw`
+// degrees to the left (MPEG's yaw), at `centre`.
+Camera pinholeCamera(const std::string& name, double degrees, double yaw, const Vec3& centre, int width, int height) {
+  Camera c;
+  c.name = name;
+  c.K[0][0] = c.K[1][1] = (width / 2.0) / std::tan(degrees / 2 * kPi / 180);
+  c.K[0][2] = (width - 1) / 2.0;
+  c.K[1][2] = (height - 1) / 2.0;
+  c.R = rotationFromYawPitchRoll(yaw, 0, 0);
+  c.t = centre;
+  return c;
+}
+
+TEST(EquirectangularSynth, TwoErpReferencesScoreAtLeastAsWellAsPerspectiveOnesOfTheSamePixelCount) {
+  const test::GeneratedScene& scene = room();
+  const int width = 256, height = 128;
+  // Two ERP references on a ring of radius 0.15 around the origin, and the virtual cameras off the
+  // ring's centre: an ERP one, and perspective viewports turned 30 degrees left.
+  const Camera left = erpCamera("ring0", width, height, Vec3(-0.15, 0, 0));
+  const Camera right = erpCamera("ring1", width, height, Vec3(0.15, 0, 0));
+  const Vec3 middle(0.05, 0.02, 0.04);
+  const Camera erpVirtual = erpCamera("centre", width, height, middle);
+  // The wide viewport has the ERP pictures' angular resolution at its centre (width / 2 pi pixels per
+  // radian: 144 degrees across); the narrow one (90 degrees) three times more, which no ERP reference of
+  // this size has.
+  const double wideDegrees = 2 * std::atan((width / 2.0) / (width / (2 * kPi))) * 180 / kPi;
+  const Camera wide = pinholeCamera("wide", wideDegrees, 30, middle, width, height);
+  const Camera narrow = pinholeCamera("narrow", 90, 30, middle, width, height);
+  // Perspective references of the same pixel count at the same centres, looking where the viewports
+  // look, 10 degrees wider than the wide viewport (a margin for the parallax).
+  const Camera perspectiveLeft = pinholeCamera("left", wideDegrees + 10, 30, left.t, width, height);
+  const Camera perspectiveRight = pinholeCamera("right", wideDegrees + 10, 30, right.t, width, height);
+
+  const DepthRange range = scene.cameraRange({left, right, erpVirtual, wide, perspectiveLeft, perspectiveRight}, 16);
+  const auto run = [&](const Camera& a, const Camera& b, const Camera& target) {
+    const Scene s = test::makeScene({a, b}, target, scene.textureFormat(), range);
+    return test::synthesize(s, test::renderInputs(scene, s)).output;
+  };
+  const Frame erpTruth = scene.texture(erpVirtual), wideTruth = scene.texture(wide), narrowTruth = scene.texture(narrow);
+  const Frame erpFromErp = run(left, right, erpVirtual), erpFromPerspective = run(perspectiveLeft, perspectiveRight, erpVirtual);
+  const double erpWs = wsPsnrY(erpTruth, erpFromErp), perspectiveWs = wsPsnrY(erpTruth, erpFromPerspective);
+  const double erpPsnr = psnrY(erpTruth, erpFromErp), perspectivePsnr = psnrY(erpTruth, erpFromPerspective);
+  const double seam = seamPsnr(erpTruth, erpFromErp), poles = polePsnr(erpTruth, erpFromErp);
+  const double wideFromErp = psnrY(wideTruth, run(left, right, wide));
+  const double wideFromPerspective = psnrY(wideTruth, run(perspectiveLeft, perspectiveRight, wide));
+  const double narrowFromErp = psnrY(narrowTruth, run(left, right, narrow));
+  const double narrowFromPerspective = psnrY(narrowTruth, run(perspectiveLeft, perspectiveRight, narrow));
+  test::recordFigure("erp_virtual_wspsnr_y_from_erp", erpWs);
+  test::recordFigure("erp_virtual_wspsnr_y_from_perspective", perspectiveWs);
+  test::recordFigure("erp_virtual_psnr_y_from_erp", erpPsnr);
+  test::recordFigure("erp_virtual_psnr_y_from_perspective", perspectivePsnr);
+  test::recordFigure("erp_virtual_seam_psnr_y_from_erp", seam);
+  test::recordFigure("erp_virtual_pole_rows_psnr_y_from_erp", poles);
+  test::recordFigure("wide_viewport_psnr_y_from_erp", wideFromErp);
+  test::recordFigure("wide_viewport_psnr_y_from_perspective", wideFromPerspective);
+  test::recordFigure("narrow_viewport_psnr_y_from_erp", narrowFromErp);
+  test::recordFigure("narrow_viewport_psnr_y_from_perspective", narrowFromPerspective);
+  EXPECT_GE(erpWs, perspectiveWs);
+  EXPECT_GE(erpPsnr, perspectivePsnr);
+  // A viewport whose pixels are no denser than the ERP's where the perspective references are (the
+  // narrow one: 128 px/rad against their 35 at the centre): the ERP references win. The wide viewport
+  // magnifies its edges (f / cos^2 of the angle off its axis: ten times the ERP's density at 72 degrees)
+  // as the perspective references, shaped like it, do not: there they win (figures in doc/algorithms.md).
+  EXPECT_GE(narrowFromErp, narrowFromPerspective);
+  // Against the truth, not only against the other rig: the references are 0.15 from the ring's centre.
+  EXPECT_GE(erpWs, 27.0);
+  EXPECT_GE(narrowFromErp, 22.0);
+  EXPECT_GE(wideFromErp, 19.0);
+  // Depth: the ERP virtual camera, and one turned half a turn (its wrap then lies where the references'
+  // middle columns land, so that many quads cross it).
+  Camera rotated = erpVirtual;
+  rotated.R = rotationFromYawPitchRoll(180, 0, 0);
+  const Camera& turned = rotated;
+  for (const Camera* target : {&erpVirtual, &turned}) {
+    const Scene s = test::makeScene({left, right}, *target, scene.textureFormat(), range);
+    const double wrong = wrongDepthFraction(scene, s, test::renderInputs(scene, s), range);
+    test::recordFigure(target == &turned ? "turned_erp_virtual_wrong_depth_fraction" : "erp_virtual_wrong_depth_fraction",
+                       wrong);
+    EXPECT_LE(wrong, 0.02);
+  }
+  // The wrap: the columns beside it are synthesized as well as the picture (a triangle drawn across the
+  // whole picture, or none across the wrap, costs them several dB).
+  EXPECT_GE(seam, erpPsnr - 3.0);
+  EXPECT_GE(poles, erpPsnr - 3.0);  // the rows at the poles likewise
+}
+
+// SceneGen with a camera file of ERP and pinhole cameras (Rig file): the rig is written as MPEG-I JSON,
+// and an ERP depth file holds the distance along each ray (here where the ray meets the floor, 1.5 below
+// the camera: 1.5 / sin of the angle below the horizon).
+TEST(EquirectangularSceneGen, RendersErpRigsWithDistanceDepthAndWritesJson) {
+  const std::filesystem::path root = test::scratchDir("erp_scenegen");
+  const std::string cameras = (root / "rig.json").string();
+  const Camera erp = erpCamera("erp", 64, 32, Vec3());
+  Camera pinhole;
+  pinhole.name = "pinhole";
+  pinhole.K[0][0] = pinhole.K[1][1] = 32.0;
+  pinhole.K[0][2] = 31.5;
+  pinhole.K[1][2] = 15.5;
+  CameraInfo info;
+  info.width = 64;
+  info.height = 32;
+  const Camera between = erpCamera("between", 64, 32, Vec3(0.1, 0, 0));
+  writeCameraJson(cameras, {erp, between, pinhole}, {info, info, info});
+  const std::string scene = (std::filesystem::path(VS_SOURCE_DIR) / "cfg" / "scenes" / "room.scene").string();
+  const auto settingsWith = [&](const std::string& size) {
+    return readSceneGenSettings(Config::load(sceneGenOptionTable(), "",
+                                             {"SceneFile=" + scene, "Rig=file", "CameraParameterFile=" + cameras,
+                                              "SourceWidth=" + size, "SourceHeight=32", "DepthBitDepth=16",
+                                              "OutputFolder=" + (root / "out").string(), "Threads=1"}));
+  };
+  std::ostringstream log;
+  try {  // a picture size other than the ERP camera's Resolution
+    generateScene(settingsWith("80"), log);
+    ADD_FAILURE() << "SceneGen rendered an ERP camera at another size";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("'erp' is equirectangular with Resolution 64x32"), std::string::npos) << e.what();
+  }
+  const SceneGenResult result = generateScene(settingsWith("64"), log);
+  EXPECT_EQ(std::filesystem::path(result.cameraFile).filename(), "cameras.json");
+  const CameraFile written = readCameraFile(result.cameraFile);
+  ASSERT_TRUE(written.find("erp").isEquirectangular());
+  EXPECT_FALSE(written.find("pinhole").isEquirectangular());
+  Plane levels;
+  YuvReader(result.depthPaths[0], FrameFormat{64, 32, 16, ChromaFormat::Yuv420}).readLuma(0, levels);
+  // Longitude -90 (our +x, away from every object), rows 25 to 29: latitudes -50.625 to -73.125 degrees.
+  int checked = 0;
+  for (int v = 25; v < 30; ++v) {
+    const double lat = (90.0 - (v + 0.5) * 180.0 / 32) * kPi / 180;
+    const int u = 47;  // longitude 180 - 47.5 * 5.625 = -87.19
+    const double lon = (180.0 - (u + 0.5) * 360.0 / 64) * kPi / 180;
+    const Vec3 ray = sphereDirection(lon, lat);
+    const double distance = 1.5 / ray.y;  // the floor is the plane y = 1.5
+    EXPECT_NEAR(levelToZ(levels.at(u, v), result.depthRange), distance, 1e-3 * distance) << v;
+    ++checked;
+  }
+  EXPECT_EQ(checked, 5);
+  // The config SceneGen writes for the ERP camera between an ERP and a pinhole one: read as a mixed rig
+  // on the general path, its output scored with WS-PSNR although QualityMetrics does not name it.
+  ASSERT_EQ(result.viewSynConfigs.size(), 1u);
+  const Scene mixed = loadScene(Config::load(viewSynOptionTable(), result.viewSynConfigs[0], {}));
+  EXPECT_TRUE(mixed.virtualCamera.isEquirectangular());
+  EXPECT_FALSE(mixed.settings.references[1].camera.isEquirectangular());
+  EXPECT_EQ(mixed.settings.qualityMetrics, std::vector<std::string>{"wspsnr"});
+  EXPECT_EQ(makePlan(mixed).mode, SynthesisMode::General);
+  std::filesystem::remove_all(root);
+}
+
+}  // namespace
+}  // namespace vs
