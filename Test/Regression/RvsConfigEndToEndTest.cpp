@@ -121,6 +121,15 @@ TEST(RvsConfigEndToEnd, AnRvsConfigGivesTheVsrsConfigsPictureByteForByte) {
   const test::ToolResult check = test::runTool("ViewSyn", "--check rvs/synthesis.json", scratch, rig.dir);
   EXPECT_EQ(check.exitCode, 0) << check.err;
   EXPECT_NE(check.out.find("virtual camera 2 of 2: cam1"), std::string::npos) << check.out;
+  // MeshRender reads the same RVS config: one output per virtual camera, as from the VSRS config.
+  std::ofstream(rig.dir / "rvs" / "mesh.json") << rvsConfig({"cam2", "cam1"}, {"mesh_rvs_cam2.yuv", "mesh_rvs_cam1.yuv"});
+  const test::ToolResult meshRvs = test::runTool("MeshRender", "rvs/mesh.json", scratch, rig.dir);
+  ASSERT_EQ(meshRvs.exitCode, 0) << meshRvs.err;
+  const test::ToolResult meshVsrs =
+      test::runTool("MeshRender", "vsrs_cam1.cfg OutputVirtualViewImageName=mesh_vsrs_cam1.yuv", scratch, rig.dir);
+  ASSERT_EQ(meshVsrs.exitCode, 0) << meshVsrs.err;
+  EXPECT_EQ(readBytes(rig.dir / "mesh_rvs_cam1.yuv").size(), 2 * rig.frameBytes());
+  EXPECT_TRUE(readBytes(rig.dir / "mesh_rvs_cam1.yuv") == readBytes(rig.dir / "mesh_vsrs_cam1.yuv"));
   // --print-config gives one JSON document per virtual camera, as an array.
   const test::ToolResult printed = test::runTool("ViewSyn", "--print-config rvs/synthesis.json", scratch, rig.dir);
   ASSERT_EQ(printed.exitCode, 0) << printed.err;
@@ -148,6 +157,12 @@ TEST(RvsConfigEndToEnd, APoseTraceMovesTheVirtualCameraFrameByFrame) {
   std::ofstream(rig.dir / "traced.json") << rvsConfig({"cam2"}, {"traced.yuv"}, ",\n  \"VirtualPoseTraceName\": \"trace.csv\"");
   const test::ToolResult traced = test::runTool("ViewSyn", "traced.json", scratch, rig.dir);
   ASSERT_EQ(traced.exitCode, 0) << traced.err;
+  // MeshRender does not follow a pose trace, and says so in --check already.
+  const test::ToolResult mesh = test::runTool("MeshRender", "--check traced.json", scratch, rig.dir);
+  EXPECT_EQ(mesh.exitCode, 1);
+  EXPECT_NE(mesh.err.find("traced.json:17: VirtualPoseTraceName: MeshRender does not move its virtual camera"),
+            std::string::npos)
+      << mesh.err;
   std::ofstream(rig.dir / "still.json") << rvsConfig({"cam2"}, {"still.yuv"});
   ASSERT_EQ(test::runTool("ViewSyn", "still.json", scratch, rig.dir).exitCode, 0);
   const std::string tracedBytes = readBytes(rig.dir / "traced.yuv"), still = readBytes(rig.dir / "still.yuv");
