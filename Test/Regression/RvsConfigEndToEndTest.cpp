@@ -184,5 +184,58 @@ TEST(RvsConfigEndToEnd, APoseTraceMovesTheVirtualCameraFrameByFrame) {
   }
 }
 
+TEST(RvsConfigEndToEnd, EquirectangularCamerasFromAnRvsConfigGiveTheVsrsConfigsPicture) {
+  // SceneGen's room seen by three 360-degree cameras (a ring of two and one between), from a camera
+  // JSON written here; the RVS config gives its depth range and bit depth through InputOverrides.
+  const fs::path scratch = test::scratchDir("rvs_end_to_end_erp");
+  const fs::path rig = scratch / "rig";
+  std::ofstream(scratch / "rig.json") << R"({ "Version": "3.0", "cameras": [
+  {"Name": "ring0", "Projection": "Equirectangular", "Position": [0, 0.15, 0], "Rotation": [0, 0, 0],
+   "Hor_range": [-180, 180], "Ver_range": [-90, 90], "Resolution": [128, 64]},
+  {"Name": "centre", "Projection": "Equirectangular", "Position": [0.05, 0, 0.02], "Rotation": [10, 0, 0],
+   "Hor_range": [-180, 180], "Ver_range": [-90, 90], "Resolution": [128, 64]},
+  {"Name": "ring1", "Projection": "Equirectangular", "Position": [0, -0.15, 0], "Rotation": [0, 0, 0],
+   "Hor_range": [-180, 180], "Ver_range": [-90, 90], "Resolution": [128, 64]} ] }
+)";
+  const std::string sceneFile = (fs::path(VS_SOURCE_DIR) / "cfg" / "scenes" / "room.scene").string();
+  const test::ToolResult made = test::runTool(
+      "SceneGen", "SceneFile=" + test::quoted(sceneFile) + " Rig=file CameraParameterFile=rig.json SourceWidth=128 "
+                  "SourceHeight=64 DepthBitDepth=16 TotalNumberOfFrames=1 OutputFolder=rig",
+      scratch, scratch);
+  ASSERT_EQ(made.exitCode, 0) << made.err;
+  fs::path generatedConfig;
+  for (const auto& entry : fs::directory_iterator(rig))
+    if (entry.path().filename().string().rfind("viewsyn_", 0) == 0) generatedConfig = entry.path();
+  ASSERT_FALSE(generatedConfig.empty());
+  const Config generated = Config::load(viewSynOptionTable(), generatedConfig.string(), {});
+  const std::string znear = generated.raw("LeftNearestDepthValue"), zfar = generated.raw("LeftFarthestDepthValue");
+  ASSERT_EQ(generated.getInt("DepthBitDepth"), 16);
+  std::ofstream(rig / "vsrs.cfg")
+      << "SourceWidth 128\nSourceHeight 64\nTotalNumberOfFrames 1\nCameraParameterFile cameras.json\n"
+         "VirtualCameraName centre\nReferenceCameraNames ring0,ring1\n"
+         "ReferenceViewImageNames texture_ring0.yuv,texture_ring1.yuv\n"
+         "ReferenceDepthMapNames depth_ring0.yuv,depth_ring1.yuv\nReferenceNearestDepthValues "
+      << znear << "," << znear << "\nReferenceFarthestDepthValues " << zfar << "," << zfar
+      << "\nDepthBitDepth 16\nReferenceVirtualViewImageName texture_centre.yuv\nSynthesisMode 0\nPrecision 2\n"
+         "MissingDepthLevel 0\nOutputVirtualViewImageName vsrs.yuv\n";
+  const test::ToolResult vsrs = test::runTool("ViewSyn", "vsrs.cfg", scratch, rig);
+  ASSERT_EQ(vsrs.exitCode, 0) << vsrs.err;
+  EXPECT_GT(meanPsnrY(vsrs.out), 25) << vsrs.out;  // a real synthesis of the room
+  std::ofstream(rig / "rvs.json") << "{\n  \"InputCameraParameterFile\": \"cameras.json\",\n"
+                                     "  \"VirtualCameraParameterFile\": \"cameras.json\",\n"
+                                     "  \"InputOverrides\": {\"Depth_range\": ["
+                                  << znear << ", " << zfar << "], \"BitDepthDepth\": 16},\n"
+                                  << "  \"InputCameraNames\": [\"ring0\", \"ring1\"],\n"
+                                     "  \"VirtualCameraNames\": [\"centre\"],\n"
+                                     "  \"ViewImageNames\": [\"texture_ring0.yuv\", \"texture_ring1.yuv\"],\n"
+                                     "  \"DepthMapNames\": [\"depth_ring0.yuv\", \"depth_ring1.yuv\"],\n"
+                                     "  \"OutputFiles\": [\"rvs.yuv\"],\n  \"Precision\": 2.0\n}\n";
+  const test::ToolResult rvs = test::runTool("ViewSyn", "rvs.json", scratch, rig);
+  ASSERT_EQ(rvs.exitCode, 0) << rvs.err;
+  const std::string fromRvs = readBytes(rig / "rvs.yuv");
+  EXPECT_EQ(fromRvs.size(), size_t(128 * 64 * 3 / 2));
+  EXPECT_TRUE(fromRvs == readBytes(rig / "vsrs.yuv"));
+}
+
 }  // namespace
 }  // namespace vs

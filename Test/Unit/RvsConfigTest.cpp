@@ -105,6 +105,11 @@ TEST_F(RvsFixture, EveryKeyMapsOntoOursWithPathsFromTheWorkingFolder) {
   WorkingFolder folder(dir);
   const std::vector<Config> configs = Config::loadAll(viewSynOptionTable(), config.string(), {"Threads=2"});
   ASSERT_EQ(configs.size(), 2u);  // one per virtual camera
+  // Without ViewSynthesisMethod, RVS's default ("Triangles") gives our general path too.
+  std::string noMethod = baseConfig();
+  noMethod.erase(noMethod.find("  \"ViewSynthesisMethod\": \"Triangles\",\n"), 38);
+  std::ofstream(dir / "configs" / "nomethod.json") << noMethod;
+  EXPECT_EQ(Config::loadAll(viewSynOptionTable(), (dir / "configs" / "nomethod.json").string(), {})[0].getString("SynthesisMode"), "0");
   const Config& c = configs[0];
   const std::string working = fs::current_path().string();
   EXPECT_EQ(c.getPath("CameraParameterFile"), working + "/cams/cameras.json");
@@ -127,6 +132,7 @@ TEST_F(RvsFixture, EveryKeyMapsOntoOursWithPathsFromTheWorkingFolder) {
   EXPECT_EQ(c.getInt("TextureBitDepth"), 10);
   EXPECT_EQ(c.getString("ChromaFormat"), "420");
   EXPECT_EQ(c.getString("DepthChromaFormat"), "420");
+  EXPECT_EQ(c.getInt("DepthBitDepth"), 10);
   // Depth: RVS reads a far plane of 1000 as infinite, and level 0 as "no depth".
   EXPECT_EQ(c.getString("ReferenceNearestDepthValues"), "0.5,0.8");
   EXPECT_EQ(c.getString("ReferenceFarthestDepthValues"), "25,inf");
@@ -167,10 +173,11 @@ TEST_F(RvsFixture, TheSceneTakesItsCamerasDepthBitsAndOverrides) {
   EXPECT_DOUBLE_EQ(scene.virtualCamera.t.z, 0.5);
   EXPECT_DOUBLE_EQ(scene.settings.references[0].camera.t.z, 0.0);
   EXPECT_DOUBLE_EQ(scene.settings.references[0].camera.t.x, -0.1);  // MPEG-I y (left) is our -x
-  // The virtual depth output: the virtual camera's range and its 12 bits.
+  // The virtual depth output: the virtual camera's range, in the inputs' depth bit depth (DepthBitDepth).
+  EXPECT_EQ(configs[0].getInt("DepthBitDepth"), 16);
   EXPECT_EQ(scene.settings.virtualDepthRange.znear, 0.5);
   EXPECT_EQ(scene.settings.virtualDepthRange.zfar, 20);
-  EXPECT_EQ(scene.settings.virtualDepthRange.bitDepth, 12);
+  EXPECT_EQ(scene.settings.virtualDepthRange.bitDepth, 16);
   EXPECT_EQ(configs[1].getPath("OutputVirtualDepthMapName"), fs::current_path().string() + "/out/v0_depth.yuv");
 }
 

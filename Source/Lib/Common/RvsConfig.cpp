@@ -441,14 +441,16 @@ std::vector<std::vector<TranslatedSetting>> translateRvsConfig(const std::string
       else rvs.problem(*value, "\"ColorSpace\" '" + v + "': \"YUV\" or \"RGB\" expected");
     }
   }
+  // RVS warps triangles between neighbouring samples ("Triangles", its default and only method); our
+  // general path warps every sample and closes the cracks (doc/manual.md): the same task, another method.
   if (const JsonValue* value = rvs.find("ViewSynthesisMethod")) {
     std::string v;
     if (rvs.text(*value, "ViewSynthesisMethod", v)) {
-      // RVS warps triangles between neighbouring samples; our general path warps every sample and
-      // closes the cracks (doc/manual.md): the same task, a different method.
       if (v == "Triangles") set("SynthesisMode", "0", *value);
       else rvs.problem(*value, "\"ViewSynthesisMethod\" '" + v + "': only \"Triangles\" (RVS's default) is read; it maps to SynthesisMode 0");
     }
+  } else {
+    shared.push_back({"SynthesisMode", "0", path + " (RVS's default ViewSynthesisMethod \"Triangles\")", baseDir});
   }
   if (const JsonValue* value = rvs.find("BlendingMethod")) {
     std::string v;
@@ -501,6 +503,11 @@ std::vector<std::vector<TranslatedSetting>> translateRvsConfig(const std::string
                      "' of the input cameras: YUV420, YUV400 or YUV444 expected");
       else set("DepthChromaFormat", chromaOf(first.depthColorSpace), *inputFileValue);
     }
+    // One depth bit depth when the input cameras agree (RVS's configs always do); else each view keeps
+    // its camera's (Scene.cpp).
+    bool sameDepthBits = first.bitDepthDepth > 0;
+    for (const CameraFacts& f : inputs) sameDepthBits = sameDepthBits && f.bitDepthDepth == first.bitDepthDepth;
+    if (sameDepthBits) set("DepthBitDepth", std::to_string(first.bitDepthDepth), *inputFileValue);
     // Depth ranges: RVS (and TMIV) read a far plane of 1000 or more as infinitely far.
     std::vector<std::string> nears, fars;
     bool allRanges = true, anyInvalid = false;
