@@ -24,6 +24,10 @@ int convert(const vs::CommandLine& line) {
   std::vector<vs::CameraInfo> info;
   for (const vs::Camera& camera : file.cameras()) {
     vs::CameraInfo i = file.info(camera.name);
+    if (line.has("--resolution") && camera.isEquirectangular())
+      throw vs::InputError("--resolution: camera '" + camera.name +
+                           "' is equirectangular; its Resolution is part of the camera (the angle of a pixel "
+                           "depends on it) and is not replaced");
     if (line.has("--resolution")) {
       i.width = int(std::stoll(line.options.at("--resolution")[0]));
       i.height = int(std::stoll(line.options.at("--resolution")[1]));

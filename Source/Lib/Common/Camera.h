@@ -90,10 +90,11 @@ struct Camera {
 // R becomes R^T for RotationConvention::CameraToWorld; nothing happens for WorldToCamera.
 void applyRotationConvention(Camera& camera, RotationConvention convention);
 
-// Checks a camera read from outside. For ERP also its range and picture size. Throws InputError ("<where>: camera '<name>': ...") for
-// non-finite numbers, fx or fy <= 0, a K whose last row is not (0, 0, 1), a singular K, and an R that
-// is not a rotation (max |R R^T - I| > 1e-3 or det(R) < 0). Appends one warning for an R that is a
-// rotation only to within 1e-3 (deviation > 1e-9) and one for non-zero distortion (ignored).
+// Checks a camera read from outside. Throws InputError ("<where>: camera '<name>': ...") for non-finite
+// numbers, fx or fy <= 0, a K whose last row is not (0, 0, 1), a singular K, an R that is not a
+// rotation (max |R R^T - I| > 1e-3 or det(R) < 0), and for ERP a missing picture size or a range
+// outside the limits of EquirectangularRange. Appends one warning for an R that is a rotation only to
+// within 1e-3 (deviation > 1e-9) and one for non-zero distortion (ignored).
 void validateCamera(const Camera& camera, const std::string& where, std::vector<std::string>& warnings);
 
 // Rigid transform from reference-camera coordinates to target-camera coordinates:

@@ -1,7 +1,8 @@
 #pragma once
 // Ray casting of analytic scenes: SceneGen's ground truth. Depth is the camera-frame z of the nearest
-// surface on the pixel centre's ray (for an equirectangular camera: its distance along the ray); colour is the mean of a few sub-pixel rays (anti-aliasing), each
-// finding its own nearest surface, so object edges blend as a real camera would blur them.
+// surface on the pixel centre's ray (for an equirectangular camera: its distance along the ray); colour
+// is the mean of a few sub-pixel rays (anti-aliasing), each finding its own nearest surface, so object
+// edges blend as a real camera would blur them.
 #include <functional>
 #include <limits>
 #include <vector>
@@ -39,7 +40,8 @@ struct RenderOptions {
 };
 
 // Colour (RGB in [0, 1], the background black where no ray hits) and depth (camera-frame z of the
-// centre ray's surface; +inf where it hits nothing) of one camera at one frame, row-major.
+// centre ray's surface, or its distance for ERP; +inf where it hits nothing) of one camera at one
+// frame, row-major.
 struct RenderedView {
   int width = 0;
   int height = 0;

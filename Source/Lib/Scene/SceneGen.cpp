@@ -230,7 +230,8 @@ OptionTable sceneGenOptionTable() {
                  "sphere scene: z of the sphere's centre, on the world z axis"),
       });
   OptionSpec cameraFile = option("CameraParameterFile", OptionType::Path, "", 0, 0,
-                                 "Rig file: camera file (VSRS text, or MPEG-I JSON with pinhole and equirectangular cameras) whose cameras (in file order) render the scene");
+                                 "Rig file: camera file (VSRS text, or MPEG-I JSON with pinhole and equirectangular cameras) "
+                                 "whose cameras (in file order) render the scene");
   addSection(
       table, "Cameras",
       {
