@@ -109,6 +109,27 @@ TEST(CommandLine, AnEqualsSignJoinsAnOptionToItsFirstValue) {
                                       "--size needs W H"}));
 }
 
+TEST(CommandLine, ChromaFormatsAndFrameSizes) {
+  const vs::ValueCheck chroma = vs::chromaFormatValue();
+  for (const char* good : {"420", "444", "400"}) EXPECT_EQ(chroma({good}), "") << good;
+  EXPECT_EQ(chroma({"422"}), "expected one of 420, 444, 400, got '422'");
+  int width = 0, height = 0;
+  EXPECT_TRUE(vs::parseFrameSize("1920x1080", width, height));
+  EXPECT_EQ(width, 1920);
+  EXPECT_EQ(height, 1080);
+  EXPECT_TRUE(vs::parseFrameSize("65536x1", width, height));
+  EXPECT_EQ(width, vs::kMaxFrameSide);
+  int side = 0;
+  EXPECT_TRUE(vs::parseFrameSide("640", side));
+  EXPECT_EQ(side, 640);
+  for (const char* bad : {"", "0", "+640", "-640", "65537", "6 4", "640x"}) EXPECT_FALSE(vs::parseFrameSide(bad, side)) << bad;
+  for (const char* bad : {"", "x", "16", "16x", "x16", "0x16", "16x0", "65537x16", "16x16x16", "16 x16", "-16x16", "+16x16", "16x+16", "ax16"}) {
+    width = height = 7;
+    EXPECT_FALSE(vs::parseFrameSize(bad, width, height)) << bad;
+    EXPECT_EQ(width, 7) << bad;  // left as it was
+  }
+}
+
 TEST(CommandLine, UsageListsEveryOption) {
   const vs::CommandLineTool tool = exampleTool();
   const std::string usage = vs::usageText(tool);

@@ -22,7 +22,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-const char* const kTools[] = {"ViewSyn", "MeshRender", "SceneGen", "CameraConvert", "SynthBench"};
+const char* const kTools[] = {"ViewSyn", "MeshRender", "SceneGen", "CameraConvert", "SynthBench", "YuvPsnr"};
 
 std::string readText(const fs::path& path) {
   std::ifstream in(path);

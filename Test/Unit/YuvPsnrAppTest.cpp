@@ -254,7 +254,7 @@ TEST_F(YuvPsnrAppTest, HelpListsEveryOptionAndExitsZero) {
   const fs::path dir = vs::test::scratchDir("yuvpsnr_help");
   const ToolResult result = runTool("--help", dir);
   EXPECT_EQ(result.exitCode, 0);
-  for (const char* expected : {"usage: YuvPsnr", "--frames", "--start", "--bitdepth", "--chroma", "default 8",
+  for (const char* expected : {"Usage:\n  YuvPsnr REF.yuv TEST.yuv WIDTH HEIGHT", "--frames", "--start", "--bitdepth", "--chroma", "default 8",
                                "range 8..16", "420|444|400", "6 Y + U + V"})
     EXPECT_NE(result.out.find(expected), std::string::npos) << expected << "\n" << result.out;
   EXPECT_EQ(runTool("a.yuv --help", dir).exitCode, 0);
@@ -267,11 +267,11 @@ TEST_F(YuvPsnrAppTest, BadArgumentsExitTwoWithAMessage) {
       {"a.yuv b.yuv 16", "expected 4 arguments"},
       {"a.yuv b.yuv 16 abc", "HEIGHT 'abc'"},
       {"a.yuv b.yuv -16 16", "WIDTH '-16'"},
-      {"a.yuv b.yuv 16 16 --chroma 422", "--chroma '422'"},
-      {"a.yuv b.yuv 16 16 --bitdepth 7", "--bitdepth '7' is not an integer in 8..16"},
-      {"a.yuv b.yuv 16 16 --frames 0", "--frames '0'"},
+      {"a.yuv b.yuv 16 16 --chroma 422", "--chroma F: expected one of 420, 444, 400, got '422'"},
+      {"a.yuv b.yuv 16 16 --bitdepth 7", "--bitdepth B: expected an integer in [8, 16], got '7'"},
+      {"a.yuv b.yuv 16 16 --frames 0", "--frames N: expected an integer in [1, 9223372036854775807], got '0'"},
       {"a.yuv b.yuv 16 16 --frobnicate", "unknown option '--frobnicate'"},
-      {"a.yuv b.yuv 16 16 --start", "--start needs a value"},
+      {"a.yuv b.yuv 16 16 --start", "--start needs S"},
   };
   for (const auto& [arguments, message] : cases) {
     const ToolResult result = runTool(arguments, dir);
@@ -282,7 +282,8 @@ TEST_F(YuvPsnrAppTest, BadArgumentsExitTwoWithAMessage) {
   // Every problem in one run.
   const ToolResult several = runTool("a.yuv b.yuv x 16 --chroma 9 --bitdepth 99", dir);
   EXPECT_EQ(several.exitCode, 2);
-  for (const char* message : {"WIDTH 'x'", "--chroma '9'", "--bitdepth '99'"})
+  for (const char* message : {"WIDTH 'x'", "--chroma F: expected one of 420, 444, 400, got '9'",
+                              "--bitdepth B: expected an integer in [8, 16], got '99'"})
     EXPECT_NE(several.err.find(message), std::string::npos) << message << "\n" << several.err;
 }
 

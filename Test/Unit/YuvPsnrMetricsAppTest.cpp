@@ -197,16 +197,16 @@ TEST_F(YuvPsnrMetricsAppTest, SizeAsWxHAndOptionsReachTheMetrics) {
 TEST_F(YuvPsnrMetricsAppTest, BadMetricOptionsAreNamed) {
   const fs::path dir = vs::test::scratchDir("yuvpsnr_metrics_errors");
   const std::pair<const char*, const char*> cases[] = {
-      {"a.yuv b.yuv 16x16 --metrics psnr,foo", "--metrics 'psnr,foo'"},
-      {"a.yuv b.yuv 16x16 --metrics ''", "--metrics ''"},
+      {"a.yuv b.yuv 16x16 --metrics psnr,foo", "--metrics LIST: expected a comma-separated list of psnr, ivpsnr, wspsnr, ssim, msssim (or all), got 'psnr,foo'"},
+      {"a.yuv b.yuv 16x16 --metrics ''", "--metrics LIST: expected a comma-separated list of psnr, ivpsnr, wspsnr, ssim, msssim (or all), got ''"},
       {"a.yuv b.yuv 16x --metrics psnr", "size '16x'"},
-      {"a.yuv b.yuv 16x16 --search-range 17", "--search-range '17' is not an integer in 0..16"},
-      {"a.yuv b.yuv 16x16 --search-weights 0:0:0", "--search-weights '0:0:0'"},
-      {"a.yuv b.yuv 16x16 --average-weights 0:1:1", "--average-weights '0:1:1'"},
-      {"a.yuv b.yuv 16x16 --unnoticeable 2", "--unnoticeable '2'"},
-      {"a.yuv b.yuv 16x16 --ssim-convention matlab", "--ssim-convention 'matlab'"},
-      {"a.yuv b.yuv 16x16 --latitude-range 0", "--latitude-range '0'"},
-      {"a.yuv b.yuv 16x16 --csv", "--csv needs a value"},
+      {"a.yuv b.yuv 16x16 --search-range 17", "--search-range R: expected an integer in [0, 16], got '17'"},
+      {"a.yuv b.yuv 16x16 --search-weights 0:0:0", "--search-weights Y:U:V: expected Y:U:V of integers in 0..1000, not all 0, got '0:0:0'"},
+      {"a.yuv b.yuv 16x16 --average-weights 0:1:1", "--average-weights Y:U:V: expected Y:U:V of integers in 0..1000, not all 0, Y > 0, got '0:1:1'"},
+      {"a.yuv b.yuv 16x16 --unnoticeable 2", "--unnoticeable F[:F:F]: expected F or F:F:F with each F in 0..1, got '2'"},
+      {"a.yuv b.yuv 16x16 --ssim-convention matlab", "--ssim-convention C: expected one of qmiv, wang, got 'matlab'"},
+      {"a.yuv b.yuv 16x16 --latitude-range 0", "--latitude-range DEG: expected a number of degrees in (0, 180], got '0'"},
+      {"a.yuv b.yuv 16x16 --csv", "--csv needs FILE"},
   };
   for (const auto& [arguments, message] : cases) {
     const ToolResult result = runTool(arguments, dir);

@@ -1,16 +1,15 @@
 // YuvPsnr: PSNR, and on request IV-PSNR, WS-PSNR, SSIM and MS-SSIM (doc/metrics.md), of a test YUV
 // file against a reference, frame by frame and averaged (doc/formats-yuv.md). Exit codes: 0 done,
-// 1 file error, 2 bad arguments. main.cpp only calls yuvPsnrMain(); its own parser is still here (the
-// shared front, Common/CommandLine.h, words its problems differently from what YuvPsnr documents).
+// 1 file error, 2 bad arguments. The command line goes through the shared front (Common/CommandLine.h):
+// the option table below, every problem at once, --help from the table, --version, one catch.
 #include "YuvPsnrTool.h"
 
-#include <cerrno>
 #include <charconv>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <fstream>
-#include <cstring>
+#include <functional>
 #include <limits>
 #include <sstream>
 #include <string>
@@ -27,7 +26,6 @@
 namespace {
 
 constexpr int64_t kMaxInt64 = std::numeric_limits<int64_t>::max();
-constexpr int kMaxSide = 65536;
 
 enum Metric { kPsnr, kIvPsnr, kWsPsnr, kSsim, kMsSsim, kMetricCount };
 const char* const kMetricNames[kMetricCount] = {"psnr", "ivpsnr", "wspsnr", "ssim", "msssim"};
@@ -45,89 +43,6 @@ struct PsnrOptions {
   std::string csvPath;        // --csv: per-frame values and means as CSV
   std::string jsonPath;       // --json: the same as JSON
 };
-
-// What the command line asks for. No exit() in the parser: main() decides.
-struct ParsedArguments {
-  enum class Action { Run, Help, Fail } action = Action::Run;
-  PsnrOptions options;
-  std::vector<std::string> errors;  // every problem found, for Action::Fail
-};
-
-struct OptionHelp {
-  const char* name;
-  const char* value;
-  const char* defaultText;
-  const char* range;
-  const char* meaning;
-};
-
-const OptionHelp kOptions[] = {
-    {"--frames", "N", "all whole frames of the shorter file from --start on", "1 and up", "frames to compare"},
-    {"--start", "S", "0", "0 and up", "first frame compared (0-based), the same in both files"},
-    {"--bitdepth", "B", "8", "8..16", "bits per sample; 9..16 are little-endian 16-bit words in the file"},
-    {"--chroma", "F", "420", "420|444|400", "chroma format; 400 is luma only"},
-    {"--metrics", "LIST", "psnr", "psnr,ivpsnr,wspsnr,ssim,msssim or all",
-     "metrics to compute, comma separated, in this order in the table"},
-    {"--search-range", "R", "2", "0..16", "IV-PSNR: candidates within +-R samples (a (2R+1)^2 window)"},
-    {"--unnoticeable", "F[:F:F]", "0.01", "0..1",
-     "IV-PSNR: largest global colour offset corrected, as a fraction of 2^B-1, per plane; 0 = off"},
-    {"--search-weights", "Y:U:V", "4:1:1", "0..1000 each", "IV-PSNR: plane weights in the search"},
-    {"--average-weights", "Y:U:V", "4:1:1", "0..1000 each",
-     "IV-PSNR, WS-PSNR, SSIM, MS-SSIM: plane weights of the YUV value (PSNR keeps 6:1:1)"},
-    {"--ssim-convention", "C", "qmiv", "qmiv|wang",
-     "SSIM, MS-SSIM: qmiv = IV-PSNR software 7.1's window and averaging, wang = the papers' (doc/metrics.md)"},
-    {"--latitude-range", "DEG", "180", "(0, 180]", "WS-PSNR: degrees of latitude the picture covers"},
-    {"--threads", "T", "0 (all hardware threads)", "0..256", "threads for IV-PSNR, SSIM, MS-SSIM"},
-    {"--csv", "FILE", "none", "a path", "also write the per-frame values and the means as CSV"},
-    {"--json", "FILE", "none", "a path", "also write the per-frame values and the means as JSON"},
-    {"--help", "", "", "", "print this help and exit"},
-};
-
-void printUsage() {
-  std::printf(
-      "YuvPsnr %s: PSNR (and on request IV-PSNR, WS-PSNR, SSIM, MS-SSIM) of a test YUV file against a\n"
-      "reference, per frame and averaged.\n\n"
-      "usage: YuvPsnr REF.yuv TEST.yuv WIDTH HEIGHT [options]\n"
-      "       YuvPsnr REF.yuv TEST.yuv WIDTHxHEIGHT [options]\n\n"
-      "  REF.yuv, TEST.yuv  planar YUV files of the same format, no header\n"
-      "  WIDTH, HEIGHT      luma size in pixels, 1..%d (or WIDTHxHEIGHT as one argument)\n\n"
-      "options (also --name=value):\n",
-      VS_VERSION, kMaxSide);
-  for (const OptionHelp& option : kOptions) {
-    const std::string head = std::string(option.name) + (*option.value ? " " : "") + option.value;
-    std::printf("  %-24s %s\n", head.c_str(), option.meaning);
-    if (*option.defaultText) std::printf("  %-24s default %s, range %s\n", "", option.defaultText, option.range);
-  }
-  std::printf(
-      "\noutput: one line per frame (index, PSNR of Y, U, V and YUV in dB; identical planes print inf),\n"
-      "then the means of each plane two ways:\n"
-      "  frame-mean  mean of the per-frame PSNRs over frames with a finite PSNR; identical frames are\n"
-      "              left out and counted, and it is inf only when every frame is identical\n"
-      "  mean-MSE    PSNR of the mean of the per-frame MSEs\n"
-      "PSNR = 10 log10((2^B - 1)^2 / MSE); YUV = (6 Y + U + V) / 8, inf when any plane is inf.\n"
-      "With --chroma 400 only Y is printed.\n"
-      "Other metrics (--metrics) add their columns: IV-PSNR one value in dB; WS-PSNR, SSIM, MS-SSIM Y, U,\n"
-      "V and YUV (weighted by --average-weights); their means are the means of the per-frame values\n"
-      "(IV-PSNR and WS-PSNR leave identical frames, inf, out and count them). Definitions, defaults and\n"
-      "the agreement with the IV-PSNR reference software: doc/metrics.md.\n\n"
-      "exit code: 0 done, 1 file error (missing, short, bad samples), 2 bad arguments\n");
-}
-
-bool parseInteger(const std::string& text, int64_t minValue, int64_t maxValue, int64_t& value) {
-  int64_t parsed = 0;
-  const char* end = text.data() + text.size();
-  const auto [ptr, ec] = std::from_chars(text.data(), end, parsed);
-  if (ec != std::errc() || ptr != end || text.empty() || parsed < minValue || parsed > maxValue) return false;
-  value = parsed;
-  return true;
-}
-
-// Parses one integer argument into `value`, or records why not.
-void takeInteger(const std::string& name, const std::string& text, int64_t minValue, int64_t maxValue,
-                 const char* rangeText, int64_t& value, std::vector<std::string>& errors) {
-  if (!parseInteger(text, minValue, maxValue, value))
-    errors.push_back(name + " '" + text + "' is not an integer in " + rangeText);
-}
 
 // "a:b:c" (or one value for all three) of numbers in [minValue, maxValue].
 bool parseTriple(const std::string& text, double minValue, double maxValue, bool integers, double out[3]) {
@@ -172,125 +87,147 @@ bool parseMetrics(const std::string& text, bool metrics[kMetricCount]) {
   return true;
 }
 
-// "WIDTHxHEIGHT" -> width, height in 1..kMaxSide.
-bool parseSize(const std::string& text, int& width, int& height) {
-  const size_t x = text.find('x');
-  if (x == std::string::npos) return false;
-  int64_t w = 0, h = 0;
-  if (!parseInteger(text.substr(0, x), 1, kMaxSide, w) || !parseInteger(text.substr(x + 1), 1, kMaxSide, h))
-    return false;
-  width = int(w);
-  height = int(h);
+// Plane weights Y:U:V, integers in 0..1000, not all 0 (and, for the averages, Y > 0).
+bool parseWeights(const std::string& text, bool lumaMustCount, double weights[3]) {
+  return parseTriple(text, 0, 1000, true, weights) && weights[0] + weights[1] + weights[2] > 0 &&
+         (!lumaMustCount || weights[0] > 0);
+}
+
+bool parseLatitudeRange(const std::string& text, double& degrees) {
+  double triple[3] = {0, 0, 0};
+  if (text.find(':') != std::string::npos || !parseTriple(text, 1e-9, 180, false, triple)) return false;
+  degrees = triple[0];
   return true;
 }
 
-ParsedArguments parseArguments(int argc, char** argv) {
-  ParsedArguments parsed;
-  PsnrOptions& options = parsed.options;
-  std::vector<std::string>& errors = parsed.errors;
-  std::vector<std::string> positional;
-  for (int i = 1; i < argc; ++i) {
-    const std::string argument = argv[i];
-    if (argument == "--help" || argument == "-h") {
-      parsed.action = ParsedArguments::Action::Help;
-      return parsed;
-    }
-    // "-5" is a (bad) number for WIDTH or HEIGHT, not an option.
-    if (argument.size() < 2 || argument[0] != '-' || (argument[1] >= '0' && argument[1] <= '9')) {
-      positional.push_back(argument);
-      continue;
-    }
-    const size_t equals = argument.find('=');
-    const std::string name = argument.substr(0, equals);
-    bool known = false;
-    for (const OptionHelp& option : kOptions) known = known || (name == option.name && name != "--help");
-    if (!known) {
-      errors.push_back("unknown option '" + argument + "'");
-      continue;
-    }
-    std::string value;
-    if (equals != std::string::npos) {
-      value = argument.substr(equals + 1);
-    } else if (i + 1 < argc) {
-      value = argv[++i];
-    } else {
-      errors.push_back(name + " needs a value");
-      continue;
-    }
-    int64_t number = 0;
-    double triple[3] = {0, 0, 0};
-    if (name == "--frames") {
-      takeInteger(name, value, 1, kMaxInt64, "1 and up", options.frameCount, errors);
-    } else if (name == "--start") {
-      takeInteger(name, value, 0, kMaxInt64, "0 and up", options.startFrame, errors);
-    } else if (name == "--bitdepth") {
-      number = options.format.bitDepth;
-      takeInteger(name, value, 8, 16, "8..16", number, errors);
-      options.format.bitDepth = int(number);
-    } else if (name == "--chroma") {
-      if (!vs::parseChromaFormat(value, options.format.chroma))
-        errors.push_back("--chroma '" + value + "' is not one of 420, 444, 400");
-    } else if (name == "--metrics") {
-      if (!parseMetrics(value, options.metrics))
-        errors.push_back("--metrics '" + value + "' is not a comma-separated list of psnr, ivpsnr, wspsnr, ssim, "
-                         "msssim (or all)");
-    } else if (name == "--search-range") {
-      number = options.ivpsnr.searchRange;
-      takeInteger(name, value, 0, 16, "0..16", number, errors);
-      options.ivpsnr.searchRange = int(number);
-    } else if (name == "--unnoticeable") {
-      if (parseTriple(value, 0, 1, false, triple))
-        for (int p = 0; p < 3; ++p) options.ivpsnr.unnoticeable[p] = triple[p];
-      else errors.push_back("--unnoticeable '" + value + "' is not F or F:F:F with each F in 0..1");
-    } else if (name == "--search-weights" || name == "--average-weights") {
-      if (!parseTriple(value, 0, 1000, true, triple) || triple[0] + triple[1] + triple[2] == 0 ||
-          (name == "--average-weights" && triple[0] == 0)) {
-        errors.push_back(name + " '" + value + "' is not Y:U:V of integers in 0..1000, not all 0" +
-                         (name == "--average-weights" ? ", Y > 0" : ""));
-      } else {
-        for (int p = 0; p < 3; ++p) {
-          if (name == "--search-weights") options.ivpsnr.searchWeights[p] = int(triple[p]);
-          else options.ivpsnr.averageWeights[p] = options.ssim.averageWeights[p] = int(triple[p]);
-        }
-      }
-    } else if (name == "--ssim-convention") {
-      if (value == "qmiv") options.ssim.convention = vs::SsimConvention::Qmiv;
-      else if (value == "wang") options.ssim.convention = vs::SsimConvention::Wang;
-      else errors.push_back("--ssim-convention '" + value + "' is not one of qmiv, wang");
-    } else if (name == "--latitude-range") {
-      if (!parseTriple(value, 1e-9, 180, false, triple) || value.find(':') != std::string::npos)
-        errors.push_back("--latitude-range '" + value + "' is not a number of degrees in (0, 180]");
-      else options.latitudeRange = triple[0];
-    } else if (name == "--threads") {
-      number = 0;
-      takeInteger(name, value, 0, 256, "0..256", number, errors);
-      options.ivpsnr.threads = options.ssim.threads = int(number);
-    } else if (name == "--csv") {
-      options.csvPath = value;
-    } else {
-      options.jsonPath = value;
-    }
-  }
-  const std::string range = "1.." + std::to_string(kMaxSide);
-  if (positional.size() == 3 && positional[2].find('x') != std::string::npos) {
-    options.referencePath = positional[0];
-    options.testPath = positional[1];
-    if (!parseSize(positional[2], options.format.width, options.format.height))
-      errors.push_back("size '" + positional[2] + "' is not WIDTHxHEIGHT with both in " + range);
-  } else if (positional.size() != 4) {
-    errors.push_back("expected 4 arguments REF.yuv TEST.yuv WIDTH HEIGHT (or 3: REF.yuv TEST.yuv WxH), got " +
-                     std::to_string(positional.size()));
-  } else {
-    options.referencePath = positional[0];
-    options.testPath = positional[1];
-    int64_t side = 0;
-    if (parseInteger(positional[2], 1, kMaxSide, side)) options.format.width = int(side);
-    else errors.push_back("WIDTH '" + positional[2] + "' is not an integer in " + range);
-    if (parseInteger(positional[3], 1, kMaxSide, side)) options.format.height = int(side);
-    else errors.push_back("HEIGHT '" + positional[3] + "' is not an integer in " + range);
-  }
-  if (!errors.empty()) parsed.action = ParsedArguments::Action::Fail;
-  return parsed;
+bool parseSsimConvention(const std::string& text, vs::SsimConvention& convention) {
+  if (text == "qmiv") convention = vs::SsimConvention::Qmiv;
+  else if (text == "wang") convention = vs::SsimConvention::Wang;
+  else return false;
+  return true;
+}
+
+// A value check from a parse function: `expected` says what the value must be.
+vs::ValueCheck valueCheck(const std::function<bool(const std::string&)>& parses, const std::string& expected) {
+  return [=](const std::vector<std::string>& values) -> std::string {
+    for (const std::string& value : values)
+      if (!parses(value)) return "expected " + expected + ", got '" + value + "'";
+    return "";
+  };
+}
+
+// An option's meaning, then its default and range on a line of their own under it.
+std::string help(const std::string& meaning, const std::string& defaultText, const std::string& range) {
+  return meaning + "\n" + std::string(28, ' ') + "default " + defaultText + ", range " + range;
+}
+
+std::vector<vs::CommandOption> psnrOptionTable() {
+  return {
+      {"--frames", {"N"}, help("frames to compare", "all whole frames of the shorter file from --start on", "1 and up"),
+       vs::integerValues(1, kMaxInt64)},
+      {"--start", {"S"}, help("first frame compared (0-based), the same in both files", "0", "0 and up"),
+       vs::integerValues(0, kMaxInt64)},
+      {"--bitdepth", {"B"}, help("bits per sample; 9..16 are little-endian 16-bit words in the file", "8", "8..16"),
+       vs::integerValues(8, 16)},
+      {"--chroma", {"F"}, help("chroma format; 400 is luma only", "420", "420|444|400"), vs::chromaFormatValue()},
+      {"--metrics", {"LIST"},
+       help("metrics to compute, comma separated, in this order in the table", "psnr",
+            "psnr,ivpsnr,wspsnr,ssim,msssim or all"),
+       valueCheck([](const std::string& v) {
+                    bool metrics[kMetricCount];
+                    return parseMetrics(v, metrics);
+                  },
+                  "a comma-separated list of psnr, ivpsnr, wspsnr, ssim, msssim (or all)")},
+      {"--search-range", {"R"}, help("IV-PSNR: candidates within +-R samples (a (2R+1)^2 window)", "2", "0..16"),
+       vs::integerValues(0, 16)},
+      {"--unnoticeable", {"F[:F:F]"},
+       help("IV-PSNR: largest global colour offset corrected, as a fraction of 2^B-1, per plane; 0 = off", "0.01",
+            "0..1"),
+       valueCheck([](const std::string& v) {
+                    double fractions[3];
+                    return parseTriple(v, 0, 1, false, fractions);
+                  },
+                  "F or F:F:F with each F in 0..1")},
+      {"--search-weights", {"Y:U:V"}, help("IV-PSNR: plane weights in the search", "4:1:1", "0..1000 each"),
+       valueCheck([](const std::string& v) {
+                    double weights[3];
+                    return parseWeights(v, false, weights);
+                  },
+                  "Y:U:V of integers in 0..1000, not all 0")},
+      {"--average-weights", {"Y:U:V"},
+       help("IV-PSNR, WS-PSNR, SSIM, MS-SSIM: plane weights of the YUV value (PSNR keeps 6:1:1)", "4:1:1",
+            "0..1000 each"),
+       valueCheck([](const std::string& v) {
+                    double weights[3];
+                    return parseWeights(v, true, weights);
+                  },
+                  "Y:U:V of integers in 0..1000, not all 0, Y > 0")},
+      {"--ssim-convention", {"C"},
+       help("SSIM, MS-SSIM: qmiv = IV-PSNR software 7.1's window and averaging, wang = the papers' (doc/metrics.md)",
+            "qmiv", "qmiv|wang"),
+       valueCheck([](const std::string& v) {
+                    vs::SsimConvention convention;
+                    return parseSsimConvention(v, convention);
+                  },
+                  "one of qmiv, wang")},
+      {"--latitude-range", {"DEG"}, help("WS-PSNR: degrees of latitude the picture covers", "180", "(0, 180]"),
+       valueCheck([](const std::string& v) {
+                    double degrees = 0;
+                    return parseLatitudeRange(v, degrees);
+                  },
+                  "a number of degrees in (0, 180]")},
+      {"--threads", {"T"}, help("threads for IV-PSNR, SSIM, MS-SSIM", "0 (all hardware threads)", "0..256"),
+       vs::integerValues(0, 256)},
+      {"--csv", {"FILE"}, help("also write the per-frame values and the means as CSV", "none", "a path")},
+      {"--json", {"FILE"}, help("also write the per-frame values and the means as JSON", "none", "a path")},
+  };
+}
+
+// WIDTH HEIGHT (or WIDTHxHEIGHT) from the positional arguments; the problems found, "; " between them.
+std::string readSize(const std::vector<std::string>& positional, vs::FrameFormat& format) {
+  const std::string range = "1.." + std::to_string(vs::kMaxFrameSide);
+  if (positional.size() == 3 && positional[2].find('x') != std::string::npos)
+    return vs::parseFrameSize(positional[2], format.width, format.height)
+               ? ""
+               : "size '" + positional[2] + "' is not WIDTHxHEIGHT with both in " + range;
+  if (positional.size() != 4)
+    return "expected 4 arguments REF.yuv TEST.yuv WIDTH HEIGHT (or 3: REF.yuv TEST.yuv WxH), got " +
+           std::to_string(positional.size());
+  std::string problems;
+  const char* names[2] = {"WIDTH", "HEIGHT"};
+  int* sides[2] = {&format.width, &format.height};
+  for (int k = 0; k < 2; ++k)
+    if (!vs::parseFrameSide(positional[2 + k], *sides[k]))
+      problems += std::string(problems.empty() ? "" : "; ") + names[k] + " '" + positional[2 + k] +
+                  "' is not an integer in " + range;
+  return problems;
+}
+
+// The run's options from the parsed command line (every value was checked by the table).
+PsnrOptions psnrOptions(const vs::CommandLine& line) {
+  PsnrOptions options;
+  options.referencePath = line.positional[0];
+  options.testPath = line.positional[1];
+  readSize(line.positional, options.format);
+  options.frameCount = line.integer("--frames", options.frameCount);
+  options.startFrame = line.integer("--start", options.startFrame);
+  options.format.bitDepth = int(line.integer("--bitdepth", options.format.bitDepth));
+  if (line.has("--chroma")) vs::parseChromaFormat(line.text("--chroma"), options.format.chroma);
+  if (line.has("--metrics")) parseMetrics(line.text("--metrics"), options.metrics);
+  options.ivpsnr.searchRange = int(line.integer("--search-range", options.ivpsnr.searchRange));
+  double triple[3] = {0, 0, 0};
+  if (line.has("--unnoticeable") && parseTriple(line.text("--unnoticeable"), 0, 1, false, triple))
+    for (int p = 0; p < 3; ++p) options.ivpsnr.unnoticeable[p] = triple[p];
+  if (line.has("--search-weights") && parseWeights(line.text("--search-weights"), false, triple))
+    for (int p = 0; p < 3; ++p) options.ivpsnr.searchWeights[p] = int(triple[p]);
+  if (line.has("--average-weights") && parseWeights(line.text("--average-weights"), true, triple))
+    for (int p = 0; p < 3; ++p) options.ivpsnr.averageWeights[p] = options.ssim.averageWeights[p] = int(triple[p]);
+  if (line.has("--ssim-convention")) parseSsimConvention(line.text("--ssim-convention"), options.ssim.convention);
+  if (line.has("--latitude-range")) parseLatitudeRange(line.text("--latitude-range"), options.latitudeRange);
+  if (line.has("--threads")) options.ivpsnr.threads = options.ssim.threads = int(line.integer("--threads", 0));
+  options.csvPath = line.text("--csv");
+  options.jsonPath = line.text("--json");
+  return options;
 }
 
 void noteTrailingBytes(const vs::YuvReader& reader) {
@@ -388,7 +325,7 @@ std::vector<Column> makeColumns(const PsnrOptions& options, bool hasChroma) {
 
 // The values of one frame, in the order of makeColumns().
 std::vector<double> frameValues(const PsnrOptions& options, bool hasChroma, const vs::Frame& refFrame,
-                                const vs::Frame& testFrame, vs::FramePsnr& psnr) {
+                                const vs::Frame& testFrame, vs::IvPsnrScratch& ivpsnrScratch, vs::FramePsnr& psnr) {
   std::vector<double> values;
   auto addPlanes = [&](const vs::FrameQuality& quality) {
     for (int p = 0; p < (hasChroma ? 3 : 1); ++p) values.push_back(quality.plane[p]);
@@ -399,7 +336,7 @@ std::vector<double> frameValues(const PsnrOptions& options, bool hasChroma, cons
     values.push_back(psnr.y);
     if (hasChroma) values.insert(values.end(), {psnr.u, psnr.v, psnr.yuv});
   }
-  if (options.metrics[kIvPsnr]) values.push_back(vs::ivPsnr(refFrame, testFrame, options.ivpsnr).ivpsnr);
+  if (options.metrics[kIvPsnr]) values.push_back(vs::ivPsnr(refFrame, testFrame, options.ivpsnr, ivpsnrScratch).ivpsnr);
   if (options.metrics[kWsPsnr])
     addPlanes(vs::wsPsnr(refFrame, testFrame, options.latitudeRange, options.ivpsnr.averageWeights));
   if (options.metrics[kSsim]) addPlanes(vs::ssim(refFrame, testFrame, options.ssim));
@@ -448,6 +385,49 @@ void writeReports(const PsnrOptions& options, const std::vector<Column>& columns
   }
 }
 
+// The means after the table: PSNR's two ways (frame-mean, mean-MSE), then every other column's.
+void printMeans(const PsnrOptions& options, bool hasChroma, const vs::PsnrAccumulator& accumulator,
+                const std::vector<Column>& columns, int64_t count) {
+  if (options.metrics[kPsnr]) {
+    std::printf("mean over %lld frames [dB]\n  %-5s %12s %12s\n", static_cast<long long>(count), "plane",
+                "frame-mean", "mean-MSE");
+    printMean("Y", accumulator.y(), count);
+    if (hasChroma) {
+      printMean("U", accumulator.u(), count);
+      printMean("V", accumulator.v(), count);
+      printMean("YUV", accumulator.yuv(), count);
+    }
+  }
+  bool others = false;
+  for (const Column& column : columns) {
+    if (column.key.rfind("psnr", 0) == 0) continue;
+    if (!others) std::printf("mean of the per-frame values over %lld frames\n", static_cast<long long>(count));
+    others = true;
+    std::string note;
+    if (column.decibel && column.identical > 0)
+      note = "  (" + std::to_string(column.identical) + " identical frame" + (column.identical > 1 ? "s" : "") +
+             (column.identical == count ? ", all)" : " left out)");
+    std::printf("  %-11s %12s%s\n", column.name.c_str(), formatValue(column, column.mean(count)).c_str(),
+                note.c_str());
+  }
+}
+
+// Prints one frame's row and adds its values to the columns' sums.
+void printFrame(int64_t frameIndex, const std::vector<double>& values, std::vector<Column>& columns) {
+  std::printf("%7lld", static_cast<long long>(frameIndex));
+  for (size_t c = 0; c < columns.size(); ++c) {
+    Column& column = columns[c];
+    std::printf(" %10s", formatValue(column, values[c]).c_str());
+    if (column.decibel && std::isinf(values[c])) {
+      ++column.identical;
+    } else {
+      column.sum += values[c];
+      ++column.finite;
+    }
+  }
+  std::printf("\n");
+}
+
 int run(const PsnrOptions& options) {
   vs::YuvReader ref(options.referencePath, options.format);
   vs::YuvReader test(options.testPath, options.format);
@@ -471,6 +451,7 @@ int run(const PsnrOptions& options) {
   std::printf("\n");
 
   vs::Frame refFrame, testFrame;
+  vs::IvPsnrScratch ivpsnrScratch;  // kept over the frames
   vs::PsnrAccumulator accumulator(format.bitDepth, hasChroma);
   std::vector<std::vector<double>> rows;
   std::vector<int64_t> frameIndices;
@@ -478,76 +459,51 @@ int run(const PsnrOptions& options) {
     ref.read(frameIndex, refFrame);
     test.read(frameIndex, testFrame);
     vs::FramePsnr psnr;
-    const std::vector<double> values = frameValues(options, hasChroma, refFrame, testFrame, psnr);
+    const std::vector<double> values = frameValues(options, hasChroma, refFrame, testFrame, ivpsnrScratch, psnr);
     accumulator.add(psnr);
-    std::printf("%7lld", static_cast<long long>(frameIndex));
-    for (size_t c = 0; c < columns.size(); ++c) {
-      Column& column = columns[c];
-      std::printf(" %10s", formatValue(column, values[c]).c_str());
-      if (column.decibel && std::isinf(values[c])) {
-        ++column.identical;
-      } else {
-        column.sum += values[c];
-        ++column.finite;
-      }
-    }
-    std::printf("\n");
+    printFrame(frameIndex, values, columns);
     if (!options.csvPath.empty() || !options.jsonPath.empty()) {
       rows.push_back(values);
       frameIndices.push_back(frameIndex);
     }
   }
-
-  if (options.metrics[kPsnr]) {
-    std::printf("mean over %lld frames [dB]\n  %-5s %12s %12s\n", static_cast<long long>(count), "plane",
-                "frame-mean", "mean-MSE");
-    printMean("Y", accumulator.y(), count);
-    if (hasChroma) {
-      printMean("U", accumulator.u(), count);
-      printMean("V", accumulator.v(), count);
-      printMean("YUV", accumulator.yuv(), count);
-    }
-  }
-  bool others = false;
-  for (const Column& column : columns) {
-    if (column.key.rfind("psnr", 0) == 0) continue;
-    if (!others) std::printf("mean of the per-frame values over %lld frames\n", static_cast<long long>(count));
-    others = true;
-    std::string note;
-    if (column.decibel && column.identical > 0)
-      note = "  (" + std::to_string(column.identical) + " identical frame" + (column.identical > 1 ? "s" : "") +
-             (column.identical == count ? ", all)" : " left out)");
-    std::printf("  %-11s %12s%s\n", column.name.c_str(), formatValue(column, column.mean(count)).c_str(),
-                note.c_str());
-  }
+  printMeans(options, hasChroma, accumulator, columns, count);
   writeReports(options, columns, frameIndices, rows);
   return 0;
 }
 
 }  // namespace
 
-int yuvPsnrMain(int argc, char** argv) {
-  const ParsedArguments parsed = parseArguments(argc, argv);
-  if (parsed.action == ParsedArguments::Action::Help) {
-    printUsage();
-    return 0;
-  }
-  if (parsed.action == ParsedArguments::Action::Fail) {
-    for (const std::string& error : parsed.errors) std::fprintf(stderr, "YuvPsnr: error: %s\n", error.c_str());
-    std::fprintf(stderr, "run 'YuvPsnr --help' for usage\n");
-    return 2;
-  }
-  try {
-    const int code = run(parsed.options);
-    // The numbers must have reached stdout (a full disk, /dev/full, a closed pipe): else exit 1.
-    if (std::fflush(stdout) != 0 || std::ferror(stdout)) {
-      std::fprintf(stderr, "YuvPsnr: error: cannot write the standard output: %s\n", std::strerror(errno));
-      return 1;
-    }
-    return code;
-  } catch (const vs::InputError& error) {
-    std::fflush(stdout);
-    std::fprintf(stderr, "YuvPsnr: error: %s\n", error.what());
-    return 1;
-  }
+vs::CommandLineTool yuvPsnrTool() {
+  vs::CommandLineTool tool;
+  tool.name = "YuvPsnr";
+  tool.description =
+      "PSNR (and on request IV-PSNR, WS-PSNR, SSIM, MS-SSIM) of a test YUV file against a\n"
+      "reference, per frame and averaged.\n\n"
+      "  REF.yuv, TEST.yuv  planar YUV files of the same format, no header\n"
+      "  WIDTH, HEIGHT      luma size in pixels, 1..65536 (or WIDTHxHEIGHT as one argument)";
+  tool.synopsis = {"REF.yuv TEST.yuv WIDTH HEIGHT [options]", "REF.yuv TEST.yuv WIDTHxHEIGHT [options]"};
+  tool.options = psnrOptionTable();
+  tool.notes =
+      "Options also as --name=value.\n\n"
+      "output: one line per frame (index, PSNR of Y, U, V and YUV in dB; identical planes print inf),\n"
+      "then the means of each plane two ways:\n"
+      "  frame-mean  mean of the per-frame PSNRs over frames with a finite PSNR; identical frames are\n"
+      "              left out and counted, and it is inf only when every frame is identical\n"
+      "  mean-MSE    PSNR of the mean of the per-frame MSEs\n"
+      "PSNR = 10 log10((2^B - 1)^2 / MSE); YUV = (6 Y + U + V) / 8, inf when any plane is inf.\n"
+      "With --chroma 400 only Y is printed.\n"
+      "Other metrics (--metrics) add their columns: IV-PSNR one value in dB; WS-PSNR, SSIM, MS-SSIM Y, U,\n"
+      "V and YUV (weighted by --average-weights); their means are the means of the per-frame values\n"
+      "(IV-PSNR and WS-PSNR leave identical frames, inf, out and count them). Definitions, defaults and\n"
+      "the agreement with the IV-PSNR reference software: doc/metrics.md.\n\n"
+      "Exit codes: 0 done, 1 file error (missing, short, bad samples), 2 bad arguments.";
+  // No argument at all is a problem with the positional arguments (exit 2), named as such.
+  tool.runsWithoutArguments = true;
+  tool.checkPositional = [](const vs::CommandLine& line) {
+    vs::FrameFormat format;
+    return readSize(line.positional, format);
+  };
+  tool.run = [](const vs::CommandLine& line) { return run(psnrOptions(line)); };
+  return tool;
 }

@@ -1,5 +1,6 @@
 #pragma once
-// YuvPsnr's parser and run (YuvPsnrTool.cpp): main.cpp hands it the command line.
+// YuvPsnr's option table and run (YuvPsnrTool.cpp), for the shared command-line front.
+#include "Common/CommandLine.h"
 
-// Parses argv (problems: exit code 2), compares the files, prints the table; returns the exit code.
-int yuvPsnrMain(int argc, char** argv);
+// The tool: options, usage text, positional check and run, for vs::runCommandLine().
+vs::CommandLineTool yuvPsnrTool();

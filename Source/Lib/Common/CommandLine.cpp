@@ -10,6 +10,7 @@
 #include "Common/BuildInfo.h"
 #include "Common/CpuLevel.h"
 #include "Common/Error.h"
+#include "Common/Frame.h"
 #include "Common/Memory.h"
 
 namespace vs {
@@ -58,6 +59,35 @@ ValueCheck md5Value() {
     }
     return "";
   };
+}
+
+ValueCheck chromaFormatValue() {
+  return [](const std::vector<std::string>& values) -> std::string {
+    for (const std::string& value : values) {
+      ChromaFormat chroma;
+      if (!parseChromaFormat(value, chroma)) return "expected one of 420, 444, 400, got '" + value + "'";
+    }
+    return "";
+  };
+}
+
+bool parseFrameSide(const std::string& text, int& side) {
+  int64_t value = 0;
+  if (text.empty() || !std::isdigit(static_cast<unsigned char>(text[0])) || !parseInt(text, value) || value < 1 ||
+      value > kMaxFrameSide)
+    return false;
+  side = int(value);
+  return true;
+}
+
+bool parseFrameSize(const std::string& text, int& width, int& height) {
+  const size_t x = text.find('x');
+  int w = 0, h = 0;
+  if (x == std::string::npos || !parseFrameSide(text.substr(0, x), w) || !parseFrameSide(text.substr(x + 1), h))
+    return false;
+  width = w;
+  height = h;
+  return true;
 }
 
 std::string CommandLine::text(const std::string& option, const std::string& fallback) const {

@@ -1,6 +1,6 @@
 #pragma once
 // The command-line front every executable shares (ViewSyn, MeshRender, SceneGen, CameraConvert,
-// SynthBench; a tool with positional arguments of its own, such as YuvPsnr, fits too):
+// SynthBench, YuvPsnr, MetricsBench; tools with positional arguments of their own fit too):
 //   - a table of options (name, value names, help, a check of the values) and, for config-driven tools,
 //     the option table of keys: --help prints usage generated from both on stdout (exit 0);
 //   - one parser that reads every argument and collects every problem (unknown option, missing or bad
@@ -26,6 +26,13 @@ ValueCheck integerValues(int64_t minValue, int64_t maxValue);      // each value
 ValueCheck integerListValue(int64_t minValue, int64_t maxValue);   // one comma-separated list of them
 ValueCheck realValues(bool lastMayBeInfinite);                     // each a finite number (the last: or inf)
 ValueCheck md5Value();                                             // 32 hexadecimal digits
+ValueCheck chromaFormatValue();                                    // 420, 444 or 400
+
+// A frame's width or height: decimal digits only (no sign), 1..kMaxFrameSide; false when it is not.
+constexpr int kMaxFrameSide = 65536;
+bool parseFrameSide(const std::string& text, int& side);
+// "WIDTHxHEIGHT" (a frame size as one argument), both as parseFrameSide: false when it is not.
+bool parseFrameSize(const std::string& text, int& width, int& height);
 
 struct CommandOption {
   std::string name;                    // "--runs"

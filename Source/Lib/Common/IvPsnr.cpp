@@ -183,7 +183,21 @@ std::string validateIvPsnrOptions(const IvPsnrOptions& options) {
   return "";
 }
 
+struct IvPsnrScratch::Pictures {
+  PaddedPlane padded[2][3];  // [reference, test][plane]
+};
+
+IvPsnrScratch::IvPsnrScratch() : pictures_(std::make_unique<Pictures>()) {}
+IvPsnrScratch::~IvPsnrScratch() = default;
+IvPsnrScratch::IvPsnrScratch(IvPsnrScratch&&) noexcept = default;
+IvPsnrScratch& IvPsnrScratch::operator=(IvPsnrScratch&&) noexcept = default;
+
 IvPsnrResult ivPsnr(const Frame& ref, const Frame& test, const IvPsnrOptions& options) {
+  IvPsnrScratch scratch;
+  return ivPsnr(ref, test, options, scratch);
+}
+
+IvPsnrResult ivPsnr(const Frame& ref, const Frame& test, const IvPsnrOptions& options, IvPsnrScratch& scratch) {
   VS_CHECK_MSG(ref.format == test.format, "IV-PSNR of frames of different formats");
   VS_CHECK_MSG(validateIvPsnrOptions(options).empty(), "IV-PSNR options out of range");
   const FrameFormat& format = ref.format;
@@ -195,12 +209,8 @@ IvPsnrResult ivPsnr(const Frame& ref, const Frame& test, const IvPsnrOptions& op
   IvPsnrResult result;
   result.hasChroma = planes == 3;
 
-  // Both pictures at luma resolution with margins; the buffers stay with the thread between frames
-  // (no page faults on every frame).
-  // (A reference, not the thread_local itself, goes into the lambdas: on a worker thread the name
-  // would mean that thread's own copy.)
-  thread_local PaddedPlane storage[2][3];
-  PaddedPlane (&padded)[2][3] = storage;
+  // Both pictures at luma resolution with margins, in the caller's scratch (kept between frames).
+  PaddedPlane (&padded)[2][3] = scratch.pictures().padded;
   for (int p = 0; p < planes; ++p)
     for (int i = 0; i < 2; ++i) padded[i][p].resize(format.width, format.height, range);
   parallelRows(format.height + 2 * range, threads, [&](int r0, int r1) {

@@ -6,6 +6,7 @@
 // samples (cropped at an odd width or height), as the reference software reads it.
 // 4:0:0 has the luma plane only. Bit depth 8 to 16.
 #include <cstdint>
+#include <memory>
 #include <string>
 
 #include "Common/Frame.h"
@@ -32,9 +33,26 @@ struct IvPsnrResult {
   bool hasChroma = true;
 };
 
+// The padded copies of both pictures IV-PSNR works on (12 bytes a luma sample for 4:2:0 and 4:4:4).
+// A caller that scores frame after frame keeps one and passes it to every call, so that the memory is
+// reused (no page faults on every frame); one scratch serves one call at a time.
+class IvPsnrScratch {
+public:
+  IvPsnrScratch();
+  ~IvPsnrScratch();
+  IvPsnrScratch(IvPsnrScratch&&) noexcept;
+  IvPsnrScratch& operator=(IvPsnrScratch&&) noexcept;
+  struct Pictures;  // defined in IvPsnr.cpp
+  Pictures& pictures() { return *pictures_; }
+
+private:
+  std::unique_ptr<Pictures> pictures_;
+};
+
 // IV-PSNR of `test` against `ref` (formats equal, VS_CHECK). Options out of range: VS_CHECK (callers
-// validate user input first, see validateIvPsnrOptions). Keeps its padded copies of both pictures
-// (12 bytes a luma sample for 4:2:0 and 4:4:4) with the calling thread, reused by the next call.
+// validate user input first, see validateIvPsnrOptions). The padded copies go into `scratch`.
+IvPsnrResult ivPsnr(const Frame& ref, const Frame& test, const IvPsnrOptions& options, IvPsnrScratch& scratch);
+// The same with a scratch of its own, freed on return (for a single picture).
 IvPsnrResult ivPsnr(const Frame& ref, const Frame& test, const IvPsnrOptions& options = {});
 // Empty when the options are usable, else what is wrong with them.
 std::string validateIvPsnrOptions(const IvPsnrOptions& options);

@@ -63,7 +63,7 @@ void QualityReport::score(const Frame& truth, const Frame& output) {
     for (int p = 0; p < (hasChroma_ ? 3 : 1); ++p) values.push_back(q.plane[p]);
     if (hasChroma_) values.push_back(q.yuv);
   };
-  if (ivpsnr_) values.push_back(ivPsnr(truth, output).ivpsnr);
+  if (ivpsnr_) values.push_back(ivPsnr(truth, output, IvPsnrOptions(), ivpsnrScratch_).ivpsnr);
   if (wspsnr_) addPlanes(wsPsnr(truth, output, latitudeRangeDeg_));
   if (ssim_) addPlanes(ssim(truth, output));
   if (msssim_) addPlanes(msSsim(truth, output));

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "Common/Frame.h"
+#include "Common/IvPsnr.h"
 
 namespace vs {
 
@@ -45,6 +46,7 @@ private:
   std::vector<bool> decibel_;
   std::vector<double> last_, sum_;
   std::vector<long long> counted_;
+  IvPsnrScratch ivpsnrScratch_;  // IV-PSNR's padded pictures, reused frame after frame
 };
 
 }  // namespace vs
