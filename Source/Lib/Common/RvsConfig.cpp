@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <memory>
 #include <sstream>
 
 #include "Common/CameraJson.h"
@@ -312,6 +313,287 @@ bool looksLikeJsonConfig(const std::string& text) {
   return k < text.size() && (text[k] == '{' || text[k] == '[');
 }
 
+namespace {
+
+// The translation of one RVS config, in named steps; every problem is collected, then reported once.
+class RvsTranslation {
+public:
+  RvsTranslation(const JsonValue& root, const std::string& path, const OptionTable& table)
+      : root_(root), path_(path), table_(table), rvs_(root, path, problems_) {
+    // RVS's path rule: names are used as written, relative to the working folder.
+    std::error_code ec;
+    const std::filesystem::path workingFolder = std::filesystem::current_path(ec);
+    baseDir_ = ec ? std::string(".") : workingFolder.string();
+  }
+
+  std::vector<std::vector<TranslatedSetting>> run() {
+    checkKeys();
+    readCameraFiles();
+    readLists();
+    readOutputs();
+    readScalars();
+    problems_.throwIfAny(path_ + ": invalid RVS config:");
+    readInputCameras();
+    std::vector<std::vector<TranslatedSetting>> perCamera;
+    for (size_t v = 0; v < virtualNames_.size(); ++v) perCamera.push_back(virtualCameraSettings(v));
+    problems_.throwIfAny(path_ + ": invalid RVS config:");
+    return perCamera;
+  }
+
+private:
+  void set(const std::string& key, const std::string& value, const JsonValue& at) {
+    if (table_.find(key)) shared_.push_back({key, value, rvs_.where(at), baseDir_});
+  }
+  void setDefault(const std::string& key, const std::string& value, const std::string& why) {
+    shared_.push_back({key, value, path_ + " (" + why + ")", baseDir_});
+  }
+
+  // Unknown keys (with the nearest RVS key), comments, Version.
+  void checkKeys() {
+    for (const auto& [key, value] : root_.members) {
+      if (!key.empty() && key[0] == '_') continue;  // a comment
+      if (std::find(rvsKeys().begin(), rvsKeys().end(), key) != rvsKeys().end()) continue;
+      std::string hint;
+      size_t best = key.size() / 3 + 1;
+      for (const std::string& known : rvsKeys())
+        if (editDistance(key, known) < best) {
+          best = editDistance(key, known);
+          hint = known;
+        }
+      rvs_.problem(value, "unknown RVS key \"" + key + "\"" + (hint.empty() ? "" : " (did you mean \"" + hint + "\"?)"));
+    }
+    if (const JsonValue* version = rvs_.find("Version")) {
+      std::string v;
+      if (rvs_.text(*version, "Version", v) && v.compare(0, 2, "2.") != 0 && v.compare(0, 2, "3.") != 0 &&
+          v.compare(0, 2, "4.") != 0)
+        rvs_.problem(*version, "\"Version\" '" + v + "': RVS configs of versions 2.x, 3.x and 4.x are read");
+    }
+  }
+
+  // The camera files and their overrides.
+  void readCameraFiles() {
+    inputFileValue_ = rvs_.require("InputCameraParameterFile", "the camera file of the input cameras");
+    virtualFileValue_ = rvs_.require("VirtualCameraParameterFile", "the camera file of the virtual cameras");
+    if (inputFileValue_ && rvs_.text(*inputFileValue_, "InputCameraParameterFile", inputCameraFile_))
+      set("CameraParameterFile", inputCameraFile_, *inputFileValue_);
+    if (virtualFileValue_ && rvs_.text(*virtualFileValue_, "VirtualCameraParameterFile", virtualCameraFile_))
+      set("VirtualCameraParameterFile", virtualCameraFile_, *virtualFileValue_);
+    inputOverrides_ = rvs_.find("InputOverrides");
+    virtualOverrides_ = rvs_.find("VirtualOverrides");
+    for (const auto& [key, value, ours] :
+         {std::tuple<const char*, const JsonValue*, const char*>{"InputOverrides", inputOverrides_, "InputCameraOverrides"},
+          std::tuple<const char*, const JsonValue*, const char*>{"VirtualOverrides", virtualOverrides_,
+                                                                 "VirtualCameraOverrides"}}) {
+      if (!value) continue;
+      if (value->type != JsonValue::Type::Object)
+        rvs_.problem(*value, std::string("\"") + key + "\" must be an object of camera keys");
+      else set(ours, compactJson(*value), *value);
+    }
+  }
+
+  // The camera names and the input sequences, lists of matching lengths.
+  void readLists() {
+    std::vector<std::string> textures, depths;
+    const JsonValue* inputNames = rvs_.require("InputCameraNames", "the input cameras");
+    virtualNamesValue_ = rvs_.require("VirtualCameraNames", "the virtual cameras");
+    const JsonValue* texturesValue = rvs_.require("ViewImageNames", "the texture sequences of the input cameras");
+    const JsonValue* depthsValue = rvs_.require("DepthMapNames", "the depth sequences of the input cameras");
+    if (inputNames) rvs_.textList(*inputNames, "InputCameraNames", inputNames_);
+    if (virtualNamesValue_) rvs_.textList(*virtualNamesValue_, "VirtualCameraNames", virtualNames_);
+    if (texturesValue) rvs_.textList(*texturesValue, "ViewImageNames", textures);
+    if (depthsValue) rvs_.textList(*depthsValue, "DepthMapNames", depths);
+    if (inputNames && inputNames_.empty() && inputNames->type == JsonValue::Type::Array)
+      rvs_.problem(*inputNames, "\"InputCameraNames\" is empty");
+    if (virtualNamesValue_ && virtualNames_.empty() && virtualNamesValue_->type == JsonValue::Type::Array)
+      rvs_.problem(*virtualNamesValue_, "\"VirtualCameraNames\" is empty");
+    for (const auto& [key, value] : {std::pair<const char*, const JsonValue*>{"ViewImageNames", texturesValue},
+                                     std::pair<const char*, const JsonValue*>{"DepthMapNames", depthsValue}})
+      if (value && value->type == JsonValue::Type::Array && value->items.size() != inputNames_.size())
+        rvs_.problem(*value, std::string("\"") + key + "\" lists " + std::to_string(value->items.size()) +
+                                 " files for " + std::to_string(inputNames_.size()) + " InputCameraNames");
+    if (!inputNames) return;
+    set("ReferenceCameraNames", join(inputNames_), *inputNames);
+    if (texturesValue) set("ReferenceViewImageNames", join(textures), *texturesValue);
+    if (depthsValue) set("ReferenceDepthMapNames", join(depths), *depthsValue);
+  }
+
+  // One output (and depth output) per virtual camera; masks are refused.
+  void readOutputs() {
+    for (const char* key : {"OutputFiles", "DepthOutputFiles"}) {
+      const JsonValue* value = rvs_.find(key);
+      if (!value) continue;
+      std::vector<std::string> files;
+      if (!rvs_.textList(*value, key, files)) continue;
+      if (files.size() != virtualNames_.size())
+        rvs_.problem(*value, std::string("\"") + key + "\" lists " + std::to_string(files.size()) + " files for " +
+                                 std::to_string(virtualNames_.size()) + " VirtualCameraNames");
+      else outputs_[key] = files;
+    }
+    if (!rvs_.find("OutputFiles"))
+      problems_.add(path_ + ": missing RVS key \"OutputFiles\" (one output sequence per virtual camera; RVS would write nothing)");
+    for (const char* key : {"OutputMasks", "MaskedOutputFiles", "MaskedDepthOutputFiles"})
+      if (const JsonValue* value = rvs_.find(key))
+        rvs_.problem(*value, std::string("\"") + key + "\": masks and masked outputs are not written by " +
+                                 table_.toolName() + " (doc/manual.md, \"RVS synthesis configs\"); remove the key");
+  }
+
+  // Frames, precision, colour space, method, blending, pose trace.
+  void readScalars() {
+    if (const JsonValue* value = rvs_.find("StartFrame")) {
+      int64_t v = 0;
+      if (rvs_.integer(*value, "StartFrame", 0, v)) set("StartFrame", std::to_string(v), *value);
+    }
+    if (const JsonValue* value = rvs_.find("NumberOfFrames")) {
+      int64_t v = 1;
+      if (rvs_.integer(*value, "NumberOfFrames", 1, v)) set("TotalNumberOfFrames", std::to_string(v), *value);
+    } else {
+      setDefault("TotalNumberOfFrames", "1", "RVS's default NumberOfFrames");  // ours (VSRS's) is 300
+    }
+    if (const JsonValue* value = rvs_.find("Precision")) {
+      double v = 0;
+      if (rvs_.numberValue(*value, "Precision", v)) {
+        if (v == 1 || v == 2 || v == 4) set("Precision", std::to_string(int(v)), *value);
+        else rvs_.problem(*value, "\"Precision\" " + jsonNumber(v) + ": 1, 2 or 4 expected (RVS's other values have no counterpart here)");
+      }
+    }
+    if (const JsonValue* value = rvs_.find("ColorSpace")) {
+      std::string v;
+      if (rvs_.text(*value, "ColorSpace", v)) {
+        if (v == "YUV" || v == "RGB") set("ColorSpace", v == "YUV" ? "0" : "1", *value);
+        else rvs_.problem(*value, "\"ColorSpace\" '" + v + "': \"YUV\" or \"RGB\" expected");
+      }
+    }
+    // RVS warps triangles between neighbouring samples ("Triangles", its default and only method); our
+    // general path warps every sample and closes the cracks (doc/manual.md): the same task, another method.
+    if (const JsonValue* value = rvs_.find("ViewSynthesisMethod")) {
+      std::string v;
+      if (rvs_.text(*value, "ViewSynthesisMethod", v)) {
+        if (v == "Triangles") set("SynthesisMode", "0", *value);
+        else rvs_.problem(*value, "\"ViewSynthesisMethod\" '" + v + "': only \"Triangles\" (RVS's default) is read; it maps to SynthesisMode 0");
+      }
+    } else {
+      setDefault("SynthesisMode", "0", "RVS's default ViewSynthesisMethod \"Triangles\"");
+    }
+    if (const JsonValue* value = rvs_.find("BlendingMethod")) {
+      std::string v;
+      if (rvs_.text(*value, "BlendingMethod", v) && v != "Simple" && v != "Multispectral")
+        rvs_.problem(*value, "\"BlendingMethod\" '" + v + "': \"Simple\" or \"Multispectral\" expected");
+    }
+    for (const char* key : {"BlendingFactor", "BlendingLowFreqFactor", "BlendingHighFreqFactor"})
+      if (const JsonValue* value = rvs_.find(key)) {
+        double v = 0;
+        rvs_.numberValue(*value, key, v);  // read and checked; our blending has no such factor (doc/manual.md)
+      }
+    if (const JsonValue* value = rvs_.find("VirtualPoseTraceName")) {
+      std::string v;
+      if (rvs_.text(*value, "VirtualPoseTraceName", v)) set("VirtualPoseTraceName", v, *value);
+    }
+  }
+
+  // Formats, depth bit depth, depth ranges and "no depth" from the input cameras (after the overrides),
+  // as RVS takes them. A VSRS text camera file gives none: loadScene then reports what is missing.
+  void readInputCameras() {
+    const CameraFactsFile file(resolvePath(inputCameraFile_, baseDir_), inputOverrides_);
+    if (!file.isJson()) return;
+    for (const std::string& name : inputNames_)
+      if (file.contains(name)) inputs_.push_back(file.facts(name, problems_));
+    // A missing name is reported by loadScene, which lists the names the file has.
+    if (inputs_.empty() || inputs_.size() != inputNames_.size()) return;
+    const CameraFacts& first = inputs_[0];
+    const std::string where = rvs_.where(*inputFileValue_);
+    bool same = true, sameDepthBits = first.bitDepthDepth > 0;
+    for (const CameraFacts& f : inputs_) {
+      same = same && f.width == first.width && f.height == first.height && f.bitDepthColor == first.bitDepthColor &&
+             f.colorSpace == first.colorSpace && f.depthColorSpace == first.depthColorSpace;
+      sameDepthBits = sameDepthBits && f.bitDepthDepth == first.bitDepthDepth;
+    }
+    if (!same)
+      problems_.add(where + ": the input cameras differ in Resolution, BitDepthColor, ColorSpace or DepthColorSpace; "
+                            "every reference view must share one texture format here");
+    set("SourceWidth", std::to_string(first.width), *inputFileValue_);
+    set("SourceHeight", std::to_string(first.height), *inputFileValue_);
+    if (first.bitDepthColor > 0) set("TextureBitDepth", std::to_string(first.bitDepthColor), *inputFileValue_);
+    for (const auto& [space, key, jsonKey] :
+         {std::tuple<const std::string*, const char*, const char*>{&first.colorSpace, "ChromaFormat", "ColorSpace"},
+          std::tuple<const std::string*, const char*, const char*>{&first.depthColorSpace, "DepthChromaFormat",
+                                                                   "DepthColorSpace"}}) {
+      if (space->empty()) continue;
+      if (chromaOf(*space).empty())
+        problems_.add(where + ": " + jsonKey + " '" + *space + "' of the input cameras: YUV420, YUV400 or YUV444 expected");
+      else set(key, chromaOf(*space), *inputFileValue_);
+    }
+    // One depth bit depth when the input cameras agree (RVS's configs always do); else each view keeps
+    // its camera's (Scene.cpp).
+    if (sameDepthBits) set("DepthBitDepth", std::to_string(first.bitDepthDepth), *inputFileValue_);
+    // Depth ranges: RVS (and TMIV) read a far plane of 1000 or more as infinitely far.
+    std::vector<std::string> nears, fars;
+    bool allRanges = true, anyInvalid = false;
+    for (const CameraFacts& f : inputs_) {
+      allRanges = allRanges && f.hasDepthRange;
+      anyInvalid = anyInvalid || f.hasInvalidDepth;
+      nears.push_back(number(f.znear));
+      fars.push_back(f.zfar >= 1000 ? "inf" : number(f.zfar));
+    }
+    if (allRanges) {
+      set("ReferenceNearestDepthValues", join(nears), *inputFileValue_);
+      set("ReferenceFarthestDepthValues", join(fars), *inputFileValue_);
+    }
+    // RVS: level 0 is "no depth" unless every camera says HasInvalidDepth false.
+    if (anyInvalid) set("MissingDepthLevel", "0", *inputFileValue_);
+  }
+
+  // The settings of virtual camera v: the shared ones, its name, outputs and depth output range; its
+  // size and texture bit depth must be the inputs'.
+  std::vector<TranslatedSetting> virtualCameraSettings(size_t v) {
+    std::vector<TranslatedSetting> settings = shared_;
+    const std::string& name = virtualNames_[v];
+    settings.push_back({"VirtualCameraName", name, rvs_.where(*virtualNamesValue_), baseDir_});
+    for (const auto& [key, ours] : {std::pair<const char*, const char*>{"OutputFiles", "OutputVirtualViewImageName"},
+                                    std::pair<const char*, const char*>{"DepthOutputFiles", "OutputVirtualDepthMapName"}})
+      if (outputs_.count(key)) settings.push_back({ours, outputs_[key][v], rvs_.where(*rvs_.find(key)), baseDir_});
+    if (!virtualFacts_) virtualFacts_ = std::make_unique<CameraFactsFile>(resolvePath(virtualCameraFile_, baseDir_), virtualOverrides_);
+    if (!virtualFacts_->isJson() || !virtualFacts_->contains(name) || inputs_.empty()) return settings;
+    const CameraFacts f = virtualFacts_->facts(name, problems_);
+    const CameraFacts& in = inputs_[0];
+    const std::string where = rvs_.where(*virtualFileValue_);
+    if (f.width != in.width || f.height != in.height)
+      problems_.add(where + ": virtual camera '" + name + "' has Resolution " + std::to_string(f.width) + " x " +
+                    std::to_string(f.height) + " but the input cameras " + std::to_string(in.width) + " x " +
+                    std::to_string(in.height) + "; " + table_.toolName() +
+                    " writes the virtual view at the input size (change the virtual camera's Resolution and "
+                    "focal length, or VirtualOverrides)");
+    if (f.bitDepthColor > 0 && in.bitDepthColor > 0 && f.bitDepthColor != in.bitDepthColor)
+      problems_.add(where + ": virtual camera '" + name + "' has BitDepthColor " + std::to_string(f.bitDepthColor) +
+                    " but the input cameras " + std::to_string(in.bitDepthColor) +
+                    "; the output has the inputs' texture bit depth");
+    if (f.hasDepthRange && outputs_.count("DepthOutputFiles")) {
+      settings.push_back({"VirtualNearestDepthValue", number(f.znear), where, baseDir_});
+      settings.push_back({"VirtualFarthestDepthValue", f.zfar >= 1000 ? "inf" : number(f.zfar), where, baseDir_});
+    }
+    return settings;
+  }
+
+  const JsonValue& root_;
+  std::string path_;
+  const OptionTable& table_;
+  ProblemList problems_;
+  RvsReader rvs_;
+  std::string baseDir_;
+  std::vector<TranslatedSetting> shared_;  // the settings every virtual camera has
+  const JsonValue* inputFileValue_ = nullptr;
+  const JsonValue* virtualFileValue_ = nullptr;
+  const JsonValue* inputOverrides_ = nullptr;
+  const JsonValue* virtualOverrides_ = nullptr;
+  const JsonValue* virtualNamesValue_ = nullptr;
+  std::string inputCameraFile_, virtualCameraFile_;
+  std::vector<std::string> inputNames_, virtualNames_;
+  std::map<std::string, std::vector<std::string>> outputs_;
+  std::vector<CameraFacts> inputs_;
+  std::unique_ptr<CameraFactsFile> virtualFacts_;
+};
+
+}  // namespace
+
 std::vector<std::vector<TranslatedSetting>> translateRvsConfig(const std::string& text, const std::string& path,
                                                                const OptionTable& table) {
   const JsonValue root = parseJson(text, path);
@@ -320,240 +602,7 @@ std::vector<std::vector<TranslatedSetting>> translateRvsConfig(const std::string
   if (root.find("cameras"))
     throw InputError(path + ": this is a camera parameter file (it has \"cameras\"), not a synthesis config; name it "
                             "in CameraParameterFile, or in an RVS config's InputCameraParameterFile");
-  ProblemList problems;
-  RvsReader rvs(root, path, problems);
-  // RVS's path rule: names are used as written, relative to the working folder.
-  std::error_code ec;
-  const std::filesystem::path workingFolder = std::filesystem::current_path(ec);
-  const std::string baseDir = ec ? std::string(".") : workingFolder.string();
-
-  for (const auto& [key, value] : root.members) {
-    if (!key.empty() && key[0] == '_') continue;  // a comment
-    if (std::find(rvsKeys().begin(), rvsKeys().end(), key) != rvsKeys().end()) continue;
-    std::string hint;
-    size_t best = key.size() / 3 + 1;
-    for (const std::string& known : rvsKeys())
-      if (editDistance(key, known) < best) {
-        best = editDistance(key, known);
-        hint = known;
-      }
-    rvs.problem(value, "unknown RVS key \"" + key + "\"" + (hint.empty() ? "" : " (did you mean \"" + hint + "\"?)"));
-  }
-  if (const JsonValue* version = rvs.find("Version")) {
-    std::string v;
-    if (rvs.text(*version, "Version", v) && v.compare(0, 2, "2.") != 0 && v.compare(0, 2, "3.") != 0 &&
-        v.compare(0, 2, "4.") != 0)
-      rvs.problem(*version, "\"Version\" '" + v + "': RVS configs of versions 2.x, 3.x and 4.x are read");
-  }
-
-  // Settings shared by every virtual camera: (key, value, where).
-  std::vector<TranslatedSetting> shared;
-  auto set = [&](const std::string& key, const std::string& value, const JsonValue& at) {
-    if (table.find(key)) shared.push_back({key, value, rvs.where(at), baseDir});
-  };
-
-  std::string inputCameraFile, virtualCameraFile;
-  const JsonValue* inputFileValue = rvs.require("InputCameraParameterFile", "the camera file of the input cameras");
-  const JsonValue* virtualFileValue = rvs.require("VirtualCameraParameterFile", "the camera file of the virtual cameras");
-  if (inputFileValue && rvs.text(*inputFileValue, "InputCameraParameterFile", inputCameraFile))
-    set("CameraParameterFile", inputCameraFile, *inputFileValue);
-  if (virtualFileValue && rvs.text(*virtualFileValue, "VirtualCameraParameterFile", virtualCameraFile))
-    set("VirtualCameraParameterFile", virtualCameraFile, *virtualFileValue);
-  const JsonValue* inputOverrides = rvs.find("InputOverrides");
-  const JsonValue* virtualOverrides = rvs.find("VirtualOverrides");
-  for (const auto& [key, value, ours] :
-       {std::tuple<const char*, const JsonValue*, const char*>{"InputOverrides", inputOverrides, "InputCameraOverrides"},
-        std::tuple<const char*, const JsonValue*, const char*>{"VirtualOverrides", virtualOverrides,
-                                                               "VirtualCameraOverrides"}}) {
-    if (!value) continue;
-    if (value->type != JsonValue::Type::Object) rvs.problem(*value, std::string("\"") + key + "\" must be an object of camera keys");
-    else set(ours, compactJson(*value), *value);
-  }
-
-  std::vector<std::string> inputNames, virtualNames, textures, depths;
-  const JsonValue* inputNamesValue = rvs.require("InputCameraNames", "the input cameras");
-  const JsonValue* virtualNamesValue = rvs.require("VirtualCameraNames", "the virtual cameras");
-  const JsonValue* texturesValue = rvs.require("ViewImageNames", "the texture sequences of the input cameras");
-  const JsonValue* depthsValue = rvs.require("DepthMapNames", "the depth sequences of the input cameras");
-  bool listsOk = inputNamesValue && rvs.textList(*inputNamesValue, "InputCameraNames", inputNames);
-  listsOk = virtualNamesValue && rvs.textList(*virtualNamesValue, "VirtualCameraNames", virtualNames) && listsOk;
-  listsOk = texturesValue && rvs.textList(*texturesValue, "ViewImageNames", textures) && listsOk;
-  listsOk = depthsValue && rvs.textList(*depthsValue, "DepthMapNames", depths) && listsOk;
-  if (inputNamesValue && inputNames.empty() && inputNamesValue->type == JsonValue::Type::Array)
-    rvs.problem(*inputNamesValue, "\"InputCameraNames\" is empty");
-  if (virtualNamesValue && virtualNames.empty() && virtualNamesValue->type == JsonValue::Type::Array)
-    rvs.problem(*virtualNamesValue, "\"VirtualCameraNames\" is empty");
-  for (const auto& [key, value, items] :
-       {std::tuple<const char*, const JsonValue*, const std::vector<std::string>*>{"ViewImageNames", texturesValue, &textures},
-        std::tuple<const char*, const JsonValue*, const std::vector<std::string>*>{"DepthMapNames", depthsValue, &depths}})
-    if (value && value->type == JsonValue::Type::Array && value->items.size() != inputNames.size())
-      rvs.problem(*value, std::string("\"") + key + "\" lists " + std::to_string(value->items.size()) +
-                              " files for " + std::to_string(inputNames.size()) + " InputCameraNames");
-  if (inputNamesValue) {
-    set("ReferenceCameraNames", join(inputNames), *inputNamesValue);
-    if (texturesValue) set("ReferenceViewImageNames", join(textures), *texturesValue);
-    if (depthsValue) set("ReferenceDepthMapNames", join(depths), *depthsValue);
-  }
-
-  // Outputs: one per virtual camera.
-  std::map<std::string, std::vector<std::string>> outputs;
-  for (const char* key : {"OutputFiles", "DepthOutputFiles"}) {
-    const JsonValue* value = rvs.find(key);
-    if (!value) continue;
-    std::vector<std::string> files;
-    if (!rvs.textList(*value, key, files)) continue;
-    if (files.size() != virtualNames.size())
-      rvs.problem(*value, std::string("\"") + key + "\" lists " + std::to_string(files.size()) + " files for " +
-                              std::to_string(virtualNames.size()) + " VirtualCameraNames");
-    else outputs[key] = files;
-  }
-  if (!rvs.find("OutputFiles"))
-    problems.add(path + ": missing RVS key \"OutputFiles\" (one output sequence per virtual camera; RVS would write nothing)");
-  for (const char* key : {"OutputMasks", "MaskedOutputFiles", "MaskedDepthOutputFiles"})
-    if (const JsonValue* value = rvs.find(key))
-      rvs.problem(*value, std::string("\"") + key + "\": masks and masked outputs are not written by " +
-                              table.toolName() + " (doc/manual.md, \"RVS synthesis configs\"); remove the key");
-
-  if (const JsonValue* value = rvs.find("StartFrame")) {
-    int64_t v = 0;
-    if (rvs.integer(*value, "StartFrame", 0, v)) set("StartFrame", std::to_string(v), *value);
-  }
-  {
-    // RVS's default is one frame; ours (VSRS's) 300.
-    const JsonValue* value = rvs.find("NumberOfFrames");
-    int64_t v = 1;
-    if (value && !rvs.integer(*value, "NumberOfFrames", 1, v)) v = 1;
-    if (value) set("TotalNumberOfFrames", std::to_string(v), *value);
-    else shared.push_back({"TotalNumberOfFrames", "1", path + " (RVS's default NumberOfFrames)", baseDir});
-  }
-  if (const JsonValue* value = rvs.find("Precision")) {
-    double v = 0;
-    if (rvs.numberValue(*value, "Precision", v)) {
-      if (v == 1 || v == 2 || v == 4) set("Precision", std::to_string(int(v)), *value);
-      else rvs.problem(*value, "\"Precision\" " + jsonNumber(v) + ": 1, 2 or 4 expected (RVS's other values have no counterpart here)");
-    }
-  }
-  if (const JsonValue* value = rvs.find("ColorSpace")) {
-    std::string v;
-    if (rvs.text(*value, "ColorSpace", v)) {
-      if (v == "YUV") set("ColorSpace", "0", *value);
-      else if (v == "RGB") set("ColorSpace", "1", *value);
-      else rvs.problem(*value, "\"ColorSpace\" '" + v + "': \"YUV\" or \"RGB\" expected");
-    }
-  }
-  // RVS warps triangles between neighbouring samples ("Triangles", its default and only method); our
-  // general path warps every sample and closes the cracks (doc/manual.md): the same task, another method.
-  if (const JsonValue* value = rvs.find("ViewSynthesisMethod")) {
-    std::string v;
-    if (rvs.text(*value, "ViewSynthesisMethod", v)) {
-      if (v == "Triangles") set("SynthesisMode", "0", *value);
-      else rvs.problem(*value, "\"ViewSynthesisMethod\" '" + v + "': only \"Triangles\" (RVS's default) is read; it maps to SynthesisMode 0");
-    }
-  } else {
-    shared.push_back({"SynthesisMode", "0", path + " (RVS's default ViewSynthesisMethod \"Triangles\")", baseDir});
-  }
-  if (const JsonValue* value = rvs.find("BlendingMethod")) {
-    std::string v;
-    if (rvs.text(*value, "BlendingMethod", v) && v != "Simple" && v != "Multispectral")
-      rvs.problem(*value, "\"BlendingMethod\" '" + v + "': \"Simple\" or \"Multispectral\" expected");
-  }
-  for (const char* key : {"BlendingFactor", "BlendingLowFreqFactor", "BlendingHighFreqFactor"})
-    if (const JsonValue* value = rvs.find(key)) {
-      double v = 0;
-      rvs.numberValue(*value, key, v);  // read and checked; our blending has no such factor (doc/manual.md)
-    }
-  if (const JsonValue* value = rvs.find("VirtualPoseTraceName")) {
-    std::string v;
-    if (rvs.text(*value, "VirtualPoseTraceName", v)) set("VirtualPoseTraceName", v, *value);
-  }
-  problems.throwIfAny(path + ": invalid RVS config:");
-  if (!listsOk) problems.throwIfAny(path + ": invalid RVS config:");
-
-  // Formats and depth ranges from the cameras (after the overrides), as RVS takes them.
-  auto resolved = [&](const std::string& name) { return resolvePath(name, baseDir); };
-  const CameraFactsFile inputFacts(resolved(inputCameraFile), inputOverrides);
-  const CameraFactsFile virtualFacts(resolved(virtualCameraFile), virtualOverrides);
-  const std::string inputWhere = rvs.where(*inputFileValue), virtualWhere = rvs.where(*virtualFileValue);
-  std::vector<CameraFacts> inputs;
-  if (inputFacts.isJson()) {
-    for (const std::string& name : inputNames)
-      if (inputFacts.contains(name)) inputs.push_back(inputFacts.facts(name, problems));
-    // A missing name is reported by loadScene, which lists the names the file has.
-  }
-  if (!inputs.empty() && inputs.size() == inputNames.size()) {
-    const CameraFacts& first = inputs[0];
-    bool same = true;
-    for (const CameraFacts& f : inputs)
-      same = same && f.width == first.width && f.height == first.height && f.bitDepthColor == first.bitDepthColor &&
-             f.colorSpace == first.colorSpace && f.depthColorSpace == first.depthColorSpace;
-    if (!same)
-      problems.add(inputWhere + ": the input cameras differ in Resolution, BitDepthColor, ColorSpace or "
-                                "DepthColorSpace; every reference view must share one texture format here");
-    set("SourceWidth", std::to_string(first.width), *inputFileValue);
-    set("SourceHeight", std::to_string(first.height), *inputFileValue);
-    if (first.bitDepthColor > 0) set("TextureBitDepth", std::to_string(first.bitDepthColor), *inputFileValue);
-    if (!first.colorSpace.empty()) {
-      if (chromaOf(first.colorSpace).empty())
-        problems.add(inputWhere + ": ColorSpace '" + first.colorSpace + "' of the input cameras: YUV420, YUV400 or YUV444 expected");
-      else set("ChromaFormat", chromaOf(first.colorSpace), *inputFileValue);
-    }
-    if (!first.depthColorSpace.empty()) {
-      if (chromaOf(first.depthColorSpace).empty())
-        problems.add(inputWhere + ": DepthColorSpace '" + first.depthColorSpace +
-                     "' of the input cameras: YUV420, YUV400 or YUV444 expected");
-      else set("DepthChromaFormat", chromaOf(first.depthColorSpace), *inputFileValue);
-    }
-    // One depth bit depth when the input cameras agree (RVS's configs always do); else each view keeps
-    // its camera's (Scene.cpp).
-    bool sameDepthBits = first.bitDepthDepth > 0;
-    for (const CameraFacts& f : inputs) sameDepthBits = sameDepthBits && f.bitDepthDepth == first.bitDepthDepth;
-    if (sameDepthBits) set("DepthBitDepth", std::to_string(first.bitDepthDepth), *inputFileValue);
-    // Depth ranges: RVS (and TMIV) read a far plane of 1000 or more as infinitely far.
-    std::vector<std::string> nears, fars;
-    bool allRanges = true, anyInvalid = false;
-    for (const CameraFacts& f : inputs) {
-      allRanges = allRanges && f.hasDepthRange;
-      anyInvalid = anyInvalid || f.hasInvalidDepth;
-      nears.push_back(number(f.znear));
-      fars.push_back(f.zfar >= 1000 ? "inf" : number(f.zfar));
-    }
-    if (allRanges) {
-      set("ReferenceNearestDepthValues", join(nears), *inputFileValue);
-      set("ReferenceFarthestDepthValues", join(fars), *inputFileValue);
-    }
-    // RVS: level 0 is "no depth" unless every camera says HasInvalidDepth false.
-    if (anyInvalid) set("MissingDepthLevel", "0", *inputFileValue);
-  }
-
-  std::vector<std::vector<TranslatedSetting>> perCamera;
-  for (size_t v = 0; v < virtualNames.size(); ++v) {
-    std::vector<TranslatedSetting> settings = shared;
-    settings.push_back({"VirtualCameraName", virtualNames[v], rvs.where(*virtualNamesValue), baseDir});
-    for (const auto& [key, ours] : {std::pair<const char*, const char*>{"OutputFiles", "OutputVirtualViewImageName"},
-                                    std::pair<const char*, const char*>{"DepthOutputFiles", "OutputVirtualDepthMapName"}})
-      if (outputs.count(key)) settings.push_back({ours, outputs[key][v], rvs.where(*rvs.find(key)), baseDir});
-    if (virtualFacts.isJson() && virtualFacts.contains(virtualNames[v]) && !inputs.empty()) {
-      const CameraFacts f = virtualFacts.facts(virtualNames[v], problems);
-      const CameraFacts& in = inputs[0];
-      if (f.width != in.width || f.height != in.height)
-        problems.add(virtualWhere + ": virtual camera '" + virtualNames[v] + "' has Resolution " + std::to_string(f.width) +
-                     " x " + std::to_string(f.height) + " but the input cameras " + std::to_string(in.width) + " x " +
-                     std::to_string(in.height) + "; " + table.toolName() +
-                     " writes the virtual view at the input size (change the virtual camera's Resolution and "
-                     "focal length, or VirtualOverrides)");
-      if (f.bitDepthColor > 0 && in.bitDepthColor > 0 && f.bitDepthColor != in.bitDepthColor)
-        problems.add(virtualWhere + ": virtual camera '" + virtualNames[v] + "' has BitDepthColor " +
-                     std::to_string(f.bitDepthColor) + " but the input cameras " + std::to_string(in.bitDepthColor) +
-                     "; the output has the inputs' texture bit depth");
-      if (f.hasDepthRange && outputs.count("DepthOutputFiles")) {
-        settings.push_back({"VirtualNearestDepthValue", number(f.znear), virtualWhere, baseDir});
-        settings.push_back({"VirtualFarthestDepthValue", f.zfar >= 1000 ? "inf" : number(f.zfar), virtualWhere, baseDir});
-      }
-    }
-    perCamera.push_back(std::move(settings));
-  }
-  problems.throwIfAny(path + ": invalid RVS config:");
-  return perCamera;
+  return RvsTranslation(root, path, table).run();
 }
 
 CameraFile readCameraFileWithOverrides(const std::string& path, RotationConvention convention,
