@@ -164,7 +164,8 @@ public:
     double v = 0;
     if (!numberValue(value, key, v)) return false;
     if (v != std::floor(v) || v < double(minimum) || v > 1e9) {
-      problem(value, "\"" + key + "\" must be an integer from " + std::to_string(minimum) + " on, not " + jsonNumber(v));
+      problem(value,
+              "\"" + key + "\" must be an integer from " + std::to_string(minimum) + " on, not " + jsonNumber(v));
       return false;
     }
     out = int64_t(v);
@@ -197,7 +198,8 @@ size_t editDistance(const std::string& a, const std::string& b) {
     row[0] = i;
     for (size_t j = 1; j <= b.size(); ++j) {
       const size_t above = row[j];
-      const bool same = std::tolower(static_cast<unsigned char>(a[i - 1])) == std::tolower(static_cast<unsigned char>(b[j - 1]));
+      const bool same =
+          std::tolower(static_cast<unsigned char>(a[i - 1])) == std::tolower(static_cast<unsigned char>(b[j - 1]));
       row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (same ? 0 : 1)});
       diagonal = above;
     }
@@ -245,7 +247,8 @@ public:
       for (int k = 0; k < 2; ++k) {
         const JsonValue& item = value->items[size_t(k)];
         if (item.type == JsonValue::Type::Number) *out[k] = item.number;
-        else if (allowInfinity && item.type == JsonValue::Type::String && (item.text == "inf" || item.text == "Infinity"))
+        else if (allowInfinity && item.type == JsonValue::Type::String &&
+                 (item.text == "inf" || item.text == "Infinity"))
           *out[k] = HUGE_VAL;
         else {
           problems.add(at + "\"" + key + "\" must be an array of two numbers");
@@ -360,7 +363,8 @@ private:
           best = editDistance(key, known);
           hint = known;
         }
-      rvs_.problem(value, "unknown RVS key \"" + key + "\"" + (hint.empty() ? "" : " (did you mean \"" + hint + "\"?)"));
+      rvs_.problem(value,
+                   "unknown RVS key \"" + key + "\"" + (hint.empty() ? "" : " (did you mean \"" + hint + "\"?)"));
     }
     if (const JsonValue* version = rvs_.find("Version")) {
       std::string v;
@@ -381,7 +385,8 @@ private:
     inputOverrides_ = rvs_.find("InputOverrides");
     virtualOverrides_ = rvs_.find("VirtualOverrides");
     for (const auto& [key, value, ours] :
-         {std::tuple<const char*, const JsonValue*, const char*>{"InputOverrides", inputOverrides_, "InputCameraOverrides"},
+         {std::tuple<const char*, const JsonValue*, const char*>{"InputOverrides", inputOverrides_,
+                                                                 "InputCameraOverrides"},
           std::tuple<const char*, const JsonValue*, const char*>{"VirtualOverrides", virtualOverrides_,
                                                                  "VirtualCameraOverrides"}}) {
       if (!value) continue;
@@ -430,7 +435,8 @@ private:
       else outputs_[key] = files;
     }
     if (!rvs_.find("OutputFiles"))
-      problems_.add(path_ + ": missing RVS key \"OutputFiles\" (one output sequence per virtual camera; RVS would write nothing)");
+      problems_.add(path_ + ": missing RVS key \"OutputFiles\" (one output sequence per virtual camera; RVS would "
+                            "write nothing)");
     for (const char* key : {"OutputMasks", "MaskedOutputFiles", "MaskedDepthOutputFiles"})
       if (const JsonValue* value = rvs_.find(key))
         rvs_.problem(*value, std::string("\"") + key + "\": masks and masked outputs are not written by " +
@@ -453,7 +459,9 @@ private:
       double v = 0;
       if (rvs_.numberValue(*value, "Precision", v)) {
         if (v == 1 || v == 2 || v == 4) set("Precision", std::to_string(int(v)), *value);
-        else rvs_.problem(*value, "\"Precision\" " + jsonNumber(v) + ": 1, 2 or 4 expected (RVS's other values have no counterpart here)");
+        else
+          rvs_.problem(*value, "\"Precision\" " + jsonNumber(v) +
+                                   ": 1, 2 or 4 expected (RVS's other values have no counterpart here)");
       }
     }
     if (const JsonValue* value = rvs_.find("ColorSpace")) {
@@ -469,7 +477,9 @@ private:
       std::string v;
       if (rvs_.text(*value, "ViewSynthesisMethod", v)) {
         if (v == "Triangles") set("SynthesisMode", "0", *value);
-        else rvs_.problem(*value, "\"ViewSynthesisMethod\" '" + v + "': only \"Triangles\" (RVS's default) is read; it maps to SynthesisMode 0");
+        else
+          rvs_.problem(*value, "\"ViewSynthesisMethod\" '" + v +
+                                   "': only \"Triangles\" (RVS's default) is read; it maps to SynthesisMode 0");
       }
     } else {
       setDefault("SynthesisMode", "0", "RVS's default ViewSynthesisMethod \"Triangles\"");
@@ -519,7 +529,8 @@ private:
                                                                    "DepthColorSpace"}}) {
       if (space->empty()) continue;
       if (chromaOf(*space).empty())
-        problems_.add(where + ": " + jsonKey + " '" + *space + "' of the input cameras: YUV420, YUV400 or YUV444 expected");
+        problems_.add(where + ": " + jsonKey + " '" + *space +
+                      "' of the input cameras: YUV420, YUV400 or YUV444 expected");
       else set(key, chromaOf(*space), *inputFileValue_);
     }
     // One depth bit depth when the input cameras agree (RVS's configs always do); else each view keeps
@@ -548,10 +559,12 @@ private:
     std::vector<TranslatedSetting> settings = shared_;
     const std::string& name = virtualNames_[v];
     settings.push_back({"VirtualCameraName", name, rvs_.where(*virtualNamesValue_), baseDir_});
-    for (const auto& [key, ours] : {std::pair<const char*, const char*>{"OutputFiles", "OutputVirtualViewImageName"},
-                                    std::pair<const char*, const char*>{"DepthOutputFiles", "OutputVirtualDepthMapName"}})
+    using KeyPair = std::pair<const char*, const char*>;
+    for (const auto& [key, ours] : {KeyPair{"OutputFiles", "OutputVirtualViewImageName"},
+                                    KeyPair{"DepthOutputFiles", "OutputVirtualDepthMapName"}})
       if (outputs_.count(key)) settings.push_back({ours, outputs_[key][v], rvs_.where(*rvs_.find(key)), baseDir_});
-    if (!virtualFacts_) virtualFacts_ = std::make_unique<CameraFactsFile>(resolvePath(virtualCameraFile_, baseDir_), virtualOverrides_);
+    if (!virtualFacts_)
+      virtualFacts_ = std::make_unique<CameraFactsFile>(resolvePath(virtualCameraFile_, baseDir_), virtualOverrides_);
     if (!virtualFacts_->isJson() || !virtualFacts_->contains(name) || inputs_.empty()) return settings;
     const CameraFacts f = virtualFacts_->facts(name, problems_);
     const CameraFacts& in = inputs_[0];
@@ -598,7 +611,8 @@ std::vector<std::vector<TranslatedSetting>> translateRvsConfig(const std::string
                                                                const OptionTable& table) {
   const JsonValue root = parseJson(text, path);
   if (root.type != JsonValue::Type::Object)
-    throw InputError(path + ":" + std::to_string(root.line) + ": an RVS config is a JSON object, not " + root.typeName());
+    throw InputError(path + ":" + std::to_string(root.line) + ": an RVS config is a JSON object, not " +
+                     root.typeName());
   if (root.find("cameras"))
     throw InputError(path + ": this is a camera parameter file (it has \"cameras\"), not a synthesis config; name it "
                             "in CameraParameterFile, or in an RVS config's InputCameraParameterFile");
@@ -638,7 +652,8 @@ std::vector<Pose> parsePoseTrace(const std::string& text, const std::string& sou
       if (line.compare(0, 3, "\xEF\xBB\xBF") == 0) line.erase(0, 3);
       const std::vector<std::string> header = fields(line);
       const std::vector<std::string> expected = {"X", "Y", "Z", "Yaw", "Pitch", "Roll"};
-      if (header != expected) throw InputError(where + "a pose trace starts with the header 'X, Y, Z, Yaw, Pitch, Roll'");
+      if (header != expected)
+        throw InputError(where + "a pose trace starts with the header 'X, Y, Z, Yaw, Pitch, Roll'");
       continue;
     }
     if (line.find_first_not_of(" \t\r") == std::string::npos) {
@@ -653,7 +668,8 @@ std::vector<Pose> parsePoseTrace(const std::string& text, const std::string& sou
     if (!ok) throw InputError(where + "six numbers expected (X, Y, Z, Yaw, Pitch, Roll), got '" + line + "'");
     poses.push_back(Pose{v[0], v[1], v[2], v[3], v[4], v[5]});
   }
-  if (lineNumber == 0) throw InputError(source + ": empty pose trace (the header 'X, Y, Z, Yaw, Pitch, Roll' is expected)");
+  if (lineNumber == 0)
+    throw InputError(source + ": empty pose trace (the header 'X, Y, Z, Yaw, Pitch, Roll' is expected)");
   return poses;
 }
 
