@@ -1,5 +1,7 @@
 // Every real VSRS config in ../shared/vsrs-samples parses, and passes `ViewSyn --check` with its camera
-// file; every camera file lists all its cameras through --check too.
+// file; every camera file lists all its cameras through --check too. The same for RVS 4.0's own
+// synthesis configs and camera files in ../shared/vsrs-samples/rvs (run from that folder, as RVS's
+// path rule needs).
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -9,6 +11,7 @@
 
 #include "Common/CameraFile.h"
 #include "Common/Config.h"
+#include "Common/Json.h"
 #include "Common/Options.h"
 #include "Process.h"
 #include "TestPaths.h"
@@ -138,6 +141,124 @@ TEST(SampleConfigs, CheckNamesTheCamerasAMissingNameCouldBe) {
     EXPECT_NE(result.err.find("camera 'no_such_camera' named by LeftCameraName is not in the file"), std::string::npos)
         << result.err;
     for (const Camera& camera : file.cameras()) EXPECT_NE(result.err.find(camera.name), std::string::npos) << camera.name;
+  }
+}
+
+// RVS 4.0's configs (rvs/config_files): what each must give is read from the config itself, by the
+// test: a key we do not write (masks) or a virtual camera of another size than the inputs is refused
+// naming the key; every other config, equirectangular cameras included, passes --check up to its
+// absent sequences.
+std::vector<fs::path> rvsConfigs() {
+  std::vector<fs::path> configs;
+  const fs::path folder = test::samplesDir() / "rvs" / "config_files";
+  if (!fs::is_directory(folder)) return configs;
+  for (const auto& entry : fs::recursive_directory_iterator(folder))
+    if (entry.path().extension() == ".json" && entry.path().parent_path() != folder) configs.push_back(entry.path());
+  configs.push_back(folder / "example_config_file.json");
+  std::sort(configs.begin(), configs.end());
+  return configs;
+}
+
+JsonValue readJson(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream text;
+  text << in.rdbuf();
+  return parseJson(text.str(), path.string());
+}
+
+TEST(SampleConfigs, EveryRvsConfigPassesViewSynCheckFromTheRvsFolder) {
+  VS_REQUIRE_DIR(test::samplesDir() / "rvs" / "config_files");
+  const fs::path rvs = test::samplesDir() / "rvs";
+  const fs::path scratch = test::scratchDir("sample_rvs_check");
+  const std::vector<fs::path> configs = rvsConfigs();
+  EXPECT_EQ(configs.size(), 345u);
+  std::map<std::string, int> outcomes;
+  for (const fs::path& path : configs) {
+    const std::string relative = fs::relative(path, rvs).generic_string();
+    const JsonValue config = readJson(path);
+    // What RVS's own camera files say of the cameras this config names, after its overrides.
+    const JsonValue cameras = readJson(rvs / config.find("InputCameraParameterFile")->text);
+    auto camera = [&](const std::string& name) -> const JsonValue& {
+      for (const JsonValue& c : cameras.find("cameras")->items)
+        if (c.find("Name")->text == name) return c;
+      ADD_FAILURE() << relative << ": no camera " << name;
+      return cameras;
+    };
+    auto field = [&](const JsonValue& c, const char* overridesKey, const char* key) {
+      const JsonValue* overrides = config.find(overridesKey);
+      const JsonValue* value = overrides ? overrides->find(key) : nullptr;
+      return value ? value : c.find(key);
+    };
+    bool equirectangular = false, otherSize = false;
+    const JsonValue& first = camera(config.find("InputCameraNames")->items[0].text);
+    for (const JsonValue& name : config.find("InputCameraNames")->items)
+      equirectangular = equirectangular || field(camera(name.text), "InputOverrides", "Projection")->text == "Equirectangular";
+    for (const JsonValue& name : config.find("VirtualCameraNames")->items) {
+      const JsonValue& c = camera(name.text);
+      equirectangular = equirectangular || field(c, "VirtualOverrides", "Projection")->text == "Equirectangular";
+      otherSize = otherSize || field(c, "VirtualOverrides", "Resolution")->items[0].number !=
+                                   field(first, "InputOverrides", "Resolution")->items[0].number ||
+                  field(c, "VirtualOverrides", "Resolution")->items[1].number !=
+                      field(first, "InputOverrides", "Resolution")->items[1].number;
+    }
+    std::string refusedKey;
+    for (const char* key : {"OutputMasks", "MaskedOutputFiles", "MaskedDepthOutputFiles"})
+      if (config.find(key)) refusedKey = std::string("\"") + key + "\": masks and masked outputs are not written";
+    const test::ToolResult result = test::runTool("ViewSyn", "--check " + test::quoted(relative), scratch, rvs);
+    ASSERT_TRUE(result.exitCode == 0 || result.exitCode == 1) << relative << "\n" << result.err;  // no crash
+    std::string outcome;
+    if (!refusedKey.empty()) {
+      EXPECT_NE(result.err.find(relative + ": invalid RVS config:"), std::string::npos) << relative << "\n" << result.err;
+      EXPECT_NE(result.err.find(refusedKey), std::string::npos) << relative << "\n" << result.err;
+      outcome = "refused: mask outputs";
+    } else if (otherSize) {
+      EXPECT_NE(result.err.find("but the input cameras"), std::string::npos) << relative << "\n" << result.err;
+      outcome = "refused: virtual camera of another size";
+    } else {
+      // Passes up to the absent sequences (the samples hold configs and camera files only).
+      outcome = equirectangular ? "passes (equirectangular cameras)" : "passes (perspective cameras)";
+      if (result.exitCode != 0) {
+        std::istringstream lines(result.err);
+        std::string line;
+        std::getline(lines, line);
+        EXPECT_NE(line.find(": input files:"), std::string::npos) << relative << "\n" << result.err;
+        while (std::getline(lines, line))
+          EXPECT_NE(line.find(": cannot open: No such file or directory"), std::string::npos) << relative << ": " << line;
+      }
+      // Every virtual camera's configuration is printed: its camera and its output.
+      for (const JsonValue& name : config.find("VirtualCameraNames")->items)
+        EXPECT_NE(result.out.find("VirtualCameraName                " + name.text + "\n"), std::string::npos) << relative;
+    }
+    ++outcomes[outcome];
+  }
+  for (const auto& [outcome, count] : outcomes) std::printf("RVS configs, %s: %d\n", outcome.c_str(), count);
+  // Counted from the configs themselves above; written out here so that a change shows.
+  EXPECT_EQ(outcomes["passes (perspective cameras)"], 5);
+  EXPECT_EQ(outcomes["passes (equirectangular cameras)"], 336);
+  EXPECT_EQ(outcomes["refused: mask outputs"], 3);
+  EXPECT_EQ(outcomes["refused: virtual camera of another size"], 1);
+}
+
+TEST(SampleConfigs, EveryRvsCameraFileListsItsCamerasThroughCheck) {
+  VS_REQUIRE_DIR(test::samplesDir() / "rvs" / "config_files");
+  const fs::path rvs = test::samplesDir() / "rvs";
+  const fs::path scratch = test::scratchDir("sample_rvs_cameras");
+  for (const char* file : {"ClassroomVideo.json", "TechnicolorHijack.json", "TechnicolorMuseum.json", "ULB_Unicorn.json"}) {
+    const std::string cameras = "config_files/" + std::string(file);
+    const test::ToolResult result = test::runTool(
+        "ViewSyn",
+        "--check config_files/example_config_file.json CameraParameterFile=" + cameras +
+            " VirtualCameraParameterFile=" + cameras + " VirtualCameraName=no_such_camera",
+        scratch, rvs);
+    EXPECT_EQ(result.exitCode, 1) << file;
+    // Handed to ViewSyn as a config, a camera file is named for what it is.
+    const test::ToolResult asConfig = test::runTool("ViewSyn", "--check " + cameras, scratch, rvs);
+    EXPECT_NE(asConfig.err.find("this is a camera parameter file"), std::string::npos) << asConfig.err;
+    EXPECT_NE(result.err.find("camera 'no_such_camera' named by VirtualCameraName is not in the file"), std::string::npos)
+        << result.err;
+    const JsonValue document = readJson(rvs / cameras);
+    for (const JsonValue& camera : document.find("cameras")->items)
+      EXPECT_NE(result.err.find(camera.find("Name")->text), std::string::npos) << file << " " << camera.find("Name")->text;
   }
 }
 

@@ -3,6 +3,7 @@
 #include <string>
 #include <vector>
 
+#include "Common/Error.h"
 #include "Common/Options.h"
 #include "Mesh/EglContext.h"
 #include "Mesh/MeshPly.h"
@@ -27,6 +28,11 @@ int main(int argc, char** argv) {
   tool.validate = [](const vs::Config& config, const vs::Scene& scene) {
     vs::readMeshSettings(config);
     vs::makePlan(scene, vs::Tool::MeshRender);  // refuses what MeshRender cannot do, as a run would
+    // The frame loop would refuse it at frame 0 (Pipeline/FrameLoop.cpp); --check says so up front.
+    if (!scene.virtualCameraPerFrame.empty())
+      throw vs::InputError(config.origin("VirtualPoseTraceName") +
+                           ": VirtualPoseTraceName: MeshRender does not move its virtual camera along a pose trace "
+                           "(ViewSyn does)");
   };
   tool.extraOutputs = [](const vs::Config& config, const vs::Scene& scene) {
     std::vector<vs::NamedOutput> plyFiles;  // MeshPlyOutput: one file per reference view

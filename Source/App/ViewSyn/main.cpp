@@ -8,7 +8,8 @@ int main(int argc, char** argv) {
   const vs::OptionTable table = vs::viewSynOptionTable();
   vs::SynthesisTool tool;
   tool.name = "ViewSyn";
-  tool.description = "synthesizes a virtual camera view from two reference views with depth (VSRS 4.x configs).";
+  tool.description = "synthesizes a virtual camera view from reference views with depth (VSRS 4.x configs, or RVS 4.0\n"
+                     "JSON synthesis configs: doc/manual.md, \"RVS synthesis configs\").";
   tool.checkHelp = "check the config, the camera file, every input file (type, format, size) and every\n"
                    "      output name; print the effective configuration and the cameras; write nothing";
   tool.manual = "doc/manual.md";

@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "Common/Error.h"
+#include "Common/RvsConfig.h"
 
 namespace vs {
 
@@ -293,23 +294,52 @@ std::string OptionTable::configTemplate() const {
 // ---------------------------------------------------------------------------------------------------
 // Config
 
+namespace {
+
+// The text of config file `cfgPath`, after the checks every config passes (exists, a file, not huge).
+std::string readConfigText(const std::string& cfgPath) {
+  std::error_code ec;
+  if (!std::filesystem::exists(cfgPath, ec)) throw InputError(cfgPath + ": config file not found");
+  if (std::filesystem::is_directory(cfgPath, ec)) throw InputError(cfgPath + ": is a folder, not a config file");
+  const uintmax_t size = std::filesystem::file_size(cfgPath, ec);
+  if (ec) throw InputError(cfgPath + ": cannot read the config file: " + ec.message());
+  if (size > kMaxConfigBytes)
+    throw InputError(cfgPath + ": config file is " + std::to_string(size) + " bytes; at most " +
+                     std::to_string(kMaxConfigBytes) + " expected (is it a config file?)");
+  std::ifstream in(cfgPath, std::ios::binary);
+  if (!in) throw InputError(cfgPath + ": cannot open the config file for reading");
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (in.bad()) throw InputError(cfgPath + ": error while reading the config file");
+  return text;
+}
+
+// One Config per virtual camera of an RVS config (Common/RvsConfig.h).
+std::vector<Config> rvsConfigs(const OptionTable& table, const std::string& text, const std::string& cfgPath,
+                               const std::vector<std::string>& overrides) {
+  std::vector<Config> configs;
+  for (const std::vector<TranslatedSetting>& translated : translateRvsConfig(text, cfgPath, table)) {
+    std::vector<std::tuple<std::string, std::string, SettingOrigin>> settings;
+    for (const TranslatedSetting& s : translated) settings.emplace_back(s.key, s.value, SettingOrigin{s.where, s.baseDir});
+    configs.push_back(Config::fromSettings(table, cfgPath, settings, overrides));
+  }
+  return configs;
+}
+
+}  // namespace
+
 Config Config::load(const OptionTable& table, const std::string& cfgPath, const std::vector<std::string>& overrides) {
   Config config(table);
   ProblemList problems;
   if (!cfgPath.empty()) {
     config.configPath_ = cfgPath;
-    std::error_code ec;
-    if (!std::filesystem::exists(cfgPath, ec)) throw InputError(cfgPath + ": config file not found");
-    if (std::filesystem::is_directory(cfgPath, ec)) throw InputError(cfgPath + ": is a folder, not a config file");
-    const uintmax_t size = std::filesystem::file_size(cfgPath, ec);
-    if (ec) throw InputError(cfgPath + ": cannot read the config file: " + ec.message());
-    if (size > kMaxConfigBytes)
-      throw InputError(cfgPath + ": config file is " + std::to_string(size) + " bytes; at most " +
-                       std::to_string(kMaxConfigBytes) + " expected (is it a config file?)");
-    std::ifstream in(cfgPath, std::ios::binary);
-    if (!in) throw InputError(cfgPath + ": cannot open the config file for reading");
-    std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    if (in.bad()) throw InputError(cfgPath + ": error while reading the config file");
+    const std::string text = readConfigText(cfgPath);
+    if (looksLikeJsonConfig(text)) {
+      std::vector<Config> configs = rvsConfigs(table, text, cfgPath, overrides);
+      if (configs.size() != 1)
+        throw InputError(cfgPath + ": this RVS config names " + std::to_string(configs.size()) +
+                         " virtual cameras; read it with Config::loadAll (one configuration per virtual camera)");
+      return configs[0];
+    }
     std::string baseDir = std::filesystem::path(cfgPath).parent_path().string();
     if (baseDir.empty()) baseDir = ".";
     config.parseText(text, cfgPath, baseDir, problems);
@@ -317,6 +347,38 @@ Config Config::load(const OptionTable& table, const std::string& cfgPath, const 
   for (const std::string& argument : overrides) config.applyOverride(argument, problems);
   config.validateValues(problems);
   problems.throwIfAny((cfgPath.empty() ? std::string("configuration") : cfgPath) + ": invalid configuration:");
+  return config;
+}
+
+std::vector<Config> Config::loadAll(const OptionTable& table, const std::string& cfgPath,
+                                    const std::vector<std::string>& overrides) {
+  if (!cfgPath.empty()) {
+    const std::string text = readConfigText(cfgPath);
+    if (looksLikeJsonConfig(text)) return rvsConfigs(table, text, cfgPath, overrides);
+  }
+  return {load(table, cfgPath, overrides)};
+}
+
+Config Config::fromSettings(const OptionTable& table, const std::string& name,
+                            const std::vector<std::tuple<std::string, std::string, SettingOrigin>>& settings,
+                            const std::vector<std::string>& overrides) {
+  Config config(table);
+  config.configPath_ = name;
+  ProblemList problems;
+  for (const auto& [key, value, origin] : settings) {
+    if (!table.find(key)) {
+      problems.add(origin.where + ": unknown key '" + key + "'");
+      continue;
+    }
+    if (findControlCharacter(value) != std::string::npos) {
+      problems.add(origin.where + ": value of '" + key + "' holds a control character");
+      continue;
+    }
+    config.setValue(key, value, origin);
+  }
+  for (const std::string& argument : overrides) config.applyOverride(argument, problems);
+  config.validateValues(problems);
+  problems.throwIfAny(name + ": invalid configuration:");
   return config;
 }
 

@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <map>
 #include <string>
+#include <tuple>
 #include <vector>
 
 namespace vs {
@@ -84,8 +85,19 @@ class Config {
 public:
   // Reads `cfgPath` (may be empty: defaults and overrides only), then the overrides ("Key=Value"),
   // checks syntax, keys and values against the table, and throws InputError listing every problem.
+  // An RVS synthesis config (a JSON object, Common/RvsConfig.h) is read too when it names exactly one
+  // virtual camera; loadAll() reads one with several.
   static Config load(const OptionTable& table, const std::string& cfgPath,
                      const std::vector<std::string>& overrides);
+  // One Config per virtual camera: a VSRS config gives one; an RVS config one per entry of its
+  // VirtualCameraNames, each with the overrides applied.
+  static std::vector<Config> loadAll(const OptionTable& table, const std::string& cfgPath,
+                                     const std::vector<std::string>& overrides);
+  // Settings given as (key, value, where, baseDir), e.g. translated from an RVS config, then the
+  // overrides; same checks as load(). `name` is the config's path for messages.
+  static Config fromSettings(const OptionTable& table, const std::string& name,
+                             const std::vector<std::tuple<std::string, std::string, SettingOrigin>>& settings,
+                             const std::vector<std::string>& overrides = {});
   // Parses config text as if read from `name` (tests, fuzzing); same checks as load().
   static Config fromText(const OptionTable& table, const std::string& text, const std::string& name,
                          const std::string& baseDir, const std::vector<std::string>& overrides = {});

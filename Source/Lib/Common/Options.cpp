@@ -95,6 +95,18 @@ void addSynthesisOptions(OptionTable& table) {
              intOption("CameraRotationConvention", 0, 0, 1, "-",
                        "0: R in the camera file rotates world to camera (VSRS 4.x); 1: R rotates camera to world "
                        "(VSRS 3.5 data), so it is transposed on reading"),
+             textOption("VirtualCameraParameterFile", OptionType::Path, false, "-",
+                        "Camera file holding the virtual camera, when it is not CameraParameterFile (RVS's "
+                        "VirtualCameraParameterFile)"),
+             textOption("InputCameraOverrides", OptionType::String, false, "-",
+                        "MPEG-I camera JSON keys replacing those of every reference camera, as a JSON object "
+                        "without blanks, e.g. {\"BitDepthDepth\":16} (RVS's InputOverrides)"),
+             textOption("VirtualCameraOverrides", OptionType::String, false, "-",
+                        "The same for the virtual camera (RVS's VirtualOverrides)"),
+             textOption("VirtualPoseTraceName", OptionType::Path, false, "-",
+                        "Optional pose trace (CSV: X, Y, Z, Yaw, Pitch, Roll in MPEG-I axes): row StartFrame+n "
+                        "moves the virtual camera of frame n, its position added to the camera's, its angles "
+                        "replacing the camera's rotation (RVS's VirtualPoseTraceName)"),
          });
   addAll(table, "Files",
          {
@@ -110,7 +122,7 @@ void addSynthesisOptions(OptionTable& table) {
                         "Metrics against ReferenceVirtualViewImageName besides PSNR, comma-separated: ivpsnr, "
                         "wspsnr, ssim, msssim (doc/metrics.md); per frame and as means in the log, ReportFile and SummaryFile"),
          });
-  addAll(table, "Reference views (1 to 16, instead of Left and Right)",
+  addAll(table, "Reference views (1 to 32, instead of Left and Right)",
          {
              textOption("ReferenceCameraNames", OptionType::TextList, false, "-",
                         "Reference cameras, comma-separated (v1,v2,v4,v5); replaces every Left and Right key"),

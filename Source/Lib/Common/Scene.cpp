@@ -9,6 +9,7 @@
 #include "Common/CameraFile.h"
 #include "Common/Error.h"
 #include "Common/QualityReport.h"
+#include "Common/RvsConfig.h"
 
 namespace vs {
 
@@ -150,6 +151,8 @@ const char* synthesisModeName(SynthesisMode mode) {
 std::vector<std::string> SynthesisSettings::inputPaths() const {
   std::vector<std::string> paths{cameraFile};  // the output must be none of these
   if (!configFile.empty()) paths.push_back(configFile);
+  if (!virtualCameraFile.empty()) paths.push_back(virtualCameraFile);
+  if (!poseTracePath.empty()) paths.push_back(poseTracePath);
   for (const ReferenceView& view : references) {
     paths.push_back(view.texturePath);
     paths.push_back(view.depthPath);
@@ -187,6 +190,10 @@ SynthesisSettings readSynthesisSettings(const Config& config) {
   s.frameCount = config.getInt("TotalNumberOfFrames");
   s.configFile = config.configPath();
   s.cameraFile = config.getPath("CameraParameterFile");
+  s.virtualCameraFile = config.getPath("VirtualCameraParameterFile");
+  s.inputCameraOverrides = config.getString("InputCameraOverrides");
+  s.virtualCameraOverrides = config.getString("VirtualCameraOverrides");
+  s.poseTracePath = config.getPath("VirtualPoseTraceName");
   s.rotationConvention = config.getInt("CameraRotationConvention") == 1 ? RotationConvention::CameraToWorld
                                                                          : RotationConvention::WorldToCamera;
   s.virtualCameraName = config.getString("VirtualCameraName");
@@ -279,18 +286,29 @@ Scene loadScene(const Config& config) {
   Scene scene;
   scene.settings = readSynthesisSettings(config);
   SynthesisSettings& s = scene.settings;
-  const CameraFile cameras = readCameraFile(s.cameraFile, s.rotationConvention);
+  // The reference cameras, and the virtual camera (from its own file when VirtualCameraParameterFile
+  // is set), each with its overrides (Common/RvsConfig.h).
+  const CameraFile cameras =
+      readCameraFileWithOverrides(s.cameraFile, s.rotationConvention, s.inputCameraOverrides, "InputCameraOverrides");
+  const bool separateVirtual = !s.virtualCameraFile.empty() || !s.virtualCameraOverrides.empty();
+  const CameraFile virtualCameras =
+      separateVirtual ? readCameraFileWithOverrides(s.virtualCameraFile.empty() ? s.cameraFile : s.virtualCameraFile,
+                                                    s.rotationConvention, s.virtualCameraOverrides, "VirtualCameraOverrides")
+                      : cameras;
   scene.warnings = cameras.warnings();
+  if (separateVirtual)
+    for (const std::string& warning : virtualCameras.warnings()) scene.warnings.push_back(warning);
   ProblemList problems;
-  auto lookUp = [&](const std::string& key, const std::string& name, Camera& camera) {
-    if (cameras.contains(name)) {
-      camera = cameras.find(name);
+  auto lookUpIn = [&](const CameraFile& file, const std::string& key, const std::string& name, Camera& camera) {
+    if (file.contains(name)) {
+      camera = file.find(name);
       return;
     }
     std::string names;
-    for (const Camera& c : cameras.cameras()) names += (names.empty() ? "" : ", ") + c.name;
-    problems.add(s.cameraFile + ": camera '" + name + "' named by " + key + " is not in the file; it has: " + names);
+    for (const Camera& c : file.cameras()) names += (names.empty() ? "" : ", ") + c.name;
+    problems.add(file.path() + ": camera '" + name + "' named by " + key + " is not in the file; it has: " + names);
   };
+  auto lookUp = [&](const std::string& key, const std::string& name, Camera& camera) { lookUpIn(cameras, key, name, camera); };
   for (ReferenceView& view : s.references) {
     lookUp(view.label == "Left" || view.label == "Right" ? view.label + "CameraName" : "ReferenceCameraNames",
            view.cameraName, view.camera);
@@ -317,20 +335,37 @@ Scene loadScene(const Config& config) {
       checkDepthRange(view.depthRange, s.depthType, view.cameraName + " Depth_range: ", s.cameraFile, problems);
     }
   }
-  lookUp("VirtualCameraName", s.virtualCameraName, scene.virtualCamera);
+  lookUpIn(virtualCameras, "VirtualCameraName", s.virtualCameraName, scene.virtualCamera);
+  const bool virtualKnown = virtualCameras.contains(s.virtualCameraName);
   // An equirectangular output is scored with WS-PSNR as well (its rows do not cover equal areas of the
   // sphere), whether or not QualityMetrics names it.
   if (scene.virtualCamera.isEquirectangular() && !s.referenceViewPath.empty() &&
       std::find(s.qualityMetrics.begin(), s.qualityMetrics.end(), "wspsnr") == s.qualityMetrics.end())
     s.qualityMetrics.push_back("wspsnr");
   if (!s.virtualDepthRangeSet && !s.references.empty()) {
-    const bool jsonRange = cameras.contains(s.virtualCameraName) && cameras.info(s.virtualCameraName).hasDepthRange;
+    const bool jsonRange = virtualKnown && virtualCameras.info(s.virtualCameraName).hasDepthRange;
     s.virtualDepthRange = s.references[0].depthRange;
     if (jsonRange) {
-      s.virtualDepthRange.znear = cameras.info(s.virtualCameraName).znear;
-      s.virtualDepthRange.zfar = cameras.info(s.virtualCameraName).zfar;
+      s.virtualDepthRange.znear = virtualCameras.info(s.virtualCameraName).znear;
+      s.virtualDepthRange.zfar = virtualCameras.info(s.virtualCameraName).zfar;
     }
     s.virtualDepthRange.bitDepth = s.depthFormat.bitDepth;
+  }
+  // The virtual depth output takes the virtual camera's BitDepthDepth, as the references take theirs.
+  if (virtualKnown && !config.isSet("DepthBitDepth")) {
+    const int bits = virtualCameras.info(s.virtualCameraName).bitDepthDepth;
+    if (bits >= 8 && bits <= 16) s.virtualDepthRange.bitDepth = bits;
+  }
+  if (!s.poseTracePath.empty() && virtualKnown) {
+    const std::vector<Pose> poses = readPoseTrace(s.poseTracePath);
+    const int64_t needed = s.startFrame + s.frameCount;
+    if (int64_t(poses.size()) < needed)
+      problems.add(s.poseTracePath + ": VirtualPoseTraceName holds " + std::to_string(poses.size()) +
+                   " poses; frames " + std::to_string(s.startFrame) + " to " + std::to_string(needed - 1) +
+                   " need " + std::to_string(needed) + " (row StartFrame+n moves frame n)");
+    else
+      for (int64_t f = s.startFrame; f < needed; ++f)
+        scene.virtualCameraPerFrame.push_back(posedCamera(scene.virtualCamera, poses[size_t(f)]));
   }
   problems.throwIfAny(config.configPath() + ": cameras:");
   return scene;

@@ -28,7 +28,7 @@ struct OneDOptions {
   bool cleanNoise = false;
 };
 
-constexpr size_t kMaxReferenceViews = 16;
+constexpr size_t kMaxReferenceViews = 32;  // RVS's own configs name up to 24 input cameras
 
 struct ReferenceView {
   std::string label;          // "Left", "Right" or "Reference k": for messages
@@ -49,6 +49,10 @@ struct SynthesisSettings {
   int64_t frameCount = 1;
   std::string configFile;                    // the config file read (empty: none); an input like the others
   std::string cameraFile;
+  std::string virtualCameraFile;             // VirtualCameraParameterFile; empty: cameraFile
+  std::string inputCameraOverrides;          // InputCameraOverrides: JSON object text; empty: none
+  std::string virtualCameraOverrides;        // VirtualCameraOverrides
+  std::string poseTracePath;                 // VirtualPoseTraceName; empty: a fixed virtual camera
   RotationConvention rotationConvention = RotationConvention::WorldToCamera;
   std::string virtualCameraName;
   std::vector<ReferenceView> references;     // left then right, or the Reference list (1 to 16)
@@ -87,6 +91,8 @@ SynthesisSettings readSynthesisSettings(const Config& config);
 struct Scene {
   SynthesisSettings settings;
   Camera virtualCamera;
+  // VirtualPoseTraceName: the virtual camera of each frame (StartFrame on); empty: virtualCamera throughout.
+  std::vector<Camera> virtualCameraPerFrame;
   std::vector<std::string> warnings;  // from the camera file (checkInputs and the run add their own)
 };
 

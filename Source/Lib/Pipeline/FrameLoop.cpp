@@ -71,6 +71,7 @@ struct LeastCovered {
 struct FrameSteps {
   const std::string& toolName;
   const SynthesisSettings& s;
+  const std::vector<Camera>& virtualCameraPerFrame;  // VirtualPoseTraceName; empty: a fixed camera
   FrameRenderer& renderer;
   RunReport& report;
   std::FILE* log;
@@ -85,6 +86,9 @@ struct FrameSteps {
     StageTimes times;
     const SequenceInputs::FrameInputs frame = inputs.next(times.read);
     if (f == 0) decideOnFirstFrame(renderer, frame.references, report, log);
+    // A pose trace moves the virtual camera frame by frame (Common/RvsConfig.h).
+    if (!virtualCameraPerFrame.empty() && !renderer.moveVirtualCamera(virtualCameraPerFrame[size_t(f)]))
+      throw InputError(toolName + " cannot move its virtual camera: VirtualPoseTraceName is not supported by it");
     renderer.render(frame.references, output, times);
     leastCovered.add(s.startFrame + f, output, renderer.uncoveredSamples());
     const auto start = std::chrono::steady_clock::now();
@@ -131,7 +135,8 @@ RunSummary runSequence(const std::string& toolName, const Scene& scene, FrameRen
                         s.textureFormat.chroma != ChromaFormat::Yuv400);
   if (scene.virtualCamera.isEquirectangular())
     quality.setLatitudeRange(scene.virtualCamera.erp.latMax - scene.virtualCamera.erp.latMin);
-  FrameSteps steps{toolName, s, renderer, report, log, inputs, outputs, quality, Frame(), LeastCovered()};
+  FrameSteps steps{toolName, s, scene.virtualCameraPerFrame, renderer, report, log, inputs, outputs, quality, Frame(),
+                   LeastCovered()};
   for (int64_t f = 0; f < inputs.available(); ++f) try {
       steps.renderFrame(f);
     } catch (const InputError& e) {

@@ -7,6 +7,7 @@
 #include <utility>
 #include <vector>
 
+#include "Common/Camera.h"
 #include "Common/Depth.h"
 #include "Common/Frame.h"
 #include "Common/InputCheck.h"
@@ -37,6 +38,9 @@ public:
   virtual int64_t uncoveredSamples() const { return -1; }
   // Files the renderer writes itself (MeshRender's PLY), checked with the run's outputs before frame 0.
   virtual std::vector<NamedOutput> extraOutputs() const { return {}; }
+  // VirtualPoseTraceName: the virtual camera of the next frames is `camera` (called before each frame's
+  // render). False when the renderer cannot move its virtual camera; the loop then refuses the run.
+  virtual bool moveVirtualCamera(const Camera& /*camera*/) { return false; }
   // Renames the renderer's own files into place; called once the run has ended well.
   virtual void commitOutputs() {}
 };

@@ -4,6 +4,7 @@
 #include <cctype>
 #include <cstdio>
 
+#include "Common/Error.h"
 #include "Common/Md5.h"
 #include "Pipeline/RunReport.h"
 
@@ -11,19 +12,40 @@ namespace vs {
 
 namespace {
 
-// --check or --print-config: read and check everything a run would, then print instead of running.
-int runAction(const SynthesisTool& tool, const CommandLine& line, const Config& config) {
-  const Scene scene = loadScene(config);
-  if (tool.validate) tool.validate(config, scene);
+// --print-config: one JSON document, or an array of them for an RVS config's virtual cameras.
+void printConfigs(const SynthesisTool& tool, const std::vector<Config>& configs, const std::vector<Scene>& scenes) {
+  if (configs.size() > 1) std::fputs("[\n", stdout);
+  for (size_t k = 0; k < configs.size(); ++k) {
+    if (k) std::fputs(",\n", stdout);
+    std::fputs(configJson(tool.name, configs[k], scenes[k]).c_str(), stdout);
+  }
+  if (configs.size() > 1) std::fputs("]\n", stdout);
+}
+
+// --check or --print-config: read and check everything a run would, then print instead of running;
+// every virtual camera of an RVS config (one configuration each) is loaded and planned first.
+int runAction(const SynthesisTool& tool, const CommandLine& line, const std::vector<Config>& configs) {
+  std::vector<Scene> scenes;
+  for (const Config& config : configs) {
+    scenes.push_back(loadScene(config));
+    if (tool.validate) tool.validate(config, scenes.back());
+  }
   if (line.action == "--print-config") {
-    std::fputs(configJson(tool.name, config, scene).c_str(), stdout);
+    printConfigs(tool, configs, scenes);
     return 0;
   }
-  printConfigCheck(tool.name, line.positional[0], config, scene);
+  for (size_t k = 0; k < configs.size(); ++k) {
+    if (configs.size() > 1)
+      std::printf("virtual camera %zu of %zu: %s\n", k + 1, configs.size(), scenes[k].settings.virtualCameraName.c_str());
+    printConfigCheck(tool.name, line.positional[0], configs[k], scenes[k]);
+  }
   // --check also opens every input (type, format, whole frames) and checks every output name, as
-  // the run does before frame 0; after the printout, so that a refusal follows what was read.
-  for (const std::string& warning : checkInputs(scene)) std::printf("warning: %s\n", warning.c_str());
-  checkOutputs(scene, tool.extraOutputs ? tool.extraOutputs(config, scene) : std::vector<NamedOutput>{});
+  // the run does before frame 0; after the printout (of every virtual camera), so that a refusal
+  // follows what was read.
+  for (size_t k = 0; k < configs.size(); ++k) {
+    for (const std::string& warning : checkInputs(scenes[k])) std::printf("warning: %s\n", warning.c_str());
+    checkOutputs(scenes[k], tool.extraOutputs ? tool.extraOutputs(configs[k], scenes[k]) : std::vector<NamedOutput>{});
+  }
   std::printf("input files OK\n");
   if (tool.describe) tool.describe(stdout);
   std::printf("configuration OK\n");
@@ -73,10 +95,15 @@ CommandLineTool synthesisCommandLine(const SynthesisTool& tool) {
   };
   front.run = [tool](const CommandLine& line) {
     const std::vector<std::string> overrides(line.positional.begin() + 1, line.positional.end());
-    const Config config = Config::load(*tool.keys, line.positional[0], overrides);
-    if (!line.action.empty()) return runAction(tool, line, config);
-    tool.run(config);
-    return line.has("--verify") ? verifyOutput(tool, config, line.text("--verify")) : 0;
+    // A VSRS config gives one configuration; an RVS config one per virtual camera, run in turn, each
+    // writing its own output (Common/RvsConfig.h).
+    const std::vector<Config> configs = Config::loadAll(*tool.keys, line.positional[0], overrides);
+    if (line.has("--verify") && configs.size() != 1)
+      throw InputError(line.positional[0] + ": --verify checks one output, and this config has " +
+                       std::to_string(configs.size()) + " virtual cameras");
+    if (!line.action.empty()) return runAction(tool, line, configs);
+    for (const Config& config : configs) tool.run(config);
+    return line.has("--verify") ? verifyOutput(tool, configs[0], line.text("--verify")) : 0;
   };
   return front;
 }

@@ -17,7 +17,7 @@ namespace {
 // ViewSyn's middle box: what the plan decided, a copy or the synthesizer on the chosen path.
 class ViewSynRenderer : public FrameRenderer {
 public:
-  explicit ViewSynRenderer(const Scene& scene) : scene_(scene), plan_(makePlan(scene)) {
+  explicit ViewSynRenderer(const Scene& scene) : scene_(scene), plan_(makePlan(scene_)) {
     if (plan_.copyOf < 0 && !plan_.missingDepthAuto) synthesizer_ = std::make_unique<Synthesizer>(scene, plan_);
   }
   // MissingDepthLevel auto: the plan decides on the first frame, then the synthesizer is built.
@@ -50,11 +50,28 @@ public:
   int64_t uncoveredSamples() const override {
     return synthesizer_ ? int64_t(synthesizer_->lastStats().holesAfterBlend) : -1;
   }
+  // A pose trace: the plan is made again for the moved camera (its weights and paths depend on it);
+  // a MissingDepthLevel auto decision taken on the first frame is kept.
+  bool moveVirtualCamera(const Camera& camera) override {
+    scene_.virtualCamera = camera;
+    Plan moved = makePlan(scene_);
+    if (moved.missingDepthAuto && plan_.missingDepthDecided) {
+      moved.missingDepthLevel = plan_.missingDepthLevel;
+      moved.missingDepthFill = plan_.missingDepthFill;
+      moved.missingDepthEvidence = plan_.missingDepthEvidence;
+      moved.missingDepthDecided = true;
+    }
+    plan_ = std::move(moved);
+    synthesizer_.reset();
+    if (plan_.copyOf < 0 && (!plan_.missingDepthAuto || plan_.missingDepthDecided))
+      synthesizer_ = std::make_unique<Synthesizer>(scene_, plan_);
+    return true;
+  }
   std::vector<std::string> plan() const override { return plan_.lines(); }
   std::vector<std::pair<std::string, std::string>> decisions() const override { return plan_.fields(); }
 
 private:
-  const Scene& scene_;
+  Scene scene_;  // a copy: a pose trace moves its virtual camera
   Plan plan_;
   std::unique_ptr<Synthesizer> synthesizer_;
 };

@@ -24,7 +24,7 @@ struct EmbeddedView {
 struct EmbeddedScene {
   FrameFormat texture;                   // of every reference texture and of the output
   int depthBitDepth = 8;                 // levels of the depth planes: 0 .. 2^depthBitDepth - 1
-  std::vector<EmbeddedView> references;  // 1 to 16 views
+  std::vector<EmbeddedView> references;  // 1 to 32 views (kMaxReferenceViews)
   Camera virtualCamera;
   // Any other ViewSyn key as "Key=Value" (DepthType=1, Precision=4, Threads=1, ...; doc/manual.md),
   // checked as on ViewSyn's command line. Keys that name files are refused: nothing is read or written.
