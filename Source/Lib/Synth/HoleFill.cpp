@@ -299,7 +299,7 @@ void groupBlocks(const std::vector<uint8_t>& mask, int width, int height, int li
           stack.push_back(ny * bw + nx);
         }
     }
-    groups.extent.push_back(cv::Rect(x0, y0, x1 - x0 + 1, y1 - y0 + 1));
+    groups.extent.push_back({x0, y0, x1 - x0 + 1, y1 - y0 + 1});
   }
 }
 
@@ -322,11 +322,13 @@ void planInpaint(const BlendedLayer& layer, const std::vector<uint8_t>& mask, in
   // One task per group, its crop its blocks and `reach` samples around them.
   std::vector<HoleFillScratch::InpaintTask>& tasks = scratch.tasks;
   tasks.clear();
-  const cv::Rect picture(0, 0, layer.width, layer.height);
   for (size_t g = 0; g < groups.extent.size(); ++g) {
-    const cv::Rect& e = groups.extent[g];
-    const cv::Rect crop(e.x * kBlock - reach, e.y * kBlock - reach, e.width * kBlock + 2 * reach, e.height * kBlock + 2 * reach);
-    tasks.push_back({int(g), crop & picture});
+    const SampleBox& e = groups.extent[g];
+    // The blocks and `reach` around them, within the picture.
+    const int x0 = std::max(0, e.x * kBlock - reach), y0 = std::max(0, e.y * kBlock - reach);
+    const int x1 = std::min(layer.width, (e.x + e.width) * kBlock + reach);
+    const int y1 = std::min(layer.height, (e.y + e.height) * kBlock + reach);
+    tasks.push_back({int(g), {x0, y0, x1 - x0, y1 - y0}});
   }
 }
 
@@ -340,7 +342,7 @@ void inpaintGroup(const BlendedLayer& layer, const std::vector<uint8_t>& mask, i
   std::vector<float>& samples = scratch->samples;
   const int channels = layer.channels;
   const size_t w = size_t(layer.width);
-  const cv::Rect& c = task.crop;
+  const SampleBox& c = task.crop;
   const size_t cw = size_t(c.width), area = cw * size_t(c.height);
   // The group's mask samples: in the crop, those of other groups are more than 2 reach away.
   groupMask.resize(area);
