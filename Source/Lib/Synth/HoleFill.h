@@ -33,9 +33,11 @@ struct SampleBox {
 // Working buffers of fillHoles, kept by a caller that fills every frame so that nothing is allocated
 // per frame once they have grown to the picture's size.
 struct HoleFillScratch {
-  std::vector<float> directional[3], runs[3], inpainted[3];
-  std::vector<double> background, runBackground;
-  std::vector<uint8_t> found, runFound, mask;
+  // Written and read at hole (inpainting: mask) samples only: never touched elsewhere.
+  UntouchedBuffer<float> directional[3], runs[3], inpainted[3];
+  UntouchedBuffer<double> background, runBackground;
+  UntouchedBuffer<uint8_t> found, runFound;
+  std::vector<uint8_t> mask;
   struct InpaintGroups {  // the inpainting's groups of holes, by blocks (HoleFill.cpp)
     int columns = 0, rows = 0;
     std::vector<int> label;
