@@ -21,13 +21,13 @@ class Pool {
 public:
   void setThreads(int threads) {
     std::lock_guard<std::mutex> busy(busy_);
-    threads_ = std::max(1, threads);
+    threads_.store(std::max(1, threads), std::memory_order_relaxed);
   }
-  int threads() const { return threads_; }
+  int threads() const { return threads_.load(std::memory_order_relaxed); }
 
   void run(int count, int stripes, const std::function<void(int, int)>& body) {
     std::unique_lock<std::mutex> busy(busy_, std::try_to_lock);
-    const int threads = threads_;
+    const int threads = threads_.load(std::memory_order_relaxed);
     if (insideLoop || !busy.owns_lock() || threads <= 1 || count <= 1) {
       runAlone(count, body);
       return;
@@ -122,7 +122,7 @@ private:
   }
 
   std::mutex busy_;  // held by the loop that uses the pool
-  int threads_ = availableCores();
+  std::atomic<int> threads_{availableCores()};  // read by loops that do not hold the pool, too
   std::vector<std::thread> workers_;
 
   std::mutex mutex_;  // guards what follows
