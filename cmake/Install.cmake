@@ -42,8 +42,9 @@ install(FILES ${CMAKE_SOURCE_DIR}/README.md ${CMAKE_SOURCE_DIR}/LICENSE ${CMAKE_
         DESTINATION ${vs_doc_dir})
 install(DIRECTORY ${CMAKE_SOURCE_DIR}/cfg/ DESTINATION ${CMAKE_INSTALL_DATADIR}/viewsynthesis/cfg)
 
-# The Debian package: the executables need OpenCV's and EGL's shared libraries at run time (found by
-# dpkg-shlibdeps); the -dev packages are only for projects that link the static libraries.
+# The Debian package: the executables need EGL's shared libraries at run time (found by
+# dpkg-shlibdeps; no OpenCV since 2026-11-25: only the tests use it); the -dev package is only for
+# projects that link the static libraries.
 set(CPACK_PACKAGE_NAME viewsynthesis)
 set(CPACK_PACKAGE_VENDOR "the ViewSynthesis authors")
 set(CPACK_PACKAGE_CONTACT "the ViewSynthesis authors")
@@ -54,5 +55,5 @@ set(CPACK_PACKAGING_INSTALL_PREFIX /usr)
 set(CPACK_DEBIAN_FILE_NAME DEB-DEFAULT)
 set(CPACK_DEBIAN_PACKAGE_SECTION science)
 set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS ON)
-set(CPACK_DEBIAN_PACKAGE_SUGGESTS "libopencv-dev, libegl-dev")
+set(CPACK_DEBIAN_PACKAGE_SUGGESTS "libegl-dev")
 include(CPack)

@@ -7,8 +7,8 @@
 #include <cstring>
 #include <random>
 
-#include <opencv2/core/utility.hpp>
 
+#include "Synth/Parallel.h"
 #include "Synth/Cracks.h"
 #include "Synth/Layer.h"
 
@@ -46,7 +46,7 @@ void closeCracksOneByOne(std::vector<double>& z, int width, int height, double t
 TEST(Cracks, ClosingEqualsTheSequentialPassForAnyThreadCount) {
   std::mt19937 rng(11);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
-  const int defaultThreads = cv::getNumThreads();
+  const int defaultThreads = vs::workerThreads();
   size_t changed = 0;
   for (int trial = 0; trial < 400; ++trial) {
     const int w = 1 + int(unit(rng) * 50), h = 1 + int(unit(rng) * 40);
@@ -70,7 +70,7 @@ TEST(Cracks, ClosingEqualsTheSequentialPassForAnyThreadCount) {
     closeCracksOneByOne(expected, w, h, tolerance);
     for (size_t i = 0; i < z.size(); ++i) changed += std::memcmp(&z[i], &expected[i], sizeof(double)) != 0;
     for (int threads : {1, 2}) {
-      cv::setNumThreads(threads);
+      vs::setWorkerThreads(threads);
       std::vector<double> actual = z;
       ScratchPool<std::vector<uint8_t>> flagRows;
       closeCracks(actual, w, h, tolerance, flagRows);
@@ -78,7 +78,7 @@ TEST(Cracks, ClosingEqualsTheSequentialPassForAnyThreadCount) {
           << "trial " << trial << ", " << w << "x" << h << ", " << threads << " threads";
     }
   }
-  cv::setNumThreads(defaultThreads);
+  vs::setWorkerThreads(defaultThreads);
   EXPECT_GT(changed, 2000u);  // the cases close many cracks
 }
 

@@ -6,8 +6,8 @@
 #include <cmath>
 #include <iostream>
 
-#include <opencv2/core/utility.hpp>
 
+#include "Synth/Parallel.h"
 #include "Common/Metrics.h"
 #include "Synth/EdgeAlign.h"
 #include "Synth/Warp.h"
@@ -150,12 +150,12 @@ TEST_P(EdgeAlignOnTheSquare, ForegroundEdgesCodedAsBackgroundGetTheirDepthBack) 
 // Rows and columns in parallel, each line's edges in order: the aligned maps do not depend on the
 // number of threads (here with many moves, rows and columns).
 TEST(EdgeAlign, AnyThreadCountGivesTheSameMaps) {
-  const int defaultThreads = cv::getNumThreads();
+  const int defaultThreads = vs::workerThreads();
   std::vector<Plane> maps[2];
   size_t moves[2] = {0, 0};
-  const int counts[2] = {std::max(2, cv::getNumberOfCPUs()), 1};  // many first, then one
+  const int counts[2] = {std::max(2, vs::availableCores()), 1};  // many first, then one
   for (int run = 0; run < 2; ++run) {
-    cv::setNumThreads(counts[run]);
+    vs::setWorkerThreads(counts[run]);
     for (bool vertical : {false, true}) {
       SquareRig rig(vertical);
       test::RenderedReferences coded = test::renderReferences(rig.analytic, rig.scene);
@@ -167,7 +167,7 @@ TEST(EdgeAlign, AnyThreadCountGivesTheSameMaps) {
       for (size_t k = 0; k < 2; ++k) maps[run].push_back(aligner.align(k, coded.depths[k], lumas, moves[run]));
     }
   }
-  cv::setNumThreads(defaultThreads);
+  vs::setWorkerThreads(defaultThreads);
   EXPECT_GT(moves[0], 400u);
   EXPECT_EQ(moves[0], moves[1]);
   ASSERT_EQ(maps[0].size(), maps[1].size());

@@ -14,6 +14,7 @@
 #include <opencv2/photo.hpp>
 
 #include "Synth/HoleFill.h"
+#include "Synth/Parallel.h"
 #include "Synth/Layer.h"
 
 namespace vs {
@@ -168,7 +169,7 @@ TEST(HoleFill, BackgroundFirstFillingEqualsAPlainReference) {
   std::mt19937 random(2027);
   auto at = [&](int n) { return int(random() % unsigned(n)); };
   std::uniform_real_distribution<float> colour(0.0f, 255.0f);
-  const int threadsBefore = cv::getNumThreads();
+  const int threadsBefore = vs::workerThreads();
   for (int trial = 0; trial < 60; ++trial) {
     const int w = 9 + at(70), h = 5 + at(50), channels = 1 + trial % 3;
     BlendedLayer layer;
@@ -213,7 +214,7 @@ TEST(HoleFill, BackgroundFirstFillingEqualsAPlainReference) {
     options.maxReach = trial % 3 == 0 ? 3 + at(6) : 256;
     const BlendedLayer expected = referenceFill(layer, options);
     for (int threads : {1, 2}) {
-      cv::setNumThreads(threads);
+      vs::setWorkerThreads(threads);
       BlendedLayer filled = layer;
       fillHoles(filled, options);
       for (int k = 0; k < channels; ++k)
@@ -223,7 +224,7 @@ TEST(HoleFill, BackgroundFirstFillingEqualsAPlainReference) {
       ASSERT_EQ(filled.holeCount(), 0u);
     }
   }
-  cv::setNumThreads(threadsBefore);
+  vs::setWorkerThreads(threadsBefore);
 }
 
 }  // namespace

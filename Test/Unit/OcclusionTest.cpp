@@ -6,8 +6,8 @@
 #include <cstring>
 #include <random>
 
-#include <opencv2/core/utility.hpp>
 
+#include "Synth/Parallel.h"
 #include "Synth/Occlusion.h"
 
 namespace vs {
@@ -81,7 +81,7 @@ WarpedLayer randomView(std::mt19937& rng, int w, int h) {
 TEST(Occlusion, DropsExactlyTheSamplesTheDefinitionDropsWithAnyNumberOfViewsAndThreads) {
   std::mt19937 rng(20261125);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
-  const int defaultThreads = cv::getNumThreads();
+  const int defaultThreads = vs::workerThreads();
   size_t candidates = 0, dropped = 0;
   OcclusionScratch scratch;  // reused across sizes, as a sequence reuses it
   for (int trial = 0; trial < 300; ++trial) {
@@ -96,7 +96,7 @@ TEST(Occlusion, DropsExactlyTheSamplesTheDefinitionDropsWithAnyNumberOfViewsAndT
     for (size_t k = 0; k < viewCount; ++k)
       for (size_t i = 0; i < views[k].inverseDepth.size(); ++i) dropped += expected[k].inverseDepth[i] != views[k].inverseDepth[i];
     for (int threads : {1, 2}) {
-      cv::setNumThreads(threads);
+      vs::setWorkerThreads(threads);
       std::vector<WarpedLayer> actual = views;
       std::vector<WarpedLayer*> layers;
       for (WarpedLayer& layer : actual) layers.push_back(&layer);
@@ -108,7 +108,7 @@ TEST(Occlusion, DropsExactlyTheSamplesTheDefinitionDropsWithAnyNumberOfViewsAndT
             << threads << " threads";
     }
   }
-  cv::setNumThreads(defaultThreads);
+  vs::setWorkerThreads(defaultThreads);
   // The cases reach both outcomes, many times.
   EXPECT_GT(dropped, 1000u);
   EXPECT_GT(candidates - dropped, 1000u);

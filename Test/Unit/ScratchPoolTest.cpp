@@ -5,7 +5,6 @@
 #include <vector>
 
 #include <gtest/gtest.h>
-#include <opencv2/core/utility.hpp>
 
 #include "Synth/Parallel.h"
 #include "Synth/ScratchPool.h"
@@ -48,9 +47,9 @@ TEST(ScratchPool, LeasesHeldAtOnceAreDistinctAndReturnedOnesAreReused) {
 // In parallel loops a set is held by one body at a time, and no more sets are made than bodies run
 // at once (at most the thread count), however many bodies and loops there are.
 TEST(ScratchPool, ParallelLoopsMakeNoMoreSetsThanThreadsAndNeverShareOne) {
-  const int defaultThreads = cv::getNumThreads();
+  const int defaultThreads = vs::workerThreads();
   for (int threads : {1, 2, 4}) {
-    cv::setNumThreads(threads);
+    vs::setWorkerThreads(threads);
     ScratchPool<Counted> pool;
     Counted::made = 0;
     std::atomic<int> shared{0};
@@ -64,9 +63,9 @@ TEST(ScratchPool, ParallelLoopsMakeNoMoreSetsThanThreadsAndNeverShareOne) {
       });
     EXPECT_EQ(shared.load(), 0) << threads << " threads";
     EXPECT_GE(Counted::made.load(), 1);
-    EXPECT_LE(Counted::made.load(), std::max(threads, cv::getNumThreads())) << threads << " threads";
+    EXPECT_LE(Counted::made.load(), std::max(threads, vs::workerThreads())) << threads << " threads";
   }
-  cv::setNumThreads(defaultThreads);
+  vs::setWorkerThreads(defaultThreads);
 }
 
 }  // namespace

@@ -16,8 +16,8 @@
 #include <string>
 #include <vector>
 
-#include <opencv2/core/utility.hpp>
 
+#include "Synth/Parallel.h"
 #include "Common/Config.h"
 #include "Common/Error.h"
 #include "Common/Metrics.h"
@@ -261,12 +261,12 @@ TEST(StabilityInvariance, WorldRotatedByQuarterTurnsChangesNoSampleByMoreThanOne
 
 // --- 8. Determinism --------------------------------------------------------------------------------
 
-// Threads that cv::parallel_for_ really uses now (TBB gives at most one a core).
+// Threads that the pool's parallel loops really use now.
 int threadsInUse() {
   std::mutex mutex;
   std::set<std::thread::id> ids;
-  cv::parallel_for_(cv::Range(0, 64), [&](const cv::Range& range) {
-    for (int i = range.start; i < range.end; ++i) {
+  vs::parallelRanges(64, [&](int begin, int end) {
+    for (int i = begin; i < end; ++i) {
       std::this_thread::sleep_for(std::chrono::microseconds(500));
       std::lock_guard<std::mutex> lock(mutex);
       ids.insert(std::this_thread::get_id());
@@ -276,15 +276,15 @@ int threadsInUse() {
 }
 
 TEST(StabilityDeterminism, SameInputTwiceAndAnyThreadCountGiveBitIdenticalOutput) {
-  const int defaultThreads = cv::getNumThreads();
+  const int defaultThreads = vs::workerThreads();
   // Many threads first, one last: asking TBB for more workers after limiting it to one only warns.
-  std::vector<int> threadCounts{cv::getNumberOfCPUs()};
+  std::vector<int> threadCounts{vs::availableCores()};
   if (threadCounts[0] > 2) threadCounts.push_back(2);
   threadCounts.push_back(1);
   std::map<int, std::vector<Frame>> outputs;  // per thread count, one output per case and path
   int used = 0;
   for (int threads : threadCounts) {
-    cv::setNumThreads(threads);
+    vs::setWorkerThreads(threads);
     used = std::max(used, threadsInUse());
     for (const Case* c : allCases()) {
       std::vector<SynthesisMode> modes{SynthesisMode::General};
@@ -303,7 +303,7 @@ TEST(StabilityDeterminism, SameInputTwiceAndAnyThreadCountGiveBitIdenticalOutput
       }
     }
   }
-  cv::setNumThreads(defaultThreads);
+  vs::setWorkerThreads(defaultThreads);
   for (int threads : threadCounts)
     for (size_t k = 0; k < outputs[threads].size(); ++k)
       EXPECT_TRUE(outputs[threads][k] == outputs[1][k]) << "output " << k << ": " << threads << " threads against 1";
@@ -314,16 +314,16 @@ TEST(StabilityDeterminism, SameInputTwiceAndAnyThreadCountGiveBitIdenticalOutput
 // One reference view on several threads: the general depth warp's threads then share one z-buffer
 // (atomic raises), where one thread, or two views side by side, each draw into their own.
 TEST(StabilityDeterminism, OneReferenceViewGivesTheSameOutputOnSharedAndOwnZBuffers) {
-  const int defaultThreads = cv::getNumThreads();
+  const int defaultThreads = vs::workerThreads();
   for (const Case* c : allCases()) {
     Scene scene = c->scene;
     scene.settings.references.pop_back();
     SynthesisInputs inputs = c->inputs;
     inputs.textures.pop_back();
     inputs.depths.pop_back();
-    cv::setNumThreads(std::max(2, cv::getNumberOfCPUs()));
+    vs::setWorkerThreads(std::max(2, vs::availableCores()));
     const test::SynthesisResult shared = test::synthesize(scene, inputs);
-    cv::setNumThreads(1);
+    vs::setWorkerThreads(1);
     const test::SynthesisResult own = test::synthesize(scene, inputs);
     EXPECT_TRUE(shared.output == own.output) << c->name;
     // The view warps onto most of the picture: the comparison is not of two empty frames.
@@ -331,7 +331,7 @@ TEST(StabilityDeterminism, OneReferenceViewGivesTheSameOutputOnSharedAndOwnZBuff
     EXPECT_LT(own.holesAfterBlend, samples / 2) << c->name;
     EXPECT_FALSE(test::allSamplesEqual(own.output.planes[0], 16)) << c->name;
   }
-  cv::setNumThreads(defaultThreads);
+  vs::setWorkerThreads(defaultThreads);
 }
 
 // --- Real data: a Middlebury scene (cameras in millimetres, 432x382) ---------------------------------
@@ -348,12 +348,12 @@ TEST(StabilityRealData, VenusIsInvariantToOriginShiftUnitsSwapAndThreads) {
     YuvReader(view.texturePath, scene.settings.textureFormat).read(0, inputs.textures.back());
     YuvReader(view.depthPath, view.depthFormat).readLuma(0, inputs.depths.back());
   }
-  const int defaultThreads = cv::getNumThreads();
-  cv::setNumThreads(cv::getNumberOfCPUs());
+  const int defaultThreads = vs::workerThreads();
+  vs::setWorkerThreads(vs::availableCores());
   const Frame reference = test::synthesize(scene, inputs).output;
-  cv::setNumThreads(1);
+  vs::setWorkerThreads(1);
   EXPECT_TRUE(test::synthesize(scene, inputs).output == reference) << "1 against every core's thread";
-  cv::setNumThreads(defaultThreads);
+  vs::setWorkerThreads(defaultThreads);
 
   Scene shifted = scene;
   test::shiftOrigin(shifted, Vec3(1e6, 1e6, 1e6));

@@ -12,6 +12,7 @@
 #include "Common/Metrics.h"
 #include "Synth/ExactDivision.h"
 #include "Synth/HoleFill.h"
+#include "Synth/Parallel.h"
 #include "Synth/Interpolation.h"
 #include "Synth/Layer.h"
 #include "Synth/Warp.h"
@@ -749,9 +750,9 @@ TEST(HoleFill, FillingLayersTogetherEqualsFillingEachAlone) {
   HoleFillOptions lumaOptions, chromaOptions;
   lumaOptions.depthTolerance = chromaOptions.depthTolerance = 0.001;
   chromaOptions.emptyValue[0] = chromaOptions.emptyValue[1] = 128;
-  const int threadsBefore = cv::getNumThreads();
+  const int threadsBefore = vs::workerThreads();
   for (int threads : {1, 2}) {
-    cv::setNumThreads(threads);
+    vs::setWorkerThreads(threads);
     BlendedLayer lumaAlone = luma, chromaAlone = chroma, lumaTogether = luma, chromaTogether = chroma;
     fillHoles(lumaAlone, lumaOptions);
     fillHoles(chromaAlone, chromaOptions);
@@ -764,7 +765,7 @@ TEST(HoleFill, FillingLayersTogetherEqualsFillingEachAlone) {
     EXPECT_EQ(chromaTogether.holeCount(), 0u);
     EXPECT_NE(lumaTogether.colour[0], luma.colour[0]);  // something was filled
   }
-  cv::setNumThreads(threadsBefore);
+  vs::setWorkerThreads(threadsBefore);
 }
 
 }  // namespace

@@ -6,15 +6,19 @@
 #include <fcntl.h>
 #include <spawn.h>
 #include <stdlib.h>
+#include <sys/resource.h>
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <algorithm>
+#include <cctype>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <map>
 #include <sstream>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "Common/Config.h"
@@ -60,8 +64,14 @@ double median(std::vector<double> v) {
   return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
 }
 
-// Wall-clock seconds of one run of `exe` with `args`, its output discarded; throws when it fails.
-double processSeconds(const fs::path& exe, const std::vector<std::string>& args) {
+// One whole process: wall-clock seconds and peak resident memory (MiB).
+struct ProcessRun {
+  double seconds = 0, peakMiB = 0;
+};
+
+// Runs `exe` with `args` in `folder` (empty: this process's), its output discarded; throws when it
+// fails.
+ProcessRun runProcess(const fs::path& exe, const std::vector<std::string>& args, const fs::path& folder = {}) {
   std::vector<std::string> words = {exe.string()};
   words.insert(words.end(), args.begin(), args.end());
   std::vector<char*> argv;
@@ -71,28 +81,131 @@ double processSeconds(const fs::path& exe, const std::vector<std::string>& args)
   posix_spawn_file_actions_init(&actions);
   posix_spawn_file_actions_addopen(&actions, 1, "/dev/null", O_WRONLY, 0);
   posix_spawn_file_actions_addopen(&actions, 2, "/dev/null", O_WRONLY, 0);
+  const std::string where = folder.string();
+  if (!where.empty()) posix_spawn_file_actions_addchdir_np(&actions, where.c_str());
   const auto start = std::chrono::steady_clock::now();
   pid_t child = 0;
   const int spawned = posix_spawn(&child, argv[0], &actions, nullptr, argv.data(), environ);
   posix_spawn_file_actions_destroy(&actions);
   int status = 0;
-  if (spawned != 0 || waitpid(child, &status, 0) != child || !WIFEXITED(status) || WEXITSTATUS(status) != 0)
+  struct rusage usage = {};
+  if (spawned != 0 || wait4(child, &status, 0, &usage) != child || !WIFEXITED(status) || WEXITSTATUS(status) != 0)
     throw InputError(exe.string() + " failed on " + (args.empty() ? std::string() : args[0]) +
-                         " (run it by hand to see why)");
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+                         (where.empty() ? std::string() : " in " + where) + " (run it by hand to see why)");
+  return {std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(),
+          double(usage.ru_maxrss) / 1024.0};  // ru_maxrss: KiB on Linux
 }
 
-std::string demoConfig(const fs::path& work, int width, int height) {
-  const fs::path folder = work / ("demo_" + std::to_string(width) + "x" + std::to_string(height));
+// Wall-clock seconds of one run of `exe` with `args`, its output discarded; throws when it fails.
+double processSeconds(const fs::path& exe, const std::vector<std::string>& args) { return runProcess(exe, args).seconds; }
+
+std::string demoConfig(const fs::path& work, int width, int height, int frames = 1) {
+  const fs::path folder = work / ("demo_" + std::to_string(width) + "x" + std::to_string(height) +
+                                  (frames > 1 ? "_" + std::to_string(frames) : std::string()));
   const fs::path config = folder / "viewsyn_cam1.cfg";
   if (fs::exists(config)) return config.string();
   const Config sceneConfig =
       Config::fromText(sceneGenOptionTable(), "", "SynthBench", ".",
                            {"Scene=demo", "SourceWidth=" + std::to_string(width), "SourceHeight=" + std::to_string(height),
-                            "TotalNumberOfFrames=1", "OutputFolder=" + folder.string()});
+                            "TotalNumberOfFrames=" + std::to_string(frames), "OutputFolder=" + folder.string()});
   std::ostringstream quiet;
   generateScene(readSceneGenSettings(sceneConfig), quiet);
   return config.string();
+}
+
+// What a user waits for: whole processes with the config's own (default) thread count, warm (median
+// of `runs`) and cold (one run after `coldWait` seconds idle), and their peak memory.
+struct ProcessFigures {
+  double warm = 0, cold = 0, peakMiB = 0;
+};
+
+ProcessFigures timeProcess(const fs::path& exe, const std::vector<std::string>& args, const fs::path& folder, int runs,
+                           double coldWait) {
+  ProcessFigures figures;
+  if (coldWait > 0) {
+    std::this_thread::sleep_for(std::chrono::duration<double>(coldWait));
+    const ProcessRun run = runProcess(exe, args, folder);
+    figures.cold = run.seconds;
+    figures.peakMiB = run.peakMiB;
+  }
+  std::vector<double> seconds;
+  for (int r = 0; r < runs; ++r) {
+    const ProcessRun run = runProcess(exe, args, folder);
+    seconds.push_back(run.seconds);
+    figures.peakMiB = std::max(figures.peakMiB, run.peakMiB);
+  }
+  figures.warm = median(seconds);
+  return figures;
+}
+
+// A folder for VSRS's run of `config`, which takes no overrides: links to every file beside the
+// config except its output, which VSRS then writes here.
+fs::path vsrsFolder(const fs::path& work, const std::string& name, const fs::path& config, const std::string& output) {
+  std::string tag = name;
+  for (char& c : tag)
+    if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
+  const fs::path folder = work / ("vsrs_" + tag);
+  fs::create_directories(folder);
+  const fs::path source = fs::absolute(config).parent_path();
+  for (const auto& entry : fs::directory_iterator(source)) {
+    const fs::path link = folder / entry.path().filename();
+    if (entry.path().filename() == fs::path(output).filename() || fs::exists(fs::symlink_status(link))) continue;
+    fs::create_symlink(entry.path(), link);
+  }
+  return folder;
+}
+
+void printProcessFigures(const ProcessFigures& f, bool cold) {
+  std::printf(" %9.4f", f.warm);
+  if (cold) std::printf(" %9.4f %6.2fx", f.cold, f.cold / f.warm);
+  std::printf(" %9.1f", f.peakMiB);
+}
+
+// The whole-process section: Art view 3 (general and 1D configs, one frame) and the SceneGen demo at
+// 1920x1080 (30 frames), ViewSyn and, given, VSRS.
+void runUserCases(const BenchSettings& settings, const fs::path& work, const fs::path& viewSyn) {
+  struct Job {
+    std::string name, config;
+  };
+  std::vector<Job> jobs;
+  const fs::path art = fs::path(settings.data) / "middlebury2005" / "Art";
+  if (settings.real && fs::is_directory(art)) {
+    jobs.push_back({"Art view 3 general", (art / "synth_view3_general.cfg").string()});
+    jobs.push_back({"Art view 3 1D config", (art / "synth_view3_1d.cfg").string()});
+  }
+  if (settings.demo) jobs.push_back({"demo 1920x1080, 30 frames", demoConfig(work, 1920, 1080, 30)});
+  if (jobs.empty()) return;
+  const bool cold = settings.coldWait > 0, vsrs = !settings.vsrs.empty();
+  std::printf("\nwhole process, default threads, %d warm runs (median)%s\n", settings.runs,
+              cold ? (", cold: one run after " + formatNumber("%g", settings.coldWait) + " s idle").c_str() : "");
+  std::printf("%-28s %9s", "case", "warm s");
+  if (cold) std::printf(" %9s %7s", "cold s", "c/w");
+  std::printf(" %9s", "peak MiB");
+  if (vsrs) {
+    std::printf(" | %9s", "VSRS s");
+    if (cold) std::printf(" %9s %7s", "cold s", "c/w");
+    std::printf(" %9s %9s", "peak MiB", "VSRS/us");
+  }
+  std::printf("\n");
+  const OptionTable table = viewSynOptionTable();
+  for (const Job& job : jobs) {
+    const ProcessFigures ours = timeProcess(
+        viewSyn, {job.config, "OutputVirtualViewImageName=" + (work / "process_out.yuv").string()}, {}, settings.runs,
+        settings.coldWait);
+    std::printf("%-28s", job.name.c_str());
+    printProcessFigures(ours, cold);
+    if (vsrs) {
+      const std::string output = Config::load(table, job.config, {}).getString("OutputVirtualViewImageName");
+      const fs::path folder = vsrsFolder(work, job.name, job.config, output);
+      const ProcessFigures theirs = timeProcess(fs::absolute(settings.vsrs), {fs::path(job.config).filename().string()},
+                                                folder, settings.runs, settings.coldWait);
+      std::printf(" |");
+      printProcessFigures(theirs, cold);
+      std::printf(" %8.1fx", theirs.warm / ours.warm);
+    }
+    std::printf("\n");
+    std::fflush(stdout);
+  }
 }
 
 }  // namespace
@@ -144,12 +257,14 @@ int runBench(const BenchSettings& settings) {
     std::fprintf(stderr, "SynthBench: no %s: whole-process runs skipped\n", viewSyn.string().c_str());
     process = false;
   }
-  std::printf("%-28s %3s %8s %8s %8s %8s %8s %8s %9s %9s %7s %10s %8s\n", "case", "thr", "read", "d.warp", "t.warp",
+  if (!settings.wholeProcessOnly)
+    std::printf("%-28s %3s %8s %8s %8s %8s %8s %8s %9s %9s %7s %10s %8s\n", "case", "thr", "read", "d.warp", "t.warp",
               "blend", "holes", "write", "s/frame", "s/MP", "fps", "proc s/MP", "proc fps");
   const OptionTable table = viewSynOptionTable();
   std::map<std::string, double> medians;  // "case|threads" -> median s/frame, for the ratios below
   for (const Case& c : cases)
     for (int threads : threadCounts) {
+      if (settings.wholeProcessOnly) break;
       std::vector<std::string> overrides = c.overrides;
       overrides.push_back("Threads=" + std::to_string(threads));
       overrides.push_back("TotalNumberOfFrames=1");
@@ -182,6 +297,7 @@ int runBench(const BenchSettings& settings) {
       std::printf("\n");
       std::fflush(stdout);
     }
+  if (process) runUserCases(settings, work, viewSyn);
   // The 1D path against the general path on the same settings and data: whole frame, and the two
   // warp stages alone (blending and hole filling are shared).
   bool header = false;

@@ -15,6 +15,9 @@ struct BenchSettings {
   bool allScenes = false;              // every Middlebury scene, not only Art, Books, Aloe
   bool process = true;                 // also time whole ViewSyn processes
   std::vector<std::string> configs;    // further ViewSyn configs
+  double coldWait = 30;                // seconds idle before each cold whole-process run; 0: no cold runs
+  bool wholeProcessOnly = false;       // only the whole-process section (no per-stage table)
+  std::string vsrs;                    // a VSRS 4.2 executable to run beside ViewSyn (empty: none)
 };
 
 // Prints the table of medians on stdout; throws InputError (a folder that cannot be made, a failed run).

@@ -1,11 +1,14 @@
 // SynthBench: seconds per frame of every ViewSyn stage, median of N runs, on the SceneGen demo at
 // three sizes and on the real Middlebury configs, with 1 and 2 threads; and the wall clock of the
 // whole ViewSyn process on the same job (what VSRS's figures are). See --help and doc/speed.md.
+#include <unistd.h>
+
 #include <cstdlib>
 #include <string>
 
 #include "Bench.h"
 #include "Common/CommandLine.h"
+#include "Common/Error.h"
 
 int main(int argc, char** argv) {
   vs::CommandLineTool tool;
@@ -25,7 +28,14 @@ int main(int argc, char** argv) {
       {"--no-demo", {}, "skip the SceneGen demo at 640x480, 1024x768 and 1920x1080"},
       {"--no-data", {}, "skip the real data"},
       {"--all-scenes", {}, "every Middlebury 2005/2006 scene (default: Art, Books, Aloe)"},
-      {"--no-process", {}, "skip the whole-process runs (columns proc s/MP and proc fps)"},
+      {"--no-process", {}, "skip the whole-process runs (columns proc s/MP and proc fps, and the section below)"},
+      {"--whole-process-only", {}, "only the whole-process section: Art view 3 general and 1D config (one frame) and the\n"
+                                   "                            demo at 1920x1080 (30 frames), default threads: warm (median of --runs),\n"
+                                   "                            cold, peak memory"},
+      {"--cold-wait", {"S"}, "seconds idle before each cold whole-process run (default 30; 0: no cold runs)",
+       vs::integerValues(0, 3600)},
+      {"--vsrs", {"PATH"}, "a VSRS 4.2 executable (shared/tools/build_vsrs.sh): the whole-process section runs it too,\n"
+                           "                            from a folder of links to each scene, and prints VSRS / ViewSyn"},
   };
   tool.notes = "Exit codes: 0 done, 1 a folder or run failed (the message says which), 2 bad usage.";
   tool.runsWithoutArguments = true;
@@ -42,6 +52,11 @@ int main(int argc, char** argv) {
     settings.allScenes = line.has("--all-scenes");
     settings.process = !line.has("--no-process");
     settings.configs = line.positional;
+    settings.wholeProcessOnly = line.has("--whole-process-only");
+    settings.coldWait = double(line.integer("--cold-wait", 30));
+    settings.vsrs = line.text("--vsrs");
+    if (!settings.vsrs.empty() && access(settings.vsrs.c_str(), X_OK) != 0)
+      throw vs::InputError("--vsrs " + settings.vsrs + ": not an executable file");
     return vs::runBench(settings);
   };
   return vs::runCommandLine(argc, argv, tool);

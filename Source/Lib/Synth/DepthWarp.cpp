@@ -70,10 +70,10 @@ void Synthesizer::warpDepth(ViewState& view, const Plane& depth) {
   const int w = depth.width, h = depth.height;
   const int outW = outputFormat_.width, outH = outputFormat_.height;
   view.luma.resize(outW, outH, plan_.rgb ? 3 : 1);  // cleared row by row (clearRows)
-  // Where the views run side by side, or there is one thread (OpenCV then runs every loop on the
+  // Where the views run side by side, or there is one thread (the pool then runs every loop on the
   // calling thread), this view's thread is the only writer: the triangles are drawn straight into the
   // layer's depth. Otherwise into an atomic z-buffer, then copied.
-  const bool lone = viewsSideBySide() || cv::getNumThreads() <= 1;
+  const bool lone = viewsSideBySide() || workerThreads() <= 1;
   if (lone) parallelRanges(outH, [&](int y0, int y1) { clearRows(view.luma, y0, y1); });
   else view.zbuffer.reset(size_t(outW) * outH, kNoDepth);
   // Row by row: each reference row is projected into the virtual view (forwardRow), its samples are

@@ -16,8 +16,8 @@ namespace {
 // An estimate's buffers for `layer`, sized but not cleared: the estimates write every hole sample
 // (colour 0, background HUGE_VAL and found 0 where they find nothing), and nothing reads them
 // elsewhere.
-void sizeEstimate(const BlendedLayer& layer, std::vector<float> estimate[3], std::vector<double>& background,
-                  std::vector<uint8_t>& found) {
+void sizeEstimate(const BlendedLayer& layer, UntouchedBuffer<float> estimate[3], UntouchedBuffer<double>& background,
+                  UntouchedBuffer<uint8_t>& found) {
   const size_t n = layer.hole.size();
   for (int k = 0; k < layer.channels; ++k) estimate[k].resize(n);
   background.resize(n);
@@ -30,8 +30,8 @@ void sizeEstimate(const BlendedLayer& layer, std::vector<float> estimate[3], std
 // run's ends. A row's run is found once; a column's ends are kept per column while its samples come
 // row after row, and only found anew where the sample above was not a hole of this range of rows.
 // The diagonals, which leave a run of holes soon, are walked.
-void directionalFill(const BlendedLayer& layer, const HoleFillOptions& options, std::vector<float> estimate[3],
-                     std::vector<double>& background, std::vector<uint8_t>& found,
+void directionalFill(const BlendedLayer& layer, const HoleFillOptions& options, UntouchedBuffer<float> estimate[3],
+                     UntouchedBuffer<double>& background, UntouchedBuffer<uint8_t>& found,
                      ScratchPool<std::vector<int>>& columnRows) {
   static const int diagonals[4][2] = {{1, 1}, {-1, -1}, {1, -1}, {-1, 1}};
   const int w = layer.width, h = layer.height;
@@ -127,8 +127,8 @@ void directionalFill(const BlendedLayer& layer, const HoleFillOptions& options, 
 // -2, -1, -1/2, 0, 1/2, 1, 2 samples across per row). One colour per run cannot streak, and the
 // candidates above and below reach background that the row's ends, often foreground on both sides,
 // do not. `background` receives that surface's inverse depth; `found` is 0 where no candidate exists.
-void rowRunFill(const BlendedLayer& layer, const HoleFillOptions& options, std::vector<float> estimate[3],
-                std::vector<double>& background, std::vector<uint8_t>& found) {
+void rowRunFill(const BlendedLayer& layer, const HoleFillOptions& options, UntouchedBuffer<float> estimate[3],
+                UntouchedBuffer<double>& background, UntouchedBuffer<uint8_t>& found) {
   const int w = layer.width, h = layer.height;
   sizeEstimate(layer, estimate, background, found);
   // Each run is one row's: rows in parallel.
@@ -189,7 +189,7 @@ void rowRunFill(const BlendedLayer& layer, const HoleFillOptions& options, std::
 // the least of them (a NaN marks nothing either way): each run of holes along a row marks, in each
 // row within `band`, the samples nearer than the least threshold of its holes within `band` columns,
 // one pass over its span per row instead of one window per hole.
-void backgroundOnlyMask(const BlendedLayer& layer, const std::vector<double>& background, double tolerance, int band,
+void backgroundOnlyMask(const BlendedLayer& layer, const UntouchedBuffer<double>& background, double tolerance, int band,
                         std::vector<uint8_t>& mask, ScratchPool<HoleFillScratch::Thresholds>& thresholdRows) {
   const int w = layer.width, h = layer.height;
   mask = layer.hole;
@@ -299,7 +299,7 @@ void groupBlocks(const std::vector<uint8_t>& mask, int width, int height, int li
           stack.push_back(ny * bw + nx);
         }
     }
-    groups.extent.push_back(cv::Rect(x0, y0, x1 - x0 + 1, y1 - y0 + 1));
+    groups.extent.push_back({x0, y0, x1 - x0 + 1, y1 - y0 + 1});
   }
 }
 
@@ -310,7 +310,7 @@ void groupBlocks(const std::vector<uint8_t>& mask, int width, int height, int li
 // samples left out of the mask: the result is exactly the whole-picture one, at a cost that follows
 // each group's size instead of all the holes'. Each group's channels are filled in one march
 // (Synth/Telea.h: the same result as OpenCV's cv::inpaint with INPAINT_TELEA, channel by channel).
-void planInpaint(const BlendedLayer& layer, const std::vector<uint8_t>& mask, int radius, std::vector<float> result[3],
+void planInpaint(const BlendedLayer& layer, const std::vector<uint8_t>& mask, int radius, UntouchedBuffer<float> result[3],
                  HoleFillScratch& scratch) {
   const int reach = radius + 2;
   // Blocks more than `link` apart hold samples at least link * kBlock + 1 > 2 reach + 1 apart.
@@ -322,17 +322,19 @@ void planInpaint(const BlendedLayer& layer, const std::vector<uint8_t>& mask, in
   // One task per group, its crop its blocks and `reach` samples around them.
   std::vector<HoleFillScratch::InpaintTask>& tasks = scratch.tasks;
   tasks.clear();
-  const cv::Rect picture(0, 0, layer.width, layer.height);
   for (size_t g = 0; g < groups.extent.size(); ++g) {
-    const cv::Rect& e = groups.extent[g];
-    const cv::Rect crop(e.x * kBlock - reach, e.y * kBlock - reach, e.width * kBlock + 2 * reach, e.height * kBlock + 2 * reach);
-    tasks.push_back({int(g), crop & picture});
+    const SampleBox& e = groups.extent[g];
+    // The blocks and `reach` around them, within the picture.
+    const int x0 = std::max(0, e.x * kBlock - reach), y0 = std::max(0, e.y * kBlock - reach);
+    const int x1 = std::min(layer.width, (e.x + e.width) * kBlock + reach);
+    const int y1 = std::min(layer.height, (e.y + e.height) * kBlock + reach);
+    tasks.push_back({int(g), {x0, y0, x1 - x0, y1 - y0}});
   }
 }
 
 // Inpaints one group of `layer`'s mask samples in its crop, all channels in one march, into `result`.
 void inpaintGroup(const BlendedLayer& layer, const std::vector<uint8_t>& mask, int radius, const BlockGroups& groups,
-                  const HoleFillScratch::InpaintTask& task, std::vector<float> result[3],
+                  const HoleFillScratch::InpaintTask& task, UntouchedBuffer<float> result[3],
                   ScratchPool<HoleFillScratch::InpaintBuffers>& buffers) {
   const auto scratch = buffers.take();
   TeleaScratch& telea = scratch->telea;
@@ -340,7 +342,7 @@ void inpaintGroup(const BlendedLayer& layer, const std::vector<uint8_t>& mask, i
   std::vector<float>& samples = scratch->samples;
   const int channels = layer.channels;
   const size_t w = size_t(layer.width);
-  const cv::Rect& c = task.crop;
+  const SampleBox& c = task.crop;
   const size_t cw = size_t(c.width), area = cw * size_t(c.height);
   // The group's mask samples: in the crop, those of other groups are more than 2 reach away.
   groupMask.resize(area);

@@ -18,29 +18,35 @@
 #include <cstdint>
 #include <vector>
 
-#include <opencv2/core/mat.hpp>
-
 #include "Synth/Layer.h"
 #include "Synth/ScratchPool.h"
 #include "Synth/Telea.h"
 
 namespace vs {
 
+// A rectangle of samples (or blocks): its first column and row, width and height.
+struct SampleBox {
+  int x = 0, y = 0, width = 0, height = 0;
+  int area() const { return width * height; }
+};
+
 // Working buffers of fillHoles, kept by a caller that fills every frame so that nothing is allocated
 // per frame once they have grown to the picture's size.
 struct HoleFillScratch {
-  std::vector<float> directional[3], runs[3], inpainted[3];
-  std::vector<double> background, runBackground;
-  std::vector<uint8_t> found, runFound, mask;
+  // Written and read at hole (inpainting: mask) samples only: never touched elsewhere.
+  UntouchedBuffer<float> directional[3], runs[3], inpainted[3];
+  UntouchedBuffer<double> background, runBackground;
+  UntouchedBuffer<uint8_t> found, runFound;
+  std::vector<uint8_t> mask;
   struct InpaintGroups {  // the inpainting's groups of holes, by blocks (HoleFill.cpp)
     int columns = 0, rows = 0;
     std::vector<int> label;
-    std::vector<cv::Rect> extent;
+    std::vector<SampleBox> extent;
     std::vector<int> stack;
   } inpaintGroups;
   struct InpaintTask {    // one group of holes and its crop, to inpaint
     int group;
-    cv::Rect crop;
+    SampleBox crop;
   };
   std::vector<InpaintTask> tasks;
   // Working buffers of the parallel loop bodies, one set per body running at once (ScratchPool.h).

@@ -1,37 +1,53 @@
 #pragma once
-// Work split over rows (or any index range) on OpenCV's thread pool; the thread count is set once per
-// run from the Threads key (cv::setNumThreads). Every parallel loop in the synthesizer writes only
-// its own rows, or combines by max (AtomicMaxBuffer), so the output is bit-identical whatever the
-// number of threads.
+// Work split over rows (or any index range) on the synthesizer's own thread pool (Parallel.cpp); the
+// thread count is set once per run from the Threads key (setWorkerThreads). Every parallel loop in
+// the synthesizer writes only its own rows, or combines by max (AtomicMaxBuffer), so the output is
+// bit-identical whatever the number of threads.
+//
+// The pool is plain std::thread: its workers start on the first loop that can use them (a few tens of
+// microseconds each, nothing searched or loaded), wait on a condition variable between loops, and are
+// left to the process's exit. A loop started inside another loop's body, or while another thread's
+// loop holds the pool, runs on its caller's thread alone (as OpenCV's pool, which this replaces, ran
+// nested loops).
 #include <algorithm>
 #include <atomic>
 #include <cstdint>
 #include <cstring>
+#include <functional>
 #include <vector>
-
-#include <opencv2/core/utility.hpp>
 
 #include "Synth/Raster.h"
 
 namespace vs {
 
-// Sets the pool's threads from the Threads key (0: every core), once per run before the first frame.
-// The output does not depend on it.
-inline void setWorkerThreads(int threads) { cv::setNumThreads(threads > 0 ? threads : cv::getNumberOfCPUs()); }
+// Sets the pool's threads from the Threads key (0: every core this process may run on), once per run
+// before the first frame. The output does not depend on it.
+void setWorkerThreads(int threads);
 
-// Calls body(begin, end) on disjoint sub-ranges of [0, count); `stripes` as cv::parallel_for_'s
-// nstripes (-1: as many as the pool likes).
+// The threads a parallel loop uses now, the caller's included (at least 1).
+int workerThreads();
+
+// The cores this process may run on (its CPU affinity; at least 1).
+int availableCores();
+
+// Calls body(begin, end) on disjoint sub-ranges of [0, count), in `stripes` ranges of about equal
+// size (<= 0: a few per thread), on the pool's threads and the caller's; returns when all are done.
+// An exception from a body is rethrown here (the first one; the other ranges still run).
+void parallelStripes(int count, int stripes, const std::function<void(int, int)>& body);
+
+// Calls body(begin, end) on disjoint sub-ranges of [0, count); `stripes` as above (-1: a few per
+// thread).
 template <class Body>
 void parallelRanges(int count, const Body& body, double stripes = -1.0) {
   if (count <= 0) return;
-  cv::parallel_for_(cv::Range(0, count), [&](const cv::Range& range) { body(range.start, range.end); }, stripes);
+  parallelStripes(count, int(stripes), [&](int begin, int end) { body(begin, end); });
 }
 
 // parallelRanges() for loops over columns that scan every row: one sub-range per thread, so that each
 // thread reads long runs of every row.
 template <class Body>
 void parallelColumns(int count, const Body& body) {
-  parallelRanges(count, body, double(cv::getNumThreads()));
+  parallelRanges(count, body, double(workerThreads()));
 }
 
 // Calls body(begin, end) on disjoint sub-ranges of [0, count) made of whole blocks of 64 Ki

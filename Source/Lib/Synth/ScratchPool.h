@@ -5,8 +5,10 @@
 // the pool keeps what it has handed out, so once as many sets exist as bodies run at once (the thread
 // count), nothing is allocated any more. A body must not rely on what a set held before: it may come
 // from any earlier body, on any thread.
+#include <cstddef>
 #include <memory>
 #include <mutex>
+#include <type_traits>
 #include <vector>
 
 namespace vs {
@@ -57,6 +59,35 @@ private:
 
   std::mutex mutex_;
   std::vector<std::unique_ptr<T>> free_;
+};
+
+// A frame-sized working buffer whose contents are left unset when it grows: for buffers that are
+// written only where they are later read (the hole filling's estimates, at hole samples). A
+// std::vector would zero every element, touching every page of memory that is then never read;
+// this one allocates without writing, so pages nothing writes are never faulted in. resize() keeps
+// the memory when the size does not grow, and its contents are unspecified after a resize.
+template <class T>
+class UntouchedBuffer {
+  static_assert(std::is_trivially_default_constructible_v<T> && std::is_trivially_destructible_v<T>,
+                "UntouchedBuffer holds plain values only");
+
+public:
+  void resize(size_t size) {
+    if (size > capacity_) {
+      data_.reset(new T[size]);  // default-initialised: nothing written
+      capacity_ = size;
+    }
+    size_ = size;
+  }
+  size_t size() const { return size_; }
+  T* data() { return data_.get(); }
+  const T* data() const { return data_.get(); }
+  T& operator[](size_t i) { return data_[i]; }
+  const T& operator[](size_t i) const { return data_[i]; }
+
+private:
+  std::unique_ptr<T[]> data_;
+  size_t size_ = 0, capacity_ = 0;
 };
 
 }  // namespace vs

@@ -58,7 +58,7 @@ void Synthesizer::virtualDepth(const DepthRange& range, Plane& levels) const {
 
 bool Synthesizer::viewsSideBySide() const {
   const size_t count = views_.size();
-  const int threads = cv::getNumThreads();
+  const int threads = workerThreads();
   return count >= 2 && threads >= 2 && count % size_t(threads) == 0;
 }
 

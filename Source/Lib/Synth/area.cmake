@@ -1,6 +1,7 @@
 # vssynth: ViewSyn's renderer; it receives the plan (vsplan) and decides nothing itself.
-target_link_libraries(vssynth PUBLIC vsplan vspipeline ${OpenCV_LIBS})
-target_include_directories(vssynth SYSTEM PUBLIC ${OpenCV_INCLUDE_DIRS})
+# No OpenCV: the thread pool is our own (Synth/Parallel.h); only the tests link OpenCV, to compare the
+# inpainting with cv::inpaint (Test/CMakeLists.txt).
+target_link_libraries(vssynth PUBLIC vsplan vspipeline)
 # The embeddable API (ViewSynthesis/Embed.h): ViewSyn's synthesis on cameras and frames in memory.
 target_sources(vssynth PRIVATE ${CMAKE_CURRENT_SOURCE_DIR}/ViewSynthesis/Embed.cpp)
 # The kernels (Synth/Kernels: the rasteriser, QuadRow.cpp, and the row loops of the warps and the
