@@ -55,5 +55,9 @@ set(CPACK_PACKAGING_INSTALL_PREFIX /usr)
 set(CPACK_DEBIAN_FILE_NAME DEB-DEFAULT)
 set(CPACK_DEBIAN_PACKAGE_SECTION science)
 set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS ON)
+# MeshRender opens EGL through libglvnd's libegl1 (found by dpkg-shlibdeps), which needs a vendor library
+# at run time that no link line shows: Mesa's (with its software rasteriser, for machines without a GPU)
+# is recommended, so apt installs it by default; an NVIDIA machine may use its driver's instead.
+set(CPACK_DEBIAN_PACKAGE_RECOMMENDS "libegl-mesa0, libgl1-mesa-dri")
 set(CPACK_DEBIAN_PACKAGE_SUGGESTS "libegl-dev")
 include(CPack)
