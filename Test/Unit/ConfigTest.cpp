@@ -130,6 +130,18 @@ TEST(Config, InfinityOnlyWhereAllowed) {
   EXPECT_NE(errorOf([&] { Config::fromText(table, "LeftNearestDepthValue 0x10\n", "a.cfg", "/x"); }), "");
 }
 
+TEST(Config, EveryFiniteDoubleIsInTheDefaultRange) {
+  // A double option without a range of its own takes every finite value: 1e308 (near the largest double)
+  // is a valid Zfar, not "not finite"; 1e309 overflows and is refused.
+  const OptionTable table = smallTable();
+  const Config config = Config::fromText(table, "LeftFarthestDepthValue 1e308\nLeftNearestDepthValue -1.7e308\n", "a.cfg", "/x");
+  EXPECT_EQ(config.getDouble("LeftFarthestDepthValue"), 1e308);
+  EXPECT_EQ(config.getDouble("LeftNearestDepthValue"), -1.7e308);
+  const std::string error = errorOf([&] { Config::fromText(table, "LeftNearestDepthValue 1e309\n", "a.cfg", "/x"); });
+  EXPECT_NE(error.find("a.cfg:1: LeftNearestDepthValue = '1e309': expected a finite number"), std::string::npos)
+      << error;
+}
+
 TEST(Config, UnknownKeyNamesFileLineAndNearestKey) {
   const std::string error =
       errorOf([] { Config::fromText(smallTable(), "SourceWidth 10\nPrecison 4\n", "my.cfg", "/x"); });

@@ -79,7 +79,7 @@ std::string typeDescription(const OptionSpec& spec) {
       return "integer in [" + formatNumber(spec.minValue) + ", " + formatNumber(spec.maxValue) + "]" +
              (spec.allowAuto ? " or auto" : "");
     case OptionType::Double: {
-      std::string text = spec.minValue <= -1e300 && spec.maxValue >= 1e300
+      std::string text = spec.minValue <= -std::numeric_limits<double>::max() && spec.maxValue >= std::numeric_limits<double>::max()
                              ? std::string("finite number")
                              : "number in [" + formatNumber(spec.minValue) + ", " + formatNumber(spec.maxValue) + "]";
       if (spec.allowInfinity) text += " or inf";

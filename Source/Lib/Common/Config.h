@@ -5,6 +5,7 @@
 // Syntax (as VSRS writes it): `Key value # comment`, spaces or tabs, CRLF or LF, the last setting of a
 // key wins; `Key=Value` (or `Key value`) arguments after the file override it.
 #include <cstdint>
+#include <limits>
 #include <map>
 #include <string>
 #include <tuple>
@@ -40,8 +41,8 @@ struct OptionSpec {
   OptionType type = OptionType::Int;
   std::string defaultValue;        // used when the key is not set; empty with required: must be given
   bool required = false;           // the tool cannot run without it (checked by the tool's settings)
-  double minValue = -1e300;        // Int and Double range, inclusive
-  double maxValue = 1e300;
+  double minValue = -std::numeric_limits<double>::max();  // Int and Double range, inclusive
+  double maxValue = std::numeric_limits<double>::max();
   bool allowInfinity = false;      // Double: `inf` accepted (Zfar)
   bool allowAuto = false;          // Int: `auto` accepted (the plan decides; Config::isAuto)
   std::vector<std::string> choices;  // Choice
