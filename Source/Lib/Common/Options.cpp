@@ -17,6 +17,20 @@ OptionSpec intOption(const char* key, long long defaultValue, double lo, double 
   return s;
 }
 
+// The default is text, as the manual and --help print it.
+OptionSpec doubleOption(const char* key, const char* defaultValue, double lo, double hi, const char* vsrsDefault,
+                        const char* help) {
+  OptionSpec s;
+  s.key = key;
+  s.type = OptionType::Double;
+  s.defaultValue = defaultValue;
+  s.minValue = lo;
+  s.maxValue = hi;
+  s.vsrsDefault = vsrsDefault;
+  s.help = help;
+  return s;
+}
+
 OptionSpec autoIntOption(OptionSpec spec, bool autoByDefault = false) {
   spec.allowAuto = true;
   if (autoByDefault) spec.defaultValue = "auto";
@@ -201,43 +215,20 @@ void addSynthesisOptions(OptionTable& table) {
 }
 
 void addMeshOptions(OptionTable& table) {
-  OptionSpec threshold;
-  threshold.key = "MeshDiscontinuityThreshold";
-  threshold.type = OptionType::Double;
-  threshold.defaultValue = "0.02";
-  threshold.minValue = 0.0;
-  threshold.maxValue = 1.0;
-  threshold.vsrsDefault = "-";
-  threshold.help =
-      "A triangle is dropped when 1 - zmin/zmax over its corners exceeds this (a depth discontinuity); "
-      "1 keeps every triangle";
-  OptionSpec maxError;
-  maxError.key = "MeshMaxError";
-  maxError.type = OptionType::Double;
-  maxError.defaultValue = "2";
-  maxError.minValue = 0.0;
-  maxError.maxValue = 100.0;
-  maxError.vsrsDefault = "-";
-  maxError.help =
-      "Adaptive mesh: planar blocks of grid cells are merged into larger triangles where no depth sample "
-      "moves by more than this many virtual-camera pixels; 0 merges only exact planes";
-  OptionSpec colourError;
-  colourError.key = "MeshMaxColourError";
-  colourError.type = OptionType::Double;
-  colourError.defaultValue = "4";
-  colourError.minValue = 0.0;
-  colourError.maxValue = 65535.0;
-  colourError.vsrsDefault = "-";
-  colourError.help =
-      "Adaptive mesh: where the reference luma changes, a sample may move only as far as keeps its colour "
-      "within this many sample values (luma step to its neighbours times pixels), at most MeshMaxError; "
-      "0: MeshMaxError alone";
   addAll(table, "Mesh",
          {
-             threshold,
+             doubleOption("MeshDiscontinuityThreshold", "0.02", 0.0, 1.0, "-",
+                          "A triangle is dropped when 1 - zmin/zmax over its corners exceeds this (a depth "
+                          "discontinuity); 1 keeps every triangle"),
              choiceOption("MeshGridStep", {"1", "2", "4", "8"}, "1", "-", "Vertex spacing in pixels: 1 is one vertex per pixel"),
-             maxError,
-             colourError,
+             doubleOption("MeshMaxError", "2", 0.0, 100.0, "-",
+                          "Adaptive mesh: planar blocks of grid cells are merged into larger triangles where no "
+                          "depth sample moves by more than this many virtual-camera pixels; 0 merges only exact "
+                          "planes"),
+             doubleOption("MeshMaxColourError", "4", 0.0, 65535.0, "-",
+                          "Adaptive mesh: where the reference luma changes, a sample may move only as far as "
+                          "keeps its colour within this many sample values (luma step to its neighbours times "
+                          "pixels), at most MeshMaxError; 0: MeshMaxError alone"),
              textOption("MeshPlyOutput", OptionType::Path, false, "-",
                         "Optional PLY file of the first frame's meshes (vertices with colour)"),
          });
