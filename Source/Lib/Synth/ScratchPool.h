@@ -6,12 +6,18 @@
 // count), nothing is allocated any more. A body must not rely on what a set held before: it may come
 // from any earlier body, on any thread.
 #include <cstddef>
+#include <new>
 #include <memory>
 #include <mutex>
 #include <type_traits>
 #include <vector>
 
 namespace vs {
+
+// UntouchedBuffer's memory: `bytes` not written; `mapped` says how it was obtained, for untouchedFree.
+// Throws std::bad_alloc when there is none.
+void* untouchedAllocate(size_t bytes, bool& mapped);
+void untouchedFree(void* data, size_t bytes, bool mapped);
 
 template <class T>
 class ScratchPool {
@@ -66,28 +72,48 @@ private:
 // std::vector would zero every element, touching every page of memory that is then never read;
 // this one allocates without writing, so pages nothing writes are never faulted in. resize() keeps
 // the memory when the size does not grow, and its contents are unspecified after a resize.
+//
+// A large one is mapped apart from the heap and asked to stay on 4 KiB pages: the heap is on
+// transparent huge pages (Common/Memory.h), where one written sample makes its whole 2 MiB page
+// resident, so a sparsely written buffer there became resident almost whole (at 1920x1080 the hole
+// filling's estimates are 70 MB, of which the holes write a few per cent). Dense buffers keep the
+// huge pages.
 template <class T>
 class UntouchedBuffer {
   static_assert(std::is_trivially_default_constructible_v<T> && std::is_trivially_destructible_v<T>,
                 "UntouchedBuffer holds plain values only");
 
 public:
+  UntouchedBuffer() = default;
+  UntouchedBuffer(const UntouchedBuffer&) = delete;
+  UntouchedBuffer& operator=(const UntouchedBuffer&) = delete;
+  ~UntouchedBuffer() { release(); }
+
   void resize(size_t size) {
     if (size > capacity_) {
-      data_.reset(new T[size]);  // default-initialised: nothing written
+      release();
+      data_ = static_cast<T*>(untouchedAllocate(size * sizeof(T), mapped_));
       capacity_ = size;
     }
     size_ = size;
   }
   size_t size() const { return size_; }
-  T* data() { return data_.get(); }
-  const T* data() const { return data_.get(); }
+  T* data() { return data_; }
+  const T* data() const { return data_; }
   T& operator[](size_t i) { return data_[i]; }
   const T& operator[](size_t i) const { return data_[i]; }
 
 private:
-  std::unique_ptr<T[]> data_;
+  void release() {
+    untouchedFree(data_, capacity_ * sizeof(T), mapped_);
+    data_ = nullptr;
+    capacity_ = size_ = 0;
+  }
+
+  T* data_ = nullptr;
   size_t size_ = 0, capacity_ = 0;
+  bool mapped_ = false;  // data_ is a mapping of its own (else from operator new)
 };
+
 
 }  // namespace vs
