@@ -323,6 +323,51 @@ TEST(YuvTest, SampleAboveBitDepthMaximumIsAnInputError) {
   EXPECT_NO_THROW(reader.readLuma(1, luma));
 }
 
+// Frames larger than the reader's chunk of file bytes (256 KiB): planes that start and end inside a
+// chunk, chunks that end inside a plane. The file is laid out here byte by byte, not by YuvWriter.
+TEST(YuvTest, FramesLargerThanOneReadChunkReadWhole) {
+  const fs::path dir = vs::test::scratchDir("yuv_chunks");
+  for (const int bitDepth : {8, 12}) {
+    const vs::FrameFormat format = makeFormat(401, 333, bitDepth, vs::ChromaFormat::Yuv420);  // chroma 201x167
+    const int widths[3] = {401, 201, 201}, heights[3] = {333, 167, 167};
+    const int bytesPerSample = bitDepth > 8 ? 2 : 1;
+    std::mt19937 random{unsigned(bitDepth)};
+    std::uniform_int_distribution<int> sample(0, (1 << bitDepth) - 1);
+    std::vector<std::vector<uint16_t>> expected[2];
+    std::vector<uint8_t> bytes;
+    for (int f = 0; f < 2; ++f)
+      for (int p = 0; p < 3; ++p) {
+        expected[f].emplace_back();
+        for (int i = 0; i < widths[p] * heights[p]; ++i) {
+          const uint16_t value = uint16_t(sample(random));
+          expected[f].back().push_back(value);
+          bytes.push_back(uint8_t(value & 0xff));
+          if (bytesPerSample == 2) bytes.push_back(uint8_t(value >> 8));
+        }
+      }
+    ASSERT_EQ(bytes.size(), 2 * expectedFrameBytes(401, 333, bitDepth, vs::ChromaFormat::Yuv420));
+    const fs::path path = dir / ("big" + std::to_string(bitDepth) + ".yuv");
+    writeBytes(path, bytes);
+    vs::YuvReader reader(path.string(), format);
+    vs::Frame frame;
+    vs::Plane luma;
+    for (const int f : {1, 0}) {
+      reader.read(f, frame);
+      for (int p = 0; p < 3; ++p) EXPECT_EQ(frame.planes[p].samples, expected[f][size_t(p)]) << "frame " << f << " plane " << p;
+      reader.readLuma(f, luma);
+      EXPECT_EQ(luma.samples, expected[f][0]) << "frame " << f;
+    }
+    if (bitDepth == 8) continue;
+    // The last sample of V of frame 1, in the file's last chunk, one above the maximum: named.
+    bytes[bytes.size() - 2] = 0x00;
+    bytes[bytes.size() - 1] = 0x10;
+    writeBytes(path, bytes);
+    vs::YuvReader damaged(path.string(), format);
+    const std::string message = inputErrorOf([&] { damaged.read(1, frame); });
+    EXPECT_NE(message.find("frame 1, plane V: sample 4096 at (x 200, y 166)"), std::string::npos) << message;
+  }
+}
+
 TEST(YuvTest, ReadLumaSkipsChroma) {
   const fs::path dir = vs::test::scratchDir("yuv_luma");
   const vs::FrameFormat format = makeFormat(7, 5, 16, vs::ChromaFormat::Yuv420);

@@ -109,13 +109,9 @@ void YuvReader::throwIncomplete(int64_t frameIndex, uint64_t bytesAvailable) con
                    " bytes missing (file holds " + std::to_string(frameCount()) + " whole frames)");
 }
 
-void YuvReader::readFrameBytes(int64_t frameIndex, uint64_t count) {
+uint64_t YuvReader::seekFrame(int64_t frameIndex) {
   VS_CHECK(frameIndex >= 0);
-  const uint64_t frameBytes = format_.frameBytes();
   const uint64_t stride = frameStride();
-  VS_CHECK(count <= frameBytes);
-  if (buffer_.size() < frameBytes) buffer_.resize(frameBytes);  // once per reader
-
   // Comparing indices, not byte offsets, keeps absurd indices from overflowing the offset.
   if (uint64_t(frameIndex) >= dataBytes() / stride) {
     std::error_code ec;
@@ -138,14 +134,62 @@ void YuvReader::readFrameBytes(int64_t frameIndex, uint64_t count) {
                        "header parameters of different lengths are not read)");
     file_.seekg(std::streamoff(start + frameHeaderBytes_), std::ios::beg);
   }
-  if (file_) file_.read(reinterpret_cast<char*>(buffer_.data()), std::streamsize(count));
-  const uint64_t got = file_.gcount() > 0 ? uint64_t(file_.gcount()) : 0;
-  if (got == count) return;
+  return start;
+}
 
+void YuvReader::readPlanes(int64_t frameIndex, Plane* const* planes, int count) {
+  const int bytesPerSample = format_.bytesPerSample();
+  uint64_t total = 0;
+  for (int p = 0; p < count; ++p) total += planeBytes(*planes[p], bytesPerSample);
+  VS_CHECK(total <= format_.frameBytes());
+  const uint64_t start = seekFrame(frameIndex);
+  // A chunk at a time through a small buffer, widened into the planes as it comes: a whole frame of
+  // file bytes beside its samples would be half as much memory again per reader (a buffer of 2^18
+  // bytes, even: a 16-bit sample never straddles two chunks).
+  constexpr uint64_t kChunk = uint64_t(1) << 18;
+  if (buffer_.size() < std::min(total, kChunk)) buffer_.resize(size_t(std::min(total, kChunk)));  // once per reader
+  uint16_t largest[3] = {};
+  int p = 0;
+  uint64_t inPlane = 0;  // bytes of plane p already unpacked
+  for (uint64_t done = 0; done < total;) {
+    const uint64_t n = std::min(kChunk, total - done);
+    if (file_) file_.read(reinterpret_cast<char*>(buffer_.data()), std::streamsize(n));
+    const uint64_t got = file_.gcount() > 0 && file_.gcount() <= std::streamsize(n) ? uint64_t(file_.gcount()) : 0;
+    if (got != n) throwReadFailure(frameIndex, start, done + got, total);
+    for (uint64_t used = 0; used < n;) {
+      const uint64_t planeTotal = planeBytes(*planes[p], bytesPerSample);
+      const uint64_t take = std::min(n - used, planeTotal - inPlane);
+      const uint8_t* bytes = buffer_.data() + used;
+      uint16_t* samples = planes[p]->samples.data() + inPlane / uint64_t(bytesPerSample);
+      if (bytesPerSample == 1) {
+        for (uint64_t i = 0; i < take; ++i) samples[i] = bytes[i];
+      } else {
+        uint16_t most = largest[p];
+        for (uint64_t i = 0; i < take / 2; ++i) {
+          samples[i] = uint16_t(bytes[2 * i] | (bytes[2 * i + 1] << 8));
+          most = std::max(most, samples[i]);
+        }
+        largest[p] = most;
+      }
+      used += take;
+      inPlane += take;
+      if (inPlane == planeTotal) {
+        ++p;
+        inPlane = 0;
+      }
+    }
+    done += n;
+  }
+  if (bytesPerSample > 1)
+    for (int q = 0; q < count; ++q)
+      if (largest[q] > format_.maxValue()) throwSampleOutOfRange(*planes[q], frameIndex, q);
+}
+
+void YuvReader::throwReadFailure(int64_t frameIndex, uint64_t start, uint64_t got, uint64_t count) {
   const int readErrno = errno;
   std::error_code ec;
   const uint64_t nowBytes = fs::file_size(path_, ec);
-  if (!ec && nowBytes < start + stride) {  // the file shrank under us
+  if (!ec && nowBytes < start + frameStride()) {  // the file shrank under us
     fileBytes_ = nowBytes;
     throwIncomplete(frameIndex, nowBytes > start ? nowBytes - start : 0);
   }
@@ -153,21 +197,8 @@ void YuvReader::readFrameBytes(int64_t frameIndex, uint64_t count) {
                    std::to_string(got) + " of " + std::to_string(count) + " bytes: " + osReason(readErrno));
 }
 
-void YuvReader::unpackPlane(size_t byteOffset, Plane& plane, int64_t frameIndex, int planeIndex) const {
-  const size_t count = plane.samples.size();
-  const uint8_t* bytes = buffer_.data() + byteOffset;
-  uint16_t* samples = plane.samples.data();
-  if (format_.bitDepth <= 8) {
-    for (size_t i = 0; i < count; ++i) samples[i] = bytes[i];
-    return;
-  }
-  uint16_t maxSample = 0;
-  for (size_t i = 0; i < count; ++i) {
-    samples[i] = uint16_t(bytes[2 * i] | (bytes[2 * i + 1] << 8));
-    maxSample = std::max(maxSample, samples[i]);
-  }
+void YuvReader::throwSampleOutOfRange(const Plane& plane, int64_t frameIndex, int planeIndex) const {
   const int maxValue = format_.maxValue();
-  if (maxSample <= maxValue) return;
   // Rare path: find the first offending sample so the message can point at it.
   const auto first = std::find_if(plane.samples.begin(), plane.samples.end(),
                                   [maxValue](uint16_t s) { return s > maxValue; });
@@ -180,19 +211,15 @@ void YuvReader::unpackPlane(size_t byteOffset, Plane& plane, int64_t frameIndex,
 }
 
 void YuvReader::read(int64_t frameIndex, Frame& frame) {
-  readFrameBytes(frameIndex, format_.frameBytes());
   frame.reset(format_);
-  size_t offset = 0;
-  for (int p = 0; p < planeCount(format_.chroma); ++p) {
-    unpackPlane(offset, frame.planes[p], frameIndex, p);
-    offset += planeBytes(frame.planes[p], format_.bytesPerSample());
-  }
+  Plane* planes[3] = {&frame.planes[0], &frame.planes[1], &frame.planes[2]};
+  readPlanes(frameIndex, planes, planeCount(format_.chroma));
 }
 
 void YuvReader::readLuma(int64_t frameIndex, Plane& luma) {
   luma.resize(format_.width, format_.height);
-  readFrameBytes(frameIndex, planeBytes(luma, format_.bytesPerSample()));
-  unpackPlane(0, luma, frameIndex, 0);
+  Plane* planes[1] = {&luma};
+  readPlanes(frameIndex, planes, 1);
 }
 
 // ---------------------------------------------------------------------------------------------------

@@ -45,10 +45,14 @@ public:
   void readLuma(int64_t frameIndex, Plane& luma);
 
 private:
-  // Reads `count` bytes of frame `frameIndex`, from its start, into buffer_.
-  void readFrameBytes(int64_t frameIndex, uint64_t count);
-  // Converts `plane.width * plane.height` samples at buffer_[byteOffset] into `plane`.
-  void unpackPlane(size_t byteOffset, Plane& plane, int64_t frameIndex, int planeIndex) const;
+  // Checks that frame `frameIndex` is wholly in the file and positions the file at its first sample;
+  // returns the frame's offset in the file.
+  uint64_t seekFrame(int64_t frameIndex);
+  // Reads the first `count` planes of frame `frameIndex` (sized already) from the file, a chunk at a
+  // time through buffer_.
+  void readPlanes(int64_t frameIndex, Plane* const* planes, int count);
+  [[noreturn]] void throwReadFailure(int64_t frameIndex, uint64_t start, uint64_t got, uint64_t count);
+  [[noreturn]] void throwSampleOutOfRange(const Plane& plane, int64_t frameIndex, int planeIndex) const;
   [[noreturn]] void throwIncomplete(int64_t frameIndex, uint64_t bytesAvailable) const;
   // Bytes after the Y4M stream header (the whole file for raw YUV), and from one frame's start to
   // the next (its "FRAME" line included for Y4M).
@@ -62,7 +66,7 @@ private:
   std::shared_ptr<const Y4mHeader> y4m_;
   uint64_t dataStart_ = 0;         // Y4M: the stream header's bytes
   uint64_t frameHeaderBytes_ = 0;  // Y4M: "FRAME...\n" before each frame
-  std::vector<uint8_t> buffer_;  // one frame of file bytes, allocated on first use
+  std::vector<uint8_t> buffer_;  // a chunk of file bytes (at most 256 KiB), allocated on first use
 };
 
 class SafeOutputFile;
