@@ -15,9 +15,10 @@ SequenceOutputs::SequenceOutputs(const SynthesisSettings& settings, const Y4mHea
   if (!s.virtualDepthPath.empty())
     YuvWriter::checkOutput(s.virtualDepthPath, depthFormat, notDepth, "OutputVirtualDepthMapName");
   writer_ = std::make_unique<YuvWriter>(s.outputPath, s.textureFormat, inputs, "OutputVirtualViewImageName", rate);
-  virtualDepth_.reset(depthFormat);
+  // The virtual depth's frame only where it is written (a 1920x1080 frame is 6 MB).
   if (!s.virtualDepthPath.empty()) {
     depthWriter_ = std::make_unique<YuvWriter>(s.virtualDepthPath, depthFormat, notDepth, "OutputVirtualDepthMapName");
+    virtualDepth_.reset(depthFormat);
     virtualDepth_.fill(0);
   }
 }
