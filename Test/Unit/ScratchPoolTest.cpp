@@ -71,7 +71,7 @@ TEST(ScratchPool, ParallelLoopsMakeNoMoreSetsThanThreadsAndNeverShareOne) {
 }  // namespace
 }  // namespace vs
 
-// Small buffers come from the heap, large ones (1 MiB and up) from a mapping of their own: in both,
+// Small buffers come from the heap, large ones (4 MiB and up) from a mapping of their own: in both,
 // what is written stays, growing gives room for every new element, and a smaller size keeps the
 // memory (and the values).
 TEST(UntouchedBuffer, HoldsWhatIsWrittenAtEverySizeAndKeepsItsMemoryWhenNotGrowing) {

@@ -73,7 +73,7 @@ private:
 // this one allocates without writing, so pages nothing writes are never faulted in. resize() keeps
 // the memory when the size does not grow, and its contents are unspecified after a resize.
 //
-// A large one is mapped apart from the heap and asked to stay on 4 KiB pages: the heap is on
+// A large one (4 MiB and up) is mapped apart from the heap and asked to stay on 4 KiB pages: the heap is on
 // transparent huge pages (Common/Memory.h), where one written sample makes its whole 2 MiB page
 // resident, so a sparsely written buffer there became resident almost whole (at 1920x1080 the hole
 // filling's estimates are 70 MB, of which the holes write a few per cent). Dense buffers keep the
