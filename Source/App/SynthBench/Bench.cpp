@@ -64,9 +64,10 @@ double median(std::vector<double> v) {
   return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
 }
 
-// One whole process: wall-clock seconds and peak resident memory (MiB).
+// One whole process: wall-clock seconds, CPU seconds (user + system, all its threads) and peak
+// resident memory (MiB).
 struct ProcessRun {
-  double seconds = 0, peakMiB = 0;
+  double seconds = 0, cpuSeconds = 0, peakMiB = 0;
 };
 
 // Runs `exe` with `args` in `folder` (empty: this process's), its output discarded; throws when it
@@ -92,8 +93,9 @@ ProcessRun runProcess(const fs::path& exe, const std::vector<std::string>& args,
   if (spawned != 0 || wait4(child, &status, 0, &usage) != child || !WIFEXITED(status) || WEXITSTATUS(status) != 0)
     throw InputError(exe.string() + " failed on " + (args.empty() ? std::string() : args[0]) +
                          (where.empty() ? std::string() : " in " + where) + " (run it by hand to see why)");
+  auto seconds = [](const timeval& t) { return double(t.tv_sec) + 1e-6 * double(t.tv_usec); };
   return {std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(),
-          double(usage.ru_maxrss) / 1024.0};  // ru_maxrss: KiB on Linux
+          seconds(usage.ru_utime) + seconds(usage.ru_stime), double(usage.ru_maxrss) / 1024.0};  // ru_maxrss: KiB
 }
 
 // Wall-clock seconds of one run of `exe` with `args`, its output discarded; throws when it fails.
@@ -114,9 +116,10 @@ std::string demoConfig(const fs::path& work, int width, int height, int frames =
 }
 
 // What a user waits for: whole processes with the config's own (default) thread count, warm (median
-// of `runs`) and cold (one run after `coldWait` seconds idle), and their peak memory.
+// of `runs`) and cold (one run after `coldWait` seconds idle), and their peak memory; the median CPU
+// seconds of the warm runs, which a loaded machine inflates less than the wall clock.
 struct ProcessFigures {
-  double warm = 0, cold = 0, peakMiB = 0;
+  double warm = 0, warmCpu = 0, cold = 0, peakMiB = 0;
 };
 
 ProcessFigures timeProcess(const fs::path& exe, const std::vector<std::string>& args, const fs::path& folder, int runs,
@@ -128,13 +131,15 @@ ProcessFigures timeProcess(const fs::path& exe, const std::vector<std::string>& 
     figures.cold = run.seconds;
     figures.peakMiB = run.peakMiB;
   }
-  std::vector<double> seconds;
+  std::vector<double> seconds, cpuSeconds;
   for (int r = 0; r < runs; ++r) {
     const ProcessRun run = runProcess(exe, args, folder);
     seconds.push_back(run.seconds);
+    cpuSeconds.push_back(run.cpuSeconds);
     figures.peakMiB = std::max(figures.peakMiB, run.peakMiB);
   }
   figures.warm = median(seconds);
+  figures.warmCpu = median(cpuSeconds);
   return figures;
 }
 
@@ -156,7 +161,7 @@ fs::path vsrsFolder(const fs::path& work, const std::string& name, const fs::pat
 }
 
 void printProcessFigures(const ProcessFigures& f, bool cold) {
-  std::printf(" %9.4f", f.warm);
+  std::printf(" %9.4f %9.4f", f.warm, f.warmCpu);
   if (cold) std::printf(" %9.4f %6.2fx", f.cold, f.cold / f.warm);
   std::printf(" %9.1f", f.peakMiB);
 }
@@ -176,15 +181,15 @@ void runUserCases(const BenchSettings& settings, const fs::path& work, const fs:
   if (settings.demo) jobs.push_back({"demo 1920x1080, 30 frames", demoConfig(work, 1920, 1080, 30)});
   if (jobs.empty()) return;
   const bool cold = settings.coldWait > 0, vsrs = !settings.vsrs.empty();
-  std::printf("\nwhole process, default threads, %d warm runs (median)%s\n", settings.runs,
+  std::printf("\nwhole process, default threads, %d warm runs (median wall and CPU seconds)%s\n", settings.runs,
               cold ? (", cold: one run after " + formatNumber("%g", settings.coldWait) + " s idle").c_str() : "");
-  std::printf("%-28s %9s", "case", "warm s");
+  std::printf("%-28s %9s %9s", "case", "warm s", "CPU s");
   if (cold) std::printf(" %9s %7s", "cold s", "c/w");
   std::printf(" %9s", "peak MiB");
   if (vsrs) {
-    std::printf(" | %9s", "VSRS s");
+    std::printf(" | %9s %9s", "VSRS s", "CPU s");
     if (cold) std::printf(" %9s %7s", "cold s", "c/w");
-    std::printf(" %9s %9s", "peak MiB", "VSRS/us");
+    std::printf(" %9s %9s %9s", "peak MiB", "VSRS/us", "CPU");
   }
   std::printf("\n");
   const OptionTable table = viewSynOptionTable();
@@ -201,7 +206,7 @@ void runUserCases(const BenchSettings& settings, const fs::path& work, const fs:
                                                 folder, settings.runs, settings.coldWait);
       std::printf(" |");
       printProcessFigures(theirs, cold);
-      std::printf(" %8.1fx", theirs.warm / ours.warm);
+      std::printf(" %8.1fx %8.1fx", theirs.warm / ours.warm, theirs.warmCpu / ours.warmCpu);
     }
     std::printf("\n");
     std::fflush(stdout);

@@ -30,12 +30,13 @@ int main(int argc, char** argv) {
       {"--all-scenes", {}, "every Middlebury 2005/2006 scene (default: Art, Books, Aloe)"},
       {"--no-process", {}, "skip the whole-process runs (columns proc s/MP and proc fps, and the section below)"},
       {"--whole-process-only", {}, "only the whole-process section: Art view 3 general and 1D config (one frame) and the\n"
-                                   "                            demo at 1920x1080 (30 frames), default threads: warm (median of --runs),\n"
-                                   "                            cold, peak memory"},
+                                   "                            demo at 1920x1080 (30 frames), default threads: warm (median of --runs: wall\n"
+                                   "                            and CPU seconds), cold, peak memory"},
       {"--cold-wait", {"S"}, "seconds idle before each cold whole-process run (default 30; 0: no cold runs)",
        vs::integerValues(0, 3600)},
       {"--vsrs", {"PATH"}, "a VSRS 4.2 executable (shared/tools/build_vsrs.sh): the whole-process section runs it too,\n"
-                           "                            from a folder of links to each scene, and prints VSRS / ViewSyn"},
+                           "                            from a folder of links to each scene, and prints VSRS / ViewSyn\n"
+                           "                            (wall clock and CPU seconds)"},
   };
   tool.notes = "Exit codes: 0 done, 1 a folder or run failed (the message says which), 2 bad usage.";
   tool.runsWithoutArguments = true;
