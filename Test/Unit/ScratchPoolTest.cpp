@@ -1,11 +1,13 @@
 // ScratchPool: the working buffers of parallel loop bodies (Synth/ScratchPool.h), which replaced the
 // thread_local buffers (BUG-5 in doc/stability.md).
 #include <atomic>
+#include <cstdint>
 #include <set>
 #include <vector>
 
 #include <gtest/gtest.h>
 
+#include "Common/Memory.h"
 #include "Synth/Parallel.h"
 #include "Synth/ScratchPool.h"
 
@@ -71,27 +73,32 @@ TEST(ScratchPool, ParallelLoopsMakeNoMoreSetsThanThreadsAndNeverShareOne) {
 }  // namespace
 }  // namespace vs
 
-// Small buffers come from the heap, large ones (4 MiB and up) from a mapping of their own: in both,
-// what is written stays, growing gives room for every new element, and a smaller size keeps the
-// memory (and the values).
+// Small buffers come from the heap, large ones (Common/Memory.h: smallPageBuffersFrom()) from a
+// mapping of their own: in both, what is written stays, growing gives room for every new element,
+// and a smaller size keeps the memory (and the values). Every size goes each way once.
 TEST(UntouchedBuffer, HoldsWhatIsWrittenAtEverySizeAndKeepsItsMemoryWhenNotGrowing) {
-  for (const size_t size : {size_t(1), size_t(1000), size_t(3) << 20}) {
-    vs::UntouchedBuffer<double> buffer;
-    EXPECT_EQ(buffer.size(), 0u);
-    buffer.resize(size);
-    ASSERT_EQ(buffer.size(), size);
-    for (size_t i = 0; i < size; i += 4093) buffer[i] = double(i) + 0.5;
-    buffer[size - 1] = -1.0;
-    for (size_t i = 0; i + 1 < size; i += 4093) EXPECT_EQ(buffer[i], double(i) + 0.5) << i;
-    const double* before = buffer.data();
-    buffer.resize(size / 2 + 1);
-    EXPECT_EQ(buffer.data(), before);
-    EXPECT_EQ(buffer.size(), size / 2 + 1);
-    EXPECT_EQ(buffer[0], size > 1 ? 0.5 : -1.0);
-    buffer.resize(2 * size + 7);  // grows: contents unspecified, every element writable
-    for (size_t i = 0; i < buffer.size(); ++i) buffer[i] = 1.0;
-    double sum = 0;
-    for (size_t i = 0; i < buffer.size(); ++i) sum += buffer[i];
-    EXPECT_EQ(sum, double(2 * size + 7));
+  const size_t usual = vs::smallPageBuffersFrom();
+  for (const size_t from : {size_t(1), usual, SIZE_MAX}) {
+    vs::setSmallPageBuffersFrom(from);
+    for (const size_t size : {size_t(1), size_t(1000), size_t(3) << 20}) {
+      vs::UntouchedBuffer<double> buffer;
+      EXPECT_EQ(buffer.size(), 0u);
+      buffer.resize(size);
+      ASSERT_EQ(buffer.size(), size);
+      for (size_t i = 0; i < size; i += 4093) buffer[i] = double(i) + 0.5;
+      buffer[size - 1] = -1.0;
+      for (size_t i = 0; i + 1 < size; i += 4093) EXPECT_EQ(buffer[i], double(i) + 0.5) << i;
+      const double* before = buffer.data();
+      buffer.resize(size / 2 + 1);
+      EXPECT_EQ(buffer.data(), before);
+      EXPECT_EQ(buffer.size(), size / 2 + 1);
+      EXPECT_EQ(buffer[0], size > 1 ? 0.5 : -1.0);
+      buffer.resize(2 * size + 7);  // grows: contents unspecified, every element writable
+      for (size_t i = 0; i < buffer.size(); ++i) buffer[i] = 1.0;
+      double sum = 0;
+      for (size_t i = 0; i < buffer.size(); ++i) sum += buffer[i];
+      EXPECT_EQ(sum, double(2 * size + 7));
+    }
   }
+  vs::setSmallPageBuffersFrom(usual);
 }

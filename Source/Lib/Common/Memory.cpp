@@ -1,6 +1,7 @@
 #include "Common/Memory.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cstdint>
 #include <cstdlib>  // brings in the C library's feature macros (__GLIBC__)
 #if defined(__GLIBC__)
@@ -15,6 +16,7 @@ namespace vs {
 namespace {
 
 bool heapKept = false;  // keepFreedMemoryForReuse() has raised the thresholds
+std::atomic<size_t> smallPagesFrom{size_t(4) << 20};
 
 }  // namespace
 
@@ -52,5 +54,9 @@ void reserveHugePageHeap(size_t bytes) {
   (void)bytes;
 #endif
 }
+
+void setSmallPageBuffersFrom(size_t bytes) { smallPagesFrom.store(bytes, std::memory_order_relaxed); }
+
+size_t smallPageBuffersFrom() { return smallPagesFrom.load(std::memory_order_relaxed); }
 
 }  // namespace vs

@@ -73,11 +73,11 @@ private:
 // this one allocates without writing, so pages nothing writes are never faulted in. resize() keeps
 // the memory when the size does not grow, and its contents are unspecified after a resize.
 //
-// A large one (4 MiB and up) is mapped apart from the heap and asked to stay on 4 KiB pages: the heap is on
-// transparent huge pages (Common/Memory.h), where one written sample makes its whole 2 MiB page
-// resident, so a sparsely written buffer there became resident almost whole (at 1920x1080 the hole
-// filling's estimates are 70 MB, of which the holes write a few per cent). Dense buffers keep the
-// huge pages.
+// A large one (Common/Memory.h: smallPageBuffersFrom(), 1 or 4 MiB by the picture size) is mapped
+// apart from the heap and asked to stay on 4 KiB pages: the heap is on transparent huge pages, where
+// one written sample makes its whole 2 MiB page resident, so a sparsely written buffer there became
+// resident almost whole (at 1920x1080 the hole filling's estimates are 83 MB, of which the demo's
+// holes touch about 15). Dense buffers keep the huge pages.
 template <class T>
 class UntouchedBuffer {
   static_assert(std::is_trivially_default_constructible_v<T> && std::is_trivially_destructible_v<T>,
