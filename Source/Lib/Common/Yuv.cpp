@@ -153,8 +153,11 @@ void YuvReader::readPlanes(int64_t frameIndex, Plane* const* planes, int count) 
   uint64_t inPlane = 0;  // bytes of plane p already unpacked
   for (uint64_t done = 0; done < total;) {
     const uint64_t n = std::min(kChunk, total - done);
-    if (file_) file_.read(reinterpret_cast<char*>(buffer_.data()), std::streamsize(n));
-    const uint64_t got = file_.gcount() > 0 && file_.gcount() <= std::streamsize(n) ? uint64_t(file_.gcount()) : 0;
+    uint64_t got = 0;  // not gcount() of an earlier read when this one is not attempted
+    if (file_) {
+      file_.read(reinterpret_cast<char*>(buffer_.data()), std::streamsize(n));
+      got = file_.gcount() > 0 ? uint64_t(file_.gcount()) : 0;
+    }
     if (got != n) throwReadFailure(frameIndex, start, done + got, total);
     for (uint64_t used = 0; used < n;) {
       const uint64_t planeTotal = planeBytes(*planes[p], bytesPerSample);
