@@ -7,6 +7,7 @@
 #include <utility>
 
 #include "Common/Error.h"
+#include "Mesh/MeshErp.h"
 
 namespace vs {
 
@@ -72,6 +73,10 @@ DepthMeshBuilder::DepthMeshBuilder(const Camera& reference, const DepthRange& ra
     inverseZ_[size_t(options.missingDepthLevel)] = std::nan("");
   gridPositions(width, options.gridStep, gridU_, pixelU_);
   gridPositions(height, options.gridStep, gridV_, pixelV_);
+  if (reference.isEquirectangular()) {  // rays, the wrap column and the poles (MeshErp.h)
+    VS_CHECK(options.depthType == kDepthTypeCamera && !rate_);
+    erpMeshGrid(reference, gridU_, pixelU_, gridV_, erpRays_, erpPoleRows_);
+  }
   if (options.depthType == kDepthTypeWorld) {
     // As referenceVertex(): a ray (nearly) parallel to the plane z = Z gets D_z = 0, which drops it.
     const Mat3 cameraToWorld = inverse(reference.R);
@@ -107,7 +112,7 @@ void DepthMeshBuilder::build(const Plane& depth, DepthMesh& mesh, const Plane* l
 
   const bool world = options_.depthType == kDepthTypeWorld;
   // Levels are affine in the image on a plane only for camera depth (DepthType 0).
-  const bool planarEdges = options_.depthType == kDepthTypeCamera;
+  const bool planarEdges = options_.depthType == kDepthTypeCamera && erpRays_.empty();  // and not on ERP rays
   const double centreZ = reference_.t.z;
   for (int r = 0; r < rows; ++r) {
     const uint16_t* depthRow = depth.row(pixelV_[size_t(r)]);
@@ -116,6 +121,19 @@ void DepthMeshBuilder::build(const Plane& depth, DepthMesh& mesh, const Plane* l
       const uint16_t sampleLevel = depthRow[pixelU_[size_t(c)]];
       double w = sampleLevel < inverseZ_.size() ? inverseZ_[sampleLevel] : std::nan("");
       if (std::isnan(w)) continue;
+      if (!erpRays_.empty()) {  // ERP: (ray, 1 / distance) (MeshErp.h)
+        if (!(w >= 0.0) || !std::isfinite(w)) continue;
+        const Vec3& ray = erpRays_[i];
+        float* vertex = &mesh.vertices[i * 4];
+        vertex[0] = float(ray.x);
+        vertex[1] = float(ray.y);
+        vertex[2] = float(ray.z);
+        vertex[3] = float(w);
+        mesh.valid[i] = 1;
+        cameraInverseZ[i] = w;
+        level[i] = sampleLevel;
+        continue;
+      }
       // referenceVertex() without recomputing the ray per vertex: the same formula, D_z cached.
       double a = 1.0;
       if (world) {
@@ -138,6 +156,8 @@ void DepthMeshBuilder::build(const Plane& depth, DepthMesh& mesh, const Plane* l
       level[i] = sampleLevel;
     }
   }
+
+  if (!erpPoleRows_.empty()) joinErpPoleRows(erpPoleRows_, mesh, cameraInverseZ);
 
   const double threshold = options_.discontinuityThreshold;
   // A grid edge from vertex a to vertex b lies on a plane when it belongs to four valid vertices in a

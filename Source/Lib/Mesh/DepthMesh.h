@@ -133,6 +133,8 @@ private:
   std::vector<double> gridU_, gridV_;
   std::vector<int> pixelU_, pixelV_;  // depth sample each grid column and row reads
   std::vector<double> worldRayZ_;     // DepthType 1: D_z of each grid vertex
+  std::vector<Vec3> erpRays_;         // ERP reference: the unit ray of each grid vertex (MeshErp.h)
+  std::vector<int> erpPoleRows_;      // ERP reference: grid rows on a pole
 };
 
 }  // namespace vs

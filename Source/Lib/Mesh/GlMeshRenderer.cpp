@@ -63,6 +63,28 @@ void main() {
 }
 )";
 
+// The projected pass (ERP cameras, Mesh/MeshErp.h): the vertices come in clip coordinates, computed on
+// the CPU, with (u, v, n, d) per vertex: the reference pixel and q = n / d, interpolated with
+// perspective correction like the pinhole pass's. Points show their vertex's own reference position.
+const char* const kProjectedVertexShader = R"(#version 330 core
+layout(location = 0) in vec4 position;
+layout(location = 1) in vec4 reference;
+out vec4 referenceDepth;
+void main() {
+  gl_Position = position;
+  referenceDepth = reference;
+}
+)";
+
+const char* const kProjectedFragmentShader = R"(#version 330 core
+in vec4 referenceDepth;
+uniform float drawnMark;
+layout(location = 0) out vec4 referenceDepthFlags;
+void main() {
+  referenceDepthFlags = vec4(referenceDepth.xy, max(referenceDepth.z / referenceDepth.w, 0.0), drawnMark);
+}
+)";
+
 // Inverse of a 4x4 matrix by Gauss-Jordan elimination with partial pivoting, in double; false when
 // it is singular (a pivot below 1e-12 of the largest entry).
 bool inverse(const Mat4& a, Mat4& result) {
@@ -123,7 +145,44 @@ float bilinear(const Plane& plane, double x, double y) {
   return float(top + ay * (bottom - top));
 }
 
+// Compiles and links a vertex and a fragment shader into a program; throws InputError when the driver
+// cannot.
+GLuint linkProgram(const GlFunctions& gl, const char* vertexSource, const char* fragmentSource) {
+  const GLuint vertexShader = compileShader(gl, GL_VERTEX_SHADER, vertexSource);
+  GLuint fragmentShader = 0;
+  try {
+    fragmentShader = compileShader(gl, GL_FRAGMENT_SHADER, fragmentSource);
+  } catch (...) {
+    gl.DeleteShader(vertexShader);
+    throw;
+  }
+  const GLuint program = gl.CreateProgram();
+  gl.AttachShader(program, vertexShader);
+  gl.AttachShader(program, fragmentShader);
+  gl.LinkProgram(program);
+  gl.DeleteShader(vertexShader);
+  gl.DeleteShader(fragmentShader);
+  GLint linked = 0;
+  gl.GetProgramiv(program, GL_LINK_STATUS, &linked);
+  if (!linked) {
+    char log[4096] = {0};
+    gl.GetProgramInfoLog(program, sizeof log, nullptr, log);
+    gl.DeleteProgram(program);
+    throw InputError(std::string("the OpenGL driver cannot link MeshRender's shaders: ") + log);
+  }
+  return program;
+}
+
 }  // namespace
+
+// The GL objects of the projected pass, created on its first use.
+struct ProjectedPass {
+  GLuint program = 0, vertexArray = 0, positionBuffer = 0, attributeBuffer = 0, indexBuffer = 0;
+  GLint drawnMarkLocation = -1;
+  GLsizeiptr positionBytes = 0, attributeBytes = 0, indexBytes = 0;
+  GLsizei triangleIndexCount = 0, pointCount = 0, orphanCount = 0;
+  std::vector<uint32_t> indices;  // triangles, then points, then locally farthest orphans
+};
 
 struct GlMeshRenderer::Impl {
   EglContext context;
@@ -144,30 +203,10 @@ struct GlMeshRenderer::Impl {
   std::vector<float> readBack;              // last render: (u, v, q, flags) per sample
   const DepthMesh* mesh = nullptr;          // the uploaded mesh (its edge flags)
   int renderedWidth = 0, renderedHeight = 0;
+  std::unique_ptr<ProjectedPass> projected;  // ERP cameras (uploadProjectedMesh)
 
   Impl() : gl(context.gl()) {
-    const GLuint vertexShader = compileShader(gl, GL_VERTEX_SHADER, kVertexShader);
-    GLuint fragmentShader = 0;
-    try {
-      fragmentShader = compileShader(gl, GL_FRAGMENT_SHADER, kFragmentShader);
-    } catch (...) {
-      gl.DeleteShader(vertexShader);
-      throw;
-    }
-    program = gl.CreateProgram();
-    gl.AttachShader(program, vertexShader);
-    gl.AttachShader(program, fragmentShader);
-    gl.LinkProgram(program);
-    gl.DeleteShader(vertexShader);
-    gl.DeleteShader(fragmentShader);
-    GLint linked = 0;
-    gl.GetProgramiv(program, GL_LINK_STATUS, &linked);
-    if (!linked) {
-      char log[4096] = {0};
-      gl.GetProgramInfoLog(program, sizeof log, nullptr, log);
-      gl.DeleteProgram(program);
-      throw InputError(std::string("the OpenGL driver cannot link MeshRender's shaders: ") + log);
-    }
+    program = linkProgram(gl, kVertexShader, kFragmentShader);
     clipLocation = gl.GetUniformLocation(program, "clipFromReference");
     referenceFromClipLocation = gl.GetUniformLocation(program, "referenceFromClip");
     viewportLocation = gl.GetUniformLocation(program, "viewportSize");
@@ -194,6 +233,13 @@ struct GlMeshRenderer::Impl {
 
   ~Impl() {
     context.makeCurrent();
+    if (projected) {
+      gl.DeleteBuffers(1, &projected->positionBuffer);
+      gl.DeleteBuffers(1, &projected->attributeBuffer);
+      gl.DeleteBuffers(1, &projected->indexBuffer);
+      gl.DeleteVertexArrays(1, &projected->vertexArray);
+      gl.DeleteProgram(projected->program);
+    }
     gl.DeleteFramebuffers(1, &framebuffer);
     gl.DeleteRenderbuffers(1, &colourBuffer);
     gl.DeleteRenderbuffers(1, &depthBuffer);
@@ -263,6 +309,23 @@ struct GlMeshRenderer::Impl {
     }
   }
 
+  // Binds the framebuffer for `grid`, cleared, with the depth test on.
+  void beginRender(const RenderGrid& grid) {
+    context.makeCurrent();
+    VS_CHECK(!planes.empty() && grid.width > 0 && grid.height > 0);
+    ensureFramebuffer(grid.width, grid.height);
+    gl.BindFramebuffer(GL_FRAMEBUFFER, framebuffer);
+    gl.Viewport(0, 0, grid.width, grid.height);
+    const float clearReference[4] = {0.0f, 0.0f, float(kNoDepth), 0.0f};
+    const float clearDepth = 1.0f;
+    gl.ClearBufferfv(GL_COLOR, 0, clearReference);
+    gl.ClearBufferfv(GL_DEPTH, 0, &clearDepth);
+    gl.Enable(GL_DEPTH_TEST);
+    gl.DepthFunc(GL_LESS);  // smaller z_ndc is larger q: nearer
+    gl.Disable(GL_CULL_FACE);
+    gl.Disable(GL_BLEND);
+  }
+
   // The edge flag of a sample: every point is on an edge (a border vertex, or an orphan); a triangle's
   // fragment is when the grid triangle under its reference position touches a dropped one.
   bool edgeAt(const float* sample) const { return sample[3] != 1.0f || (mesh && mesh->edgeAt(sample[0], sample[1])); }
@@ -319,20 +382,7 @@ void GlMeshRenderer::render(const Mat4& clip, const RenderGrid& grid, const Texe
                             RenderExtras* extras) {
   Impl& s = *impl_;
   const GlFunctions& gl = s.gl;
-  s.context.makeCurrent();
-  VS_CHECK(!s.planes.empty() && grid.width > 0 && grid.height > 0);
-  s.ensureFramebuffer(grid.width, grid.height);
-
-  gl.BindFramebuffer(GL_FRAMEBUFFER, s.framebuffer);
-  gl.Viewport(0, 0, grid.width, grid.height);
-  const float clearReference[4] = {0.0f, 0.0f, float(kNoDepth), 0.0f};
-  const float clearDepth = 1.0f;
-  gl.ClearBufferfv(GL_COLOR, 0, clearReference);
-  gl.ClearBufferfv(GL_DEPTH, 0, &clearDepth);
-  gl.Enable(GL_DEPTH_TEST);
-  gl.DepthFunc(GL_LESS);  // smaller z_ndc is larger q: nearer
-  gl.Disable(GL_CULL_FACE);
-  gl.Disable(GL_BLEND);
+  s.beginRender(grid);
 
   gl.UseProgram(s.program);
   float matrix[16];
@@ -368,6 +418,13 @@ void GlMeshRenderer::render(const Mat4& clip, const RenderGrid& grid, const Texe
     gl.DepthFunc(GL_LESS);
   }
 
+  finishRender(grid, texelMap, layer, extras);
+}
+
+void GlMeshRenderer::finishRender(const RenderGrid& grid, const TexelMap& texelMap, WarpedLayer& layer,
+                                  RenderExtras* extras) {
+  Impl& s = *impl_;
+  const GlFunctions& gl = s.gl;
   // Framebuffer row 0 is image row 0 (MeshProjection.h): read back as it lies.
   const int width = grid.width, height = grid.height;
   const size_t n = size_t(width) * size_t(height);
@@ -402,6 +459,78 @@ void GlMeshRenderer::render(const Mat4& clip, const RenderGrid& grid, const Texe
         extras->referenceV[i] = samples[i * 4 + 1];
       }
   }
+}
+
+void GlMeshRenderer::uploadProjectedMesh(const ProjectedMesh& mesh) {
+  Impl& s = *impl_;
+  const GlFunctions& gl = s.gl;
+  s.context.makeCurrent();
+  VS_CHECK(mesh.mesh && mesh.attributes.size() == mesh.positions.size());
+  VS_CHECK(mesh.triangles.size() + mesh.points.size() + mesh.farthestOrphans.size() <=
+           size_t(std::numeric_limits<GLsizei>::max()));
+  if (!s.projected) {
+    auto pass = std::make_unique<ProjectedPass>();
+    pass->program = linkProgram(gl, kProjectedVertexShader, kProjectedFragmentShader);
+    pass->drawnMarkLocation = gl.GetUniformLocation(pass->program, "drawnMark");
+    VS_CHECK(pass->drawnMarkLocation >= 0);
+    gl.GenVertexArrays(1, &pass->vertexArray);
+    gl.BindVertexArray(pass->vertexArray);
+    gl.GenBuffers(1, &pass->positionBuffer);
+    gl.GenBuffers(1, &pass->attributeBuffer);
+    gl.GenBuffers(1, &pass->indexBuffer);
+    gl.BindBuffer(GL_ARRAY_BUFFER, pass->positionBuffer);
+    gl.VertexAttribPointer(0, 4, GL_FLOAT, GL_FALSE, 0, nullptr);
+    gl.EnableVertexAttribArray(0);
+    gl.BindBuffer(GL_ARRAY_BUFFER, pass->attributeBuffer);
+    gl.VertexAttribPointer(1, 4, GL_FLOAT, GL_FALSE, 0, nullptr);
+    gl.EnableVertexAttribArray(1);
+    gl.BindBuffer(GL_ELEMENT_ARRAY_BUFFER, pass->indexBuffer);
+    s.projected = std::move(pass);
+  }
+  ProjectedPass& p = *s.projected;
+  gl.BindVertexArray(p.vertexArray);
+  s.upload(GL_ARRAY_BUFFER, p.positionBuffer, GLsizeiptr(mesh.positions.size() * sizeof(float)), mesh.positions.data(),
+           p.positionBytes);
+  s.upload(GL_ARRAY_BUFFER, p.attributeBuffer, GLsizeiptr(mesh.attributes.size() * sizeof(float)),
+           mesh.attributes.data(), p.attributeBytes);
+  p.indices = mesh.triangles;
+  p.indices.insert(p.indices.end(), mesh.points.begin(), mesh.points.end());
+  p.indices.insert(p.indices.end(), mesh.farthestOrphans.begin(), mesh.farthestOrphans.end());
+  s.upload(GL_ELEMENT_ARRAY_BUFFER, p.indexBuffer, GLsizeiptr(p.indices.size() * sizeof(uint32_t)), p.indices.data(),
+           p.indexBytes);
+  p.triangleIndexCount = GLsizei(mesh.triangles.size());
+  p.pointCount = GLsizei(mesh.points.size());
+  p.orphanCount = GLsizei(mesh.farthestOrphans.size());
+  s.mesh = mesh.mesh;
+  s.checkErrors("uploading the projected mesh");
+}
+
+void GlMeshRenderer::renderProjected(const RenderGrid& grid, const TexelMap& texelMap, WarpedLayer& layer,
+                                     RenderExtras* extras) {
+  Impl& s = *impl_;
+  const GlFunctions& gl = s.gl;
+  VS_CHECK(s.projected != nullptr);
+  const ProjectedPass& p = *s.projected;
+  s.beginRender(grid);
+  gl.UseProgram(p.program);
+  gl.BindVertexArray(p.vertexArray);
+  // As render(): triangles, then points (mark 3), then the locally farthest orphans where nothing is drawn.
+  gl.Uniform1f(p.drawnMarkLocation, 1.0f);
+  if (p.triangleIndexCount > 0) gl.DrawElements(GL_TRIANGLES, p.triangleIndexCount, GL_UNSIGNED_INT, nullptr);
+  gl.Uniform1f(p.drawnMarkLocation, 3.0f);
+  if (p.pointCount > 0)
+    gl.DrawElements(GL_POINTS, p.pointCount, GL_UNSIGNED_INT,
+                    reinterpret_cast<const void*>(size_t(p.triangleIndexCount) * sizeof(uint32_t)));
+  if (p.orphanCount > 0) {
+    gl.Uniform1f(p.drawnMarkLocation, 2.0f);
+    gl.DepthRange(1.0, 1.0);
+    gl.DepthFunc(GL_LEQUAL);
+    gl.DrawElements(GL_POINTS, p.orphanCount, GL_UNSIGNED_INT,
+                    reinterpret_cast<const void*>(size_t(p.triangleIndexCount + p.pointCount) * sizeof(uint32_t)));
+    gl.DepthRange(0.0, 1.0);
+    gl.DepthFunc(GL_LESS);
+  }
+  finishRender(grid, texelMap, layer, extras);
 }
 
 void GlMeshRenderer::sampleRender(const std::vector<Plane>& planes, const TexelMap& texelMap, WarpedLayer& layer) const {
