@@ -123,6 +123,55 @@ TEST(MeshErp, VerticesLieOnTheRaysAtTheDistanceAndTheWrapJoinsOnlyContinuousDept
   EXPECT_GT(std::hypot(corner.x, corner.z), 0.5 * norm(corner));
 }
 
+// A floor seen at a grazing angle steps by far more than 2 % from ray to ray towards the horizon; on it
+// the levels follow A sin + B cos + C of the angle along each grid line (MeshErp.h), so its triangles
+// are kept; where a raised part of the floor begins, the step is not on that curve and is dropped.
+TEST(MeshErp, AFloorSeenAtAGrazingAngleStaysWholeAndAStepOnItIsCut) {
+  const int width = 96, height = 64;
+  const Camera camera = erpCamera("e", width, height, Vec3());
+  const DepthRange range{1.0, 40.0, 16};
+  Plane depth(width, height, 0);  // level 0: nothing (the upper half)
+  auto floorHeight = [&](int u) { return u >= 40 && u < 56 ? 1.0 : 1.5; };  // our y points down
+  for (int v = 0; v < height; ++v)
+    for (int u = 0; u < width; ++u) {
+      const double lon = (180.0 - (u + 0.5) * 360.0 / width) * kPi / 180, lat = (90.0 - (v + 0.5) * 180.0 / height) * kPi / 180;
+      const Vec3 ray = sphereDirection(lon, lat);
+      if (ray.y > 0.05) depth.at(u, v) = uint16_t(zToLevelRounded(floorHeight(u) / ray.y, range));
+    }
+  MeshOptions options;
+  options.missingDepthLevel = 0;
+  DepthMesh mesh;
+  DepthMeshBuilder(camera, range, width, height, options).build(depth, mesh);
+  // Cells (grid columns c, c + 1; rows r, r + 1) of pixel rows 35 .. 60 (latitudes -9 to -81 degrees).
+  std::vector<int> kept(size_t(mesh.columns) * size_t(mesh.rows), 0);
+  for (size_t t = 0; t < mesh.triangles.size(); t += 3) {
+    uint32_t lowest = mesh.triangles[t];
+    for (int k = 1; k < 3; ++k) {
+      const uint32_t i = mesh.triangles[t + size_t(k)];
+      if (i % uint32_t(mesh.columns) <= lowest % uint32_t(mesh.columns) && i / uint32_t(mesh.columns) <= lowest / uint32_t(mesh.columns))
+        lowest = i;
+    }
+    ++kept[lowest];
+  }
+  size_t whole = 0, cut = 0;
+  for (int row = 36; row <= 60; ++row)  // grid row = pixel row + 1
+    for (int c = 0; c + 1 < mesh.columns; ++c) {
+      const int triangles = kept[size_t(row) * size_t(mesh.columns) + size_t(c)];
+      const bool acrossStep = c == 39 || c == 55;  // grid column c is pixel column c (full circle)
+      if (acrossStep) {
+        cut += triangles == 0;
+      } else {
+        whole += triangles == 2;
+        EXPECT_EQ(triangles, 2) << "pixel row " << row - 1 << ", column " << c;
+      }
+    }
+  EXPECT_EQ(cut, 2u * 25u) << "every cell across the step's two edges is dropped";
+  // The relative step between neighbouring rows there is far above the threshold (1 - z_min / z_max).
+  const double lat35 = (90.0 - 35.5 * 180.0 / height) * kPi / 180, lat36 = (90.0 - 36.5 * 180.0 / height) * kPi / 180;
+  EXPECT_GT(1.0 - std::sin(lat35) / std::sin(lat36), 0.2);
+  test::recordFigure("floor cells kept whole", double(whole));
+}
+
 // --- Through OpenGL --------------------------------------------------------------------------------
 
 std::string eglFailure;
@@ -260,12 +309,8 @@ TEST(MeshErpGl, RoomFromTwoErpReferencesAgainstTheExactRender) {
   const DepthRange range = scene.cameraRange({left, right, erpVirtual, wide, perspectiveLeft, perspectiveRight}, 16);
   const auto run = [&](const Camera& a, const Camera& b, const Camera& target) {
     const Scene s = test::makeScene({a, b}, target, scene.textureFormat(), range);
-    // The rule that keeps planes seen at a grazing angle whole (levels affine on a plane) holds for
-    // pinhole cameras only: at 256 x 128 the room's walls step by more than 2 % from ray to ray, and
-    // the default threshold (0.02) cuts them into strips (WS-PSNR 27.42 dB into the ERP camera, 19.33
-    // into the wide viewport); 0.1 keeps them (doc/meshrender.md, "Equirectangular cameras").
-    MeshSettings settings;
-    settings.discontinuityThreshold = 0.1;
+    // Default settings: MeshDiscontinuityThreshold 0.02 with the ERP form of the grazing-plane rule.
+    const MeshSettings settings;
     return meshRender(s, test::renderInputs(scene, s), settings);
   };
   for (const Camera* target : {&erpVirtual, &turned}) {

@@ -112,7 +112,7 @@ void DepthMeshBuilder::build(const Plane& depth, DepthMesh& mesh, const Plane* l
 
   const bool world = options_.depthType == kDepthTypeWorld;
   // Levels are affine in the image on a plane only for camera depth (DepthType 0).
-  const bool planarEdges = options_.depthType == kDepthTypeCamera && erpRays_.empty();  // and not on ERP rays
+  const bool planarEdges = options_.depthType == kDepthTypeCamera;  // ERP: its own form (MeshErp.h)
   const double centreZ = reference_.t.z;
   for (int r = 0; r < rows; ++r) {
     const uint16_t* depthRow = depth.row(pixelV_[size_t(r)]);
@@ -176,6 +176,7 @@ void DepthMeshBuilder::build(const Plane& depth, DepthMesh& mesh, const Plane* l
       const size_t i = inside ? size_t(r) * columns + c : 0;
       line[k + 2] = inside && mesh.valid[i] ? level[i] : std::numeric_limits<int>::min();
     }
+    if (!erpRays_.empty()) return erpEdgeOnPlane(reference_, gridU_, gridV_, erpPoleRows_, ra, ca, dr, dc, line);
     const int step = line[3] - line[2];
     for (int first = 0; first <= 2; ++first) {  // windows line[first .. first + 3], all hold a and b
       bool even = true;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "Common/Error.h"
 
@@ -71,6 +72,68 @@ void referencePoint(const DepthMesh& mesh, const Camera& reference, size_t i, do
   point[1] = x.y;
   point[2] = x.z;
   point[3] = double(vertex[3]);
+}
+
+namespace {
+
+// Whether levels[3] is A sin(t) + B cos(t) + C of the curve through the first three (angles t, radians),
+// within the rounding of all four (half a level each).
+bool levelsFitSinusoid(const double t[4], const int levels[4]) {
+  // The prediction is sum c_k levels[k] with c = M^-T e, M's rows (sin, cos, 1) of t_0..t_2 and e that
+  // of t_3; angles taken from t_0 keep M well scaled.
+  double m[3][3], e[3];
+  for (int k = 0; k < 3; ++k) {
+    m[k][0] = std::sin(t[k] - t[0]);
+    m[k][1] = std::cos(t[k] - t[0]);
+    m[k][2] = 1.0;
+  }
+  e[0] = std::sin(t[3] - t[0]);
+  e[1] = std::cos(t[3] - t[0]);
+  e[2] = 1.0;
+  // Solve M^T c = e by Cramer's rule: (M^T)_{ij} = m[j][i].
+  auto det = [](const double a[3][3]) {
+    return a[0][0] * (a[1][1] * a[2][2] - a[1][2] * a[2][1]) - a[0][1] * (a[1][0] * a[2][2] - a[1][2] * a[2][0]) +
+           a[0][2] * (a[1][0] * a[2][1] - a[1][1] * a[2][0]);
+  };
+  double mt[3][3];
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) mt[i][j] = m[j][i];
+  const double d = det(mt);
+  if (!(std::fabs(d) > 0.0)) return false;
+  double predicted = 0.0, bound = 1.0;
+  for (int k = 0; k < 3; ++k) {
+    double replaced[3][3];
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) replaced[i][j] = j == k ? e[i] : mt[i][j];
+    const double c = det(replaced) / d;
+    predicted += c * levels[k];
+    bound += std::fabs(c);
+  }
+  return std::fabs(predicted - levels[3]) <= 0.5 * bound + 1e-9;
+}
+
+}  // namespace
+
+bool erpEdgeOnPlane(const Camera& reference, const std::vector<double>& gridU, const std::vector<double>& gridV,
+                    const std::vector<int>& poleRows, int row, int column, int dr, int dc, const int line[6]) {
+  if (dr != 0 && dc != 0) return false;  // a diagonal: both angles vary, four levels fit any plane
+  const EquirectangularRange& e = reference.erp;
+  const double radians = M_PI / 180.0;
+  double angle[6];
+  bool usable[6];
+  for (int k = -2; k <= 3; ++k) {
+    const int r = row + k * dr, c = column + k * dc;
+    usable[k + 2] = line[k + 2] != std::numeric_limits<int>::min() &&
+                    std::find(poleRows.begin(), poleRows.end(), r) == poleRows.end();
+    if (!usable[k + 2]) continue;
+    angle[k + 2] = dr != 0 ? (e.latMax - (gridV[size_t(r)] + 0.5) * (e.latMax - e.latMin) / e.height) * radians
+                           : (e.lonMax - (gridU[size_t(c)] + 0.5) * (e.lonMax - e.lonMin) / e.width) * radians;
+  }
+  for (int first = 0; first <= 2; ++first)  // windows line[first .. first + 3], all hold the edge
+    if (usable[first] && usable[first + 1] && usable[first + 2] && usable[first + 3] &&
+        levelsFitSinusoid(angle + first, line + first))
+      return true;
+  return false;
 }
 
 namespace {

@@ -51,6 +51,17 @@ void erpMeshGrid(const Camera& reference, std::vector<double>& gridU, std::vecto
 // distances (`inverseDistance`, updated with the vertices).
 void joinErpPoleRows(const std::vector<int>& poleRows, DepthMesh& mesh, std::vector<double>& inverseDistance);
 
+// The grazing-plane rule for an ERP reference (DepthMesh.cpp's planar(), whose pinhole form assumes levels
+// affine in the image): on a plane n . x = c a depth level is affine in 1 / d = n . ray / c, so along a
+// grid row (latitude fixed) the levels are A sin(lon) + B cos(lon) + C, and along a grid column
+// (longitude fixed) A sin(lat) + B cos(lat) + C. The edge from grid vertex (row, column) one step along
+// (dr, dc) lies on a plane when four valid vertices in a row on its line that hold it (`line`: levels
+// at k = -2 .. 3 steps, INT_MIN where none) fit that form within the rounding of the levels (the
+// fourth level predicted from three, against half a level on each). Diagonal edges (both angles
+// vary) and pole rows are not checked here.
+bool erpEdgeOnPlane(const Camera& reference, const std::vector<double>& gridU, const std::vector<double>& gridV,
+                    const std::vector<int>& poleRows, int row, int column, int dr, int dc, const int line[6]);
+
 // Whether a reference/virtual pair takes the projected pass (either camera is ERP).
 inline bool projectedPass(const Camera& reference, const Camera& virtualCamera) {
   return reference.isEquirectangular() || virtualCamera.isEquirectangular();
