@@ -40,6 +40,10 @@
 // into a pixel that nothing else of their view covers and that is not part of a larger hole, which
 // gives a reference rendered into itself back exactly without letting them into disocclusions.
 //
+// An equirectangular (ERP) reference's mesh differs where Mesh/MeshErp.h says: vertices (ray, 1 / distance)
+// on the camera's rays, a full circle's wrap column instead of the border columns, pole rows joined
+// into one point, the grazing-plane rule in its ERP form, no adaptive merge.
+//
 // Adaptive mesh (MeshMaxError, doc/meshrender.md "Adaptive mesh"): given how far a point moves in the
 // virtual camera per unit of its inverse depth (a DisplacementRate, which depends on the camera model),
 // aligned square blocks of 2^k x 2^k grid cells whose every triangle is kept and whose every vertex lies
