@@ -38,6 +38,19 @@ inline double relativeStep(double qa, double qb) {
   return hi > 0.0 ? 1.0 - std::min(qa, qb) / hi : 0.0;
 }
 
+// The index of the last of `lines` (-0.5, 0, step, 2 step, ..., size - 1, size - 0.5) at or before
+// `position`, clamped to [0, lines.size() - 2]: the cell of the grid along one axis. A binary search
+// gives the same; this guesses from the step and corrects the guess against the lines themselves.
+inline int cellOf(const std::vector<double>& lines, int step, double position) {
+  const int last = int(lines.size()) - 2;
+  if (!(position < lines[size_t(last)])) return last;  // also NaN, as the search's end
+  if (!(position >= lines[1])) return 0;
+  int c = std::min(1 + int(position / double(step)), last);
+  while (c > 0 && lines[size_t(c)] > position) --c;
+  while (c < last && lines[size_t(c) + 1] <= position) ++c;
+  return c;
+}
+
 }  // namespace
 
 bool referenceVertex(const Camera& reference, int depthType, double u, double v, double inverseZ, double vertex[4],
@@ -90,6 +103,7 @@ void DepthMeshBuilder::build(const Plane& depth, DepthMesh& mesh, const Plane* l
   const size_t count = size_t(columns) * size_t(rows);
   mesh.columns = columns;
   mesh.rows = rows;
+  mesh.gridStep = options_.gridStep;
   mesh.gridU = gridU_;
   mesh.gridV = gridV_;
   mesh.vertices.assign(count * 4, 0.0f);
@@ -263,8 +277,7 @@ void DepthMeshBuilder::build(const Plane& depth, DepthMesh& mesh, const Plane* l
 bool DepthMesh::edgeAt(double u, double v) const {
   if (columns < 2 || rows < 2) return false;
   // The cell: the last grid line at or before the position, clamped to the grid.
-  const int c = std::clamp(int(std::upper_bound(gridU.begin(), gridU.end(), u) - gridU.begin()) - 1, 0, columns - 2);
-  const int r = std::clamp(int(std::upper_bound(gridV.begin(), gridV.end(), v) - gridV.begin()) - 1, 0, rows - 2);
+  const int c = cellOf(gridU, gridStep, u), r = cellOf(gridV, gridStep, v);
   const double fu = (u - gridU[size_t(c)]) / (gridU[size_t(c) + 1] - gridU[size_t(c)]);
   const double fv = (v - gridV[size_t(r)]) / (gridV[size_t(r) + 1] - gridV[size_t(r)]);
   const size_t q0 = size_t(r) * size_t(columns) + size_t(c), q1 = q0 + 1, q2 = q0 + size_t(columns), q3 = q2 + 1;

@@ -79,13 +79,15 @@ using DisplacementRate = std::function<double(double u, double v, double q)>;
 
 struct DepthMesh {
   int columns = 0, rows = 0;           // vertex grid size
+  int gridStep = 1;                    // MeshGridStep: spacing of the inner grid lines (gridU, gridV)
   std::vector<double> gridU, gridV;    // reference pixel position of each grid column and row
   std::vector<float> vertices;         // 4 floats a vertex, row-major over the grid: (a u, a v, a, w)
   std::vector<float> boundary;         // 1 float a vertex: 1 where it belongs to a dropped triangle
   // Per grid cell, the diagonal its quad was split along: 0 from corner (c, r) to (c+1, r+1), 1 from
   // (c+1, r) to (c, r+1). With `boundary`, it tells whether the grid triangle under a reference
   // position touches a dropped one (edgeAt), whatever triangles the adaptive mesh drew there.
-  std::vector<uint8_t> cellSplit;  std::vector<uint8_t> valid;          // 1 a vertex: a finite point in front of the reference camera
+  std::vector<uint8_t> cellSplit;
+  std::vector<uint8_t> valid;            // 1 a vertex: a finite point in front of the reference camera
   std::vector<uint32_t> triangles;     // 3 vertex indices a triangle
   std::vector<uint32_t> points;        // border vertices of kept triangles and orphans, drawn as points
   std::vector<uint32_t> farthestOrphans;  // locally farthest orphans: drawn only into their own lone hole

@@ -142,6 +142,7 @@ struct GlMeshRenderer::Impl {
   std::vector<Plane> planes;                // the "texture": the reference planes, sampled on the CPU
   std::unique_ptr<SubPixelSampler> sampler;  // null: exact bilinear
   std::vector<float> readBack;              // last render: (u, v, q, flags) per sample
+  std::vector<uint8_t> edges;               // last render: edgeAt() of each drawn sample
   const DepthMesh* mesh = nullptr;          // the uploaded mesh (its edge flags)
   int renderedWidth = 0, renderedHeight = 0;
 
@@ -391,6 +392,12 @@ void GlMeshRenderer::render(const Mat4& clip, const RenderGrid& grid, const Texe
       if (!(drawn(x - 1, y) && drawn(x + 1, y) && drawn(x, y - 1) && drawn(x, y + 1))) rejected.push_back(i);
     }
   for (size_t i : rejected) samples[i * 4 + 3] = 0.0f;
+  // Each drawn sample's edge flag, once: the luma and the chroma samplings read it.
+  s.edges.resize(n);
+  parallelRanges(height, [&](int y0, int y1) {
+    for (size_t i = size_t(y0) * size_t(width); i < size_t(y1) * size_t(width); ++i)
+      s.edges[i] = samples[i * 4 + 3] != 0.0f && s.edgeAt(samples + i * 4) ? 1 : 0;
+  });
 
   sampleRender(s.planes, texelMap, layer);
   if (extras) {
@@ -417,7 +424,7 @@ void GlMeshRenderer::sampleRender(const std::vector<Plane>& planes, const TexelM
       const double x = texelMap.scale * r[0] + texelMap.offset, y = texelMap.scale * r[1] + texelMap.offset;
       layer.inverseDepth[i] = double(r[2]);
       for (int k = 0; k < channels; ++k) layer.colour[k][i] = s.sample(planes[size_t(k)], x, y);
-      layer.edge[i] = s.edgeAt(r) ? 1 : 0;
+      layer.edge[i] = s.edges[i];
     }
   });
 }
@@ -459,7 +466,8 @@ void GlMeshRenderer::sampleChroma420(const std::vector<const Plane*>& planes, do
         if (onFront(down)) uy = (down[0] - front[0]) * 2.0 * sy, vy = (down[1] - front[1]) * 2.0 * sy;
         double u = front[0] + sx * ux + sy * uy, v = front[1] + sx * vx + sy * vy;
         double q = front[2];
-        bool edge = s.edgeAt(front);
+        auto edgeOf = [&](const float* r) { return s.edges[size_t(r - samples) / 4] != 0; };
+        bool edge = edgeOf(front);
         // All four on one surface: their mean, which is the centre where the mapping is affine.
         if (onFront(block[0][0]) && onFront(block[0][1]) && onFront(block[1][0]) && onFront(block[1][1])) {
           u = v = q = 0.0;
@@ -468,7 +476,7 @@ void GlMeshRenderer::sampleChroma420(const std::vector<const Plane*>& planes, do
               u += 0.25 * r[0];
               v += 0.25 * r[1];
               q += 0.25 * r[2];
-              edge = edge || s.edgeAt(r);
+              edge = edge || edgeOf(r);
             }
         }
         const size_t c = size_t(j) * size_t(width) + size_t(i);
