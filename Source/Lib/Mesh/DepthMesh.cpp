@@ -38,6 +38,30 @@ inline double relativeStep(double qa, double qb) {
   return hi > 0.0 ? 1.0 - std::min(qa, qb) / hi : 0.0;
 }
 
+// A grid cell's triangles, as build() decides them, in one byte: the low 3 bits say how the quad is
+// split (kCellTriangles), bits 3 and 4 which of its (at most two) triangles are kept. The adaptive
+// merge and the plain grid both write the kept ones from it, so no full-grid index list is stored.
+constexpr uint8_t kSplitMain = 0, kSplitAnti = 1;  // four valid corners, split along either diagonal
+// 2 + k: only corner k is invalid, one triangle; kNoTriangle: fewer than three valid corners.
+constexpr uint8_t kNoTriangle = 6;
+constexpr uint8_t kKeptFirst = 8, kKeptSecond = 16;
+// The corners (0 (c, r), 1 (c+1, r), 2 (c, r+1), 3 (c+1, r+1)) of each split's triangles, in the order
+// they were always emitted in; -1: no second triangle.
+constexpr int kCellTriangles[7][2][3] = {{{0, 1, 3}, {0, 3, 2}}, {{0, 1, 2}, {1, 3, 2}}, {{1, 3, 2}, {-1, -1, -1}},
+                                         {{0, 3, 2}, {-1, -1, -1}}, {{0, 1, 3}, {-1, -1, -1}}, {{0, 1, 2}, {-1, -1, -1}},
+                                         {{-1, -1, -1}, {-1, -1, -1}}};
+
+// Appends the kept triangles of the cell whose corner 0 is vertex q0 (grid `columns` wide).
+inline void appendCellTriangles(uint8_t code, uint32_t q0, int columns, std::vector<uint32_t>& triangles) {
+  const uint32_t corners[4] = {q0, q0 + 1, q0 + uint32_t(columns), q0 + uint32_t(columns) + 1};
+  const int split = code & 7;
+  for (int t = 0; t < 2; ++t)
+    if (code & (t == 0 ? kKeptFirst : kKeptSecond)) {
+      const int* k = kCellTriangles[split][t];
+      triangles.insert(triangles.end(), {corners[k[0]], corners[k[1]], corners[k[2]]});
+    }
+}
+
 // The index of the last of `lines` (-0.5, 0, step, 2 step, ..., size - 1, size - 0.5) at or before
 // `position`, clamped to [0, lines.size() - 2]: the cell of the grid along one axis. A binary search
 // gives the same; this guesses from the step and corrects the guess against the lines themselves.
@@ -111,7 +135,6 @@ void DepthMeshBuilder::build(const Plane& depth, DepthMesh& mesh, const Plane* l
   mesh.valid.assign(count, 0);
   mesh.cellSplit.assign(size_t(columns - 1) * size_t(rows - 1), 0);
   mesh.triangles.clear();
-  mesh.triangles.reserve(count * 6);
   mesh.points.clear();
   mesh.farthestOrphans.clear();
   mesh.droppedTriangles = 0;
@@ -202,47 +225,50 @@ void DepthMeshBuilder::build(const Plane& depth, DepthMesh& mesh, const Plane* l
     }
     return link[0] && link[1] && link[2];
   };
+  // Each cell's split and kept triangles (kCellTriangles); the vertices of kept triangles are `used`.
+  const int cellsX = columns - 1;
+  std::vector<uint8_t> cellCode(size_t(cellsX) * size_t(rows - 1), kNoTriangle);
+  std::vector<uint8_t> used(count, 0);
   auto emit = [&](uint32_t a, uint32_t b, uint32_t c) {
     if (kept(a, b, c)) {
-      mesh.triangles.insert(mesh.triangles.end(), {a, b, c});
-      return;
+      used[a] = used[b] = used[c] = 1;
+      ++mesh.gridTriangles;
+      return true;
     }
     ++mesh.droppedTriangles;
     mesh.boundary[a] = mesh.boundary[b] = mesh.boundary[c] = 1.0f;
+    return false;
   };
-  // Where each cell's triangles start in mesh.triangles (the adaptive merge copies the cells it keeps).
-  std::vector<uint32_t> cellStart;
-  if (rate_) cellStart.reserve(size_t(columns - 1) * size_t(rows - 1) + 1);
   for (int r = 0; r + 1 < rows; ++r)
     for (int c = 0; c + 1 < columns; ++c) {
-      if (rate_) cellStart.push_back(uint32_t(mesh.triangles.size()));
-      // Corners: 0 (c, r), 1 (c+1, r), 2 (c, r+1), 3 (c+1, r+1).
-      const uint32_t q0 = uint32_t(size_t(r) * columns + c), q1 = q0 + 1, q2 = q0 + uint32_t(columns), q3 = q2 + 1;
-      const int validCount = mesh.valid[q0] + mesh.valid[q1] + mesh.valid[q2] + mesh.valid[q3];
+      uint8_t& code = cellCode[size_t(r) * size_t(cellsX) + size_t(c)];
+      const uint32_t q[4] = {uint32_t(size_t(r) * columns + c), uint32_t(size_t(r) * columns + c) + 1,
+                             uint32_t(size_t(r + 1) * columns + c), uint32_t(size_t(r + 1) * columns + c) + 1};
+      const int validCount = mesh.valid[q[0]] + mesh.valid[q[1]] + mesh.valid[q[2]] + mesh.valid[q[3]];
       if (validCount < 4) {
         // Next to missing data: what is left is a mesh border.
-        for (uint32_t q : {q0, q1, q2, q3})
-          if (mesh.valid[q]) mesh.boundary[q] = 1.0f;
+        for (uint32_t corner : q)
+          if (mesh.valid[corner]) mesh.boundary[corner] = 1.0f;
         if (validCount < 3) {
           mesh.droppedTriangles += 2;
           continue;
         }
         ++mesh.droppedTriangles;
-        if (!mesh.valid[q0]) emit(q1, q3, q2);
-        else if (!mesh.valid[q1]) emit(q0, q3, q2);
-        else if (!mesh.valid[q2]) emit(q0, q1, q3);
-        else emit(q0, q1, q2);
-        continue;
-      }
-      // Split along the diagonal whose ends are closer in depth: across a depth step that keeps one
-      // triangle whole on each side instead of stretching both.
-      if (relativeStep(cameraInverseZ[q0], cameraInverseZ[q3]) <= relativeStep(cameraInverseZ[q1], cameraInverseZ[q2])) {
-        emit(q0, q1, q3);
-        emit(q0, q3, q2);
+        int missing = 0;
+        while (mesh.valid[q[missing]]) ++missing;
+        code = uint8_t(2 + missing);
       } else {
-        mesh.cellSplit[size_t(r) * size_t(columns - 1) + size_t(c)] = 1;
-        emit(q0, q1, q2);
-        emit(q1, q3, q2);
+        // Split along the diagonal whose ends are closer in depth: across a depth step that keeps one
+        // triangle whole on each side instead of stretching both.
+        const bool anti = !(relativeStep(cameraInverseZ[q[0]], cameraInverseZ[q[3]]) <=
+                            relativeStep(cameraInverseZ[q[1]], cameraInverseZ[q[2]]));
+        if (anti) mesh.cellSplit[size_t(r) * size_t(cellsX) + size_t(c)] = 1;
+        code = anti ? kSplitAnti : kSplitMain;
+      }
+      const int split = code;
+      for (int t = 0; t < 2; ++t) {
+        const int* k = kCellTriangles[split][t];
+        if (k[0] >= 0 && emit(q[k[0]], q[k[1]], q[k[2]])) code = uint8_t(code | (t == 0 ? kKeptFirst : kKeptSecond));
       }
     }
 
@@ -261,17 +287,20 @@ void DepthMeshBuilder::build(const Plane& depth, DepthMesh& mesh, const Plane* l
       }
     return true;
   };
-  std::vector<uint8_t> used(count, 0);
-  for (uint32_t index : mesh.triangles) used[index] = 1;
   for (size_t i = 0; i < count; ++i) {
     if (used[i] ? mesh.boundary[i] > 0.0f : mesh.valid[i] && !farthestAround(i)) mesh.points.push_back(uint32_t(i));
     else if (!used[i] && mesh.valid[i]) mesh.farthestOrphans.push_back(uint32_t(i));
   }
-  mesh.gridTriangles = mesh.triangleCount();
-  if (rate_) {
-    cellStart.push_back(uint32_t(mesh.triangles.size()));
-    merge(mesh, cameraInverseZ, cellStart, luma && luma->width == width_ && luma->height == height_ ? luma : nullptr);
-  }
+  // The adaptive mesh has at most the grid's triangles (a merged block of s x s cells, s >= 2, is at
+  // most 4 s triangles against the grid's 2 s^2): one allocation, of which only the used part is touched.
+  mesh.triangles.reserve(mesh.gridTriangles * 3);
+  if (rate_ && merge(mesh, cameraInverseZ, cellCode, luma && luma->width == width_ && luma->height == height_ ? luma : nullptr))
+    return;
+  // The grid's triangles as they are, cell by cell.
+  for (int r = 0; r + 1 < rows; ++r)
+    for (int c = 0; c + 1 < columns; ++c)
+      appendCellTriangles(cellCode[size_t(r) * size_t(cellsX) + size_t(c)], uint32_t(size_t(r) * columns + c), columns,
+                          mesh.triangles);
 }
 
 bool DepthMesh::edgeAt(double u, double v) const {
@@ -291,8 +320,8 @@ bool DepthMesh::edgeAt(double u, double v) const {
                         : on(q1, 1.0 - fv) || on(q2, 1.0 - fu) || on(q3, fu + fv - 1.0);
 }
 
-void DepthMeshBuilder::merge(DepthMesh& mesh, const std::vector<double>& inverseCameraZ,
-                             const std::vector<uint32_t>& cellStart, const Plane* luma) const {
+bool DepthMeshBuilder::merge(DepthMesh& mesh, const std::vector<double>& inverseCameraZ,
+                             const std::vector<uint8_t>& cellCode, const Plane* luma) const {
   const int columns = mesh.columns, rows = mesh.rows;
   const int cellsX = columns - 1, cellsY = rows - 1;
   constexpr int kMaxLevel = 7;  // blocks of at most 128 x 128 cells
@@ -302,7 +331,7 @@ void DepthMeshBuilder::merge(DepthMesh& mesh, const std::vector<double>& inverse
   std::vector<int> blocksX(1, cellsX), blocksY(1, cellsY);
   ok[0].assign(size_t(cellsX) * size_t(cellsY), 0);
   auto vertexIndex = [&](int x, int y) { return size_t(y) * size_t(columns) + size_t(x); };
-  for (size_t cell = 0; cell < ok[0].size(); ++cell) ok[0][cell] = cellStart[cell + 1] - cellStart[cell] == 6;
+  for (size_t cell = 0; cell < ok[0].size(); ++cell) ok[0][cell] = (cellCode[cell] & (kKeptFirst | kKeptSecond)) == (kKeptFirst | kKeptSecond);
   const double halfBound = 0.5 * std::max(options_.maxError, 0.0);
   // Each vertex's allowance in virtual pixels (half of it, as halfBound): MeshMaxError, capped with
   // MeshMaxColourError by the colour error a displacement causes at its pixel (the largest luma step
@@ -379,7 +408,7 @@ void DepthMeshBuilder::merge(DepthMesh& mesh, const std::vector<double>& inverse
     blocksY.push_back(by);
   }
   const int top = int(ok.size()) - 1;
-  if (top == 0) return;  // nothing merged
+  if (top == 0) return false;  // nothing merged
 
   // The leaves, top-down: a merged block not inside a larger merged one; cells elsewhere. Every leaf's
   // corners are marked: a merged block's sides pass through the marked vertices of its neighbours.
@@ -407,13 +436,12 @@ void DepthMeshBuilder::merge(DepthMesh& mesh, const std::vector<double>& inverse
   for (int by = 0; by << top < cellsY; ++by)
     for (int bx = 0; bx << top < cellsX; ++bx) collect(top, bx, by);
 
-  std::vector<uint32_t> triangles;
-  triangles.reserve(mesh.triangles.size() / 4);
+  std::vector<uint32_t>& triangles = mesh.triangles;
   std::vector<uint32_t> ring;
   for (const Leaf& leaf : leaves) {
     if (leaf.level == 0) {
-      const size_t cell = size_t(leaf.y) * size_t(cellsX) + size_t(leaf.x);
-      triangles.insert(triangles.end(), mesh.triangles.begin() + cellStart[cell], mesh.triangles.begin() + cellStart[cell + 1]);
+      appendCellTriangles(cellCode[size_t(leaf.y) * size_t(cellsX) + size_t(leaf.x)], uint32_t(vertexIndex(leaf.x, leaf.y)),
+                          columns, triangles);
       continue;
     }
     const int size = 1 << leaf.level, x0 = leaf.x, y0 = leaf.y, x1 = x0 + size, y1 = y0 + size;
@@ -437,7 +465,7 @@ void DepthMeshBuilder::merge(DepthMesh& mesh, const std::vector<double>& inverse
     for (size_t k = 0; k < ring.size(); ++k)
       triangles.insert(triangles.end(), {centre, ring[k], ring[(k + 1) % ring.size()]});
   }
-  mesh.triangles.swap(triangles);
+  return true;
 }
 
 }  // namespace vs

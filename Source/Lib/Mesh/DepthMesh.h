@@ -123,8 +123,9 @@ public:
   const MeshOptions& options() const { return options_; }
 
 private:
-  // Replaces the grid's triangles by the adaptive mesh's (the header comment).
-  void merge(DepthMesh& mesh, const std::vector<double>& inverseCameraZ, const std::vector<uint32_t>& cellStart,
+  // Writes the adaptive mesh's triangles (the header comment) from each grid cell's split and kept
+  // triangles (cellCode, DepthMesh.cpp); false, with nothing written, when no block merges.
+  bool merge(DepthMesh& mesh, const std::vector<double>& inverseCameraZ, const std::vector<uint8_t>& cellCode,
              const Plane* luma) const;
 
   Camera reference_;
