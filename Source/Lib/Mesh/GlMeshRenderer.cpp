@@ -63,6 +63,31 @@ void main() {
 }
 )";
 
+// The triangles' own pair of shaders: the same values as the pair above with drawingPoints 0 and
+// drawnMark 1, from two varyings instead of three. llvmpipe stores every varying's plane equations
+// with each binned triangle (48 bytes each), and binning ~200 000 triangles a view touches tens of
+// megabytes of fresh memory, which costs more than the rasterisation on this machine.
+const char* const kTriangleVertexShader = R"(#version 330 core
+layout(location = 0) in vec4 vertex;
+uniform mat4 clipFromReference;
+out vec4 referenceVertex;
+out float clipW;
+void main() {
+  gl_Position = clipFromReference * vertex;
+  referenceVertex = vertex;
+  clipW = gl_Position.w;
+}
+)";
+
+const char* const kTriangleFragmentShader = R"(#version 330 core
+in vec4 referenceVertex;
+in float clipW;
+layout(location = 0) out vec4 referenceDepthFlags;
+void main() {
+  referenceDepthFlags = vec4(referenceVertex.xy / referenceVertex.z, max(referenceVertex.w / clipW, 0.0), 1.0);
+}
+)";
+
 // Inverse of a 4x4 matrix by Gauss-Jordan elimination with partial pivoting, in double; false when
 // it is singular (a pivot below 1e-12 of the largest entry).
 bool inverse(const Mat4& a, Mat4& result) {
@@ -128,11 +153,12 @@ float bilinear(const Plane& plane, double x, double y) {
 struct GlMeshRenderer::Impl {
   EglContext context;
   const GlFunctions& gl;
-  GLuint program = 0, vertexArray = 0, vertexBuffer = 0, indexBuffer = 0;
+  GLuint program = 0, triangleProgram = 0, vertexArray = 0, vertexBuffer = 0, indexBuffer = 0;
   GLsizei pointCount = 0;
   GLsizei orphanCount = 0;  // locally farthest orphans, after the points in `indices`
   std::vector<uint32_t> indices;  // triangles, then points, then locally farthest orphans
   GLuint framebuffer = 0, colourBuffer = 0, depthBuffer = 0;
+  GLint triangleClipLocation = -1;
   GLint clipLocation = -1, referenceFromClipLocation = -1, viewportLocation = -1, drawingPointsLocation = -1,
         drawnMarkLocation = -1;
   int framebufferWidth = 0, framebufferHeight = 0;
@@ -146,29 +172,43 @@ struct GlMeshRenderer::Impl {
   const DepthMesh* mesh = nullptr;          // the uploaded mesh (its edge flags)
   int renderedWidth = 0, renderedHeight = 0;
 
-  Impl() : gl(context.gl()) {
-    const GLuint vertexShader = compileShader(gl, GL_VERTEX_SHADER, kVertexShader);
+  // Compiles and links one pair of shaders.
+  GLuint link(const char* vertexSource, const char* fragmentSource) const {
+    const GLuint vertexShader = compileShader(gl, GL_VERTEX_SHADER, vertexSource);
     GLuint fragmentShader = 0;
     try {
-      fragmentShader = compileShader(gl, GL_FRAGMENT_SHADER, kFragmentShader);
+      fragmentShader = compileShader(gl, GL_FRAGMENT_SHADER, fragmentSource);
     } catch (...) {
       gl.DeleteShader(vertexShader);
       throw;
     }
-    program = gl.CreateProgram();
-    gl.AttachShader(program, vertexShader);
-    gl.AttachShader(program, fragmentShader);
-    gl.LinkProgram(program);
+    const GLuint linkedProgram = gl.CreateProgram();
+    gl.AttachShader(linkedProgram, vertexShader);
+    gl.AttachShader(linkedProgram, fragmentShader);
+    gl.LinkProgram(linkedProgram);
     gl.DeleteShader(vertexShader);
     gl.DeleteShader(fragmentShader);
     GLint linked = 0;
-    gl.GetProgramiv(program, GL_LINK_STATUS, &linked);
+    gl.GetProgramiv(linkedProgram, GL_LINK_STATUS, &linked);
     if (!linked) {
       char log[4096] = {0};
-      gl.GetProgramInfoLog(program, sizeof log, nullptr, log);
-      gl.DeleteProgram(program);
+      gl.GetProgramInfoLog(linkedProgram, sizeof log, nullptr, log);
+      gl.DeleteProgram(linkedProgram);
       throw InputError(std::string("the OpenGL driver cannot link MeshRender's shaders: ") + log);
     }
+    return linkedProgram;
+  }
+
+  Impl() : gl(context.gl()) {
+    program = link(kVertexShader, kFragmentShader);
+    try {
+      triangleProgram = link(kTriangleVertexShader, kTriangleFragmentShader);
+    } catch (...) {
+      gl.DeleteProgram(program);
+      throw;
+    }
+    triangleClipLocation = gl.GetUniformLocation(triangleProgram, "clipFromReference");
+    VS_CHECK(triangleClipLocation >= 0);
     clipLocation = gl.GetUniformLocation(program, "clipFromReference");
     referenceFromClipLocation = gl.GetUniformLocation(program, "referenceFromClip");
     viewportLocation = gl.GetUniformLocation(program, "viewportSize");
@@ -202,6 +242,7 @@ struct GlMeshRenderer::Impl {
     gl.DeleteBuffers(1, &indexBuffer);
     gl.DeleteVertexArrays(1, &vertexArray);
     gl.DeleteProgram(program);
+    gl.DeleteProgram(triangleProgram);
   }
 
   void checkErrors(const char* what) const {
@@ -335,9 +376,15 @@ void GlMeshRenderer::render(const Mat4& clip, const RenderGrid& grid, const Texe
   gl.Disable(GL_CULL_FACE);
   gl.Disable(GL_BLEND);
 
-  gl.UseProgram(s.program);
   float matrix[16];
   toGlMatrix(clip, matrix);
+  gl.BindVertexArray(s.vertexArray);
+  if (s.triangleIndexCount > 0) {
+    gl.UseProgram(s.triangleProgram);
+    gl.UniformMatrix4fv(s.triangleClipLocation, 1, GL_FALSE, matrix);
+    gl.DrawElements(GL_TRIANGLES, s.triangleIndexCount, GL_UNSIGNED_INT, nullptr);
+  }
+  gl.UseProgram(s.program);
   gl.UniformMatrix4fv(s.clipLocation, 1, GL_FALSE, matrix);
   // Points look along their fragments' own rays (the shader's drawingPoints); where the matrix cannot
   // be inverted they keep the vertex's position.
@@ -346,10 +393,6 @@ void GlMeshRenderer::render(const Mat4& clip, const RenderGrid& grid, const Texe
   toGlMatrix(back, matrix);
   gl.UniformMatrix4fv(s.referenceFromClipLocation, 1, GL_FALSE, matrix);
   gl.Uniform2f(s.viewportLocation, float(grid.width), float(grid.height));
-  gl.Uniform1i(s.drawingPointsLocation, 0);
-  gl.Uniform1f(s.drawnMarkLocation, 1.0f);
-  gl.BindVertexArray(s.vertexArray);
-  if (s.triangleIndexCount > 0) gl.DrawElements(GL_TRIANGLES, s.triangleIndexCount, GL_UNSIGNED_INT, nullptr);
   // One-pixel points (the default point size) after the triangles: the depth test keeps the nearer.
   // Marked 3: drawn, and on an edge.
   gl.Uniform1i(s.drawingPointsLocation, invertible ? 1 : 0);
