@@ -71,20 +71,17 @@ const char* const kTriangleVertexShader = R"(#version 330 core
 layout(location = 0) in vec4 vertex;
 uniform mat4 clipFromReference;
 out vec4 referenceVertex;
-out float clipW;
 void main() {
   gl_Position = clipFromReference * vertex;
   referenceVertex = vertex;
-  clipW = gl_Position.w;
 }
 )";
 
 const char* const kTriangleFragmentShader = R"(#version 330 core
 in vec4 referenceVertex;
-in float clipW;
 layout(location = 0) out vec4 referenceDepthFlags;
 void main() {
-  referenceDepthFlags = vec4(referenceVertex.xy / referenceVertex.z, max(referenceVertex.w / clipW, 0.0), 1.0);
+  referenceDepthFlags = vec4(referenceVertex.xy / referenceVertex.z, max(referenceVertex.w * gl_FragCoord.w, 0.0), 1.0);
 }
 )";
 
