@@ -451,19 +451,32 @@ bool DepthMeshBuilder::merge(DepthMesh& mesh, const std::vector<double>& inverse
       if (corner[vertexIndex(x, y0)]) ring.push_back(uint32_t(vertexIndex(x, y0)));
     for (int y = y0; y < y1; ++y)
       if (corner[vertexIndex(x1, y)]) ring.push_back(uint32_t(vertexIndex(x1, y)));
+    const size_t last = ring.size();  // where (x1, y1) is
     for (int x = x1; x > x0; --x)
       if (corner[vertexIndex(x, y1)]) ring.push_back(uint32_t(vertexIndex(x, y1)));
     for (int y = y1; y > y0; --y)
       if (corner[vertexIndex(x0, y)]) ring.push_back(uint32_t(vertexIndex(x0, y)));
-    const uint32_t c00 = uint32_t(vertexIndex(x0, y0)), c10 = uint32_t(vertexIndex(x1, y0));
-    const uint32_t c01 = uint32_t(vertexIndex(x0, y1)), c11 = uint32_t(vertexIndex(x1, y1));
     if (ring.size() == 4) {  // the two triangles the block was tested against
-      triangles.insert(triangles.end(), {c00, c10, c11, c00, c11, c01});
+      triangles.insert(triangles.end(), {ring[0], ring[1], ring[2], ring[0], ring[2], ring[3]});
       continue;
     }
-    const uint32_t centre = uint32_t(vertexIndex(x0 + size / 2, y0 + size / 2));
-    for (size_t k = 0; k < ring.size(); ++k)
-      triangles.insert(triangles.end(), {centre, ring[k], ring[(k + 1) % ring.size()]});
+    ring.push_back(ring[0]);
+    // Each of the two tested triangles, (x0, y0) (x1, y0) (x1, y1) and (x1, y1) (x0, y1) (x0, y0), with the
+    // marked vertices on its two outer sides: polygon p[0 .. m] whose corners are p[0], p[j] and p[m]
+    // (p[m] to p[0] is the diagonal). Triangulated without a vertex of its own: a fan from p[m] over the
+    // first side but its last piece, then a fan from the vertex before p[j] over the second side; m - 1
+    // triangles, each inside the tested triangle, so no sample is farther from them than from it plus
+    // the vertices' own tolerance. The block takes n - 2 triangles for n marked vertices.
+    auto half = [&](size_t first, size_t corner2, size_t end) {  // ring indices of p[0], p[j], p[m]
+      for (size_t k = first; k + 2 <= corner2; ++k) triangles.insert(triangles.end(), {ring[end], ring[k], ring[k + 1]});
+      const uint32_t pivot = ring[corner2 - 1];
+      for (size_t k = corner2; k < end; ++k) triangles.insert(triangles.end(), {pivot, ring[k], ring[k + 1]});
+    };
+    size_t topRight = 0, bottomLeft = last;  // ring indices of (x1, y0) and (x0, y1)
+    while (ring[topRight] != uint32_t(vertexIndex(x1, y0))) ++topRight;
+    while (ring[bottomLeft] != uint32_t(vertexIndex(x0, y1))) ++bottomLeft;
+    half(0, topRight, last);
+    half(last, bottomLeft, ring.size() - 1);
   }
   return true;
 }

@@ -44,9 +44,10 @@
 // virtual camera per unit of its inverse depth (a DisplacementRate, which depends on the camera model),
 // aligned square blocks of 2^k x 2^k grid cells whose every triangle is kept and whose every vertex lies
 // within the bound of the two triangles through the block's corners are merged (bottom-up, as a
-// region quadtree), at most 128 cells wide. A merged block is drawn as two triangles, or as a fan
-// around its centre vertex through every vertex of a smaller neighbour on its sides, so the mesh has
-// no T-junctions and no cracks. A cell with a dropped triangle (a depth edge) or an invalid vertex is
+// region quadtree), at most 128 cells wide. A merged block is drawn as two triangles, or, where smaller
+// neighbours put vertices on its sides, as a triangulation of each of the two tested triangles through
+// those vertices (n - 2 triangles for n vertices on the block's outline, each inside one tested
+// triangle), so the mesh has no T-junctions and no cracks. A cell with a dropped triangle (a depth edge) or an invalid vertex is
 // never merged: it stays as it is, and the merged blocks beside it pass through all its vertices, so
 // the mesh's outline keeps full resolution.
 #include <cstddef>
