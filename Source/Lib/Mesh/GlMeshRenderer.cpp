@@ -85,6 +85,28 @@ void main() {
 }
 )";
 
+// The triangles' own pair of shaders: the same values as the pair above with drawingPoints 0 and
+// drawnMark 1, from two varyings instead of three. llvmpipe stores every varying's plane equations
+// with each binned triangle (48 bytes each), and binning ~200 000 triangles a view touches tens of
+// megabytes of fresh memory, which costs more than the rasterisation on this machine.
+const char* const kTriangleVertexShader = R"(#version 330 core
+layout(location = 0) in vec4 vertex;
+uniform mat4 clipFromReference;
+out vec4 referenceVertex;
+void main() {
+  gl_Position = clipFromReference * vertex;
+  referenceVertex = vertex;
+}
+)";
+
+const char* const kTriangleFragmentShader = R"(#version 330 core
+in vec4 referenceVertex;
+layout(location = 0) out vec4 referenceDepthFlags;
+void main() {
+  referenceDepthFlags = vec4(referenceVertex.xy / referenceVertex.z, max(referenceVertex.w * gl_FragCoord.w, 0.0), 1.0);
+}
+)";
+
 // Inverse of a 4x4 matrix by Gauss-Jordan elimination with partial pivoting, in double; false when
 // it is singular (a pivot below 1e-12 of the largest entry).
 bool inverse(const Mat4& a, Mat4& result) {
@@ -187,11 +209,12 @@ struct ProjectedPass {
 struct GlMeshRenderer::Impl {
   EglContext context;
   const GlFunctions& gl;
-  GLuint program = 0, vertexArray = 0, vertexBuffer = 0, indexBuffer = 0;
+  GLuint program = 0, triangleProgram = 0, vertexArray = 0, vertexBuffer = 0, indexBuffer = 0;
   GLsizei pointCount = 0;
   GLsizei orphanCount = 0;  // locally farthest orphans, after the points in `indices`
   std::vector<uint32_t> indices;  // triangles, then points, then locally farthest orphans
   GLuint framebuffer = 0, colourBuffer = 0, depthBuffer = 0;
+  GLint triangleClipLocation = -1;
   GLint clipLocation = -1, referenceFromClipLocation = -1, viewportLocation = -1, drawingPointsLocation = -1,
         drawnMarkLocation = -1;
   int framebufferWidth = 0, framebufferHeight = 0;
@@ -201,12 +224,21 @@ struct GlMeshRenderer::Impl {
   std::vector<Plane> planes;                // the "texture": the reference planes, sampled on the CPU
   std::unique_ptr<SubPixelSampler> sampler;  // null: exact bilinear
   std::vector<float> readBack;              // last render: (u, v, q, flags) per sample
+  std::vector<uint8_t> edges;               // last render: edgeAt() of each drawn sample
   const DepthMesh* mesh = nullptr;          // the uploaded mesh (its edge flags)
   int renderedWidth = 0, renderedHeight = 0;
   std::unique_ptr<ProjectedPass> projected;  // ERP cameras (uploadProjectedMesh)
 
   Impl() : gl(context.gl()) {
     program = linkProgram(gl, kVertexShader, kFragmentShader);
+    try {
+      triangleProgram = linkProgram(gl, kTriangleVertexShader, kTriangleFragmentShader);
+    } catch (...) {
+      gl.DeleteProgram(program);
+      throw;
+    }
+    triangleClipLocation = gl.GetUniformLocation(triangleProgram, "clipFromReference");
+    VS_CHECK(triangleClipLocation >= 0);
     clipLocation = gl.GetUniformLocation(program, "clipFromReference");
     referenceFromClipLocation = gl.GetUniformLocation(program, "referenceFromClip");
     viewportLocation = gl.GetUniformLocation(program, "viewportSize");
@@ -247,6 +279,7 @@ struct GlMeshRenderer::Impl {
     gl.DeleteBuffers(1, &indexBuffer);
     gl.DeleteVertexArrays(1, &vertexArray);
     gl.DeleteProgram(program);
+    gl.DeleteProgram(triangleProgram);
   }
 
   void checkErrors(const char* what) const {
@@ -384,9 +417,15 @@ void GlMeshRenderer::render(const Mat4& clip, const RenderGrid& grid, const Texe
   const GlFunctions& gl = s.gl;
   s.beginRender(grid);
 
-  gl.UseProgram(s.program);
   float matrix[16];
   toGlMatrix(clip, matrix);
+  gl.BindVertexArray(s.vertexArray);
+  if (s.triangleIndexCount > 0) {
+    gl.UseProgram(s.triangleProgram);
+    gl.UniformMatrix4fv(s.triangleClipLocation, 1, GL_FALSE, matrix);
+    gl.DrawElements(GL_TRIANGLES, s.triangleIndexCount, GL_UNSIGNED_INT, nullptr);
+  }
+  gl.UseProgram(s.program);
   gl.UniformMatrix4fv(s.clipLocation, 1, GL_FALSE, matrix);
   // Points look along their fragments' own rays (the shader's drawingPoints); where the matrix cannot
   // be inverted they keep the vertex's position.
@@ -395,10 +434,6 @@ void GlMeshRenderer::render(const Mat4& clip, const RenderGrid& grid, const Texe
   toGlMatrix(back, matrix);
   gl.UniformMatrix4fv(s.referenceFromClipLocation, 1, GL_FALSE, matrix);
   gl.Uniform2f(s.viewportLocation, float(grid.width), float(grid.height));
-  gl.Uniform1i(s.drawingPointsLocation, 0);
-  gl.Uniform1f(s.drawnMarkLocation, 1.0f);
-  gl.BindVertexArray(s.vertexArray);
-  if (s.triangleIndexCount > 0) gl.DrawElements(GL_TRIANGLES, s.triangleIndexCount, GL_UNSIGNED_INT, nullptr);
   // One-pixel points (the default point size) after the triangles: the depth test keeps the nearer.
   // Marked 3: drawn, and on an edge.
   gl.Uniform1i(s.drawingPointsLocation, invertible ? 1 : 0);
@@ -448,6 +483,12 @@ void GlMeshRenderer::finishRender(const RenderGrid& grid, const TexelMap& texelM
       if (!(drawn(x - 1, y) && drawn(x + 1, y) && drawn(x, y - 1) && drawn(x, y + 1))) rejected.push_back(i);
     }
   for (size_t i : rejected) samples[i * 4 + 3] = 0.0f;
+  // Each drawn sample's edge flag, once: the luma and the chroma samplings read it.
+  s.edges.resize(n);
+  parallelRanges(height, [&](int y0, int y1) {
+    for (size_t i = size_t(y0) * size_t(width); i < size_t(y1) * size_t(width); ++i)
+      s.edges[i] = samples[i * 4 + 3] != 0.0f && s.edgeAt(samples + i * 4) ? 1 : 0;
+  });
 
   sampleRender(s.planes, texelMap, layer);
   if (extras) {
@@ -546,7 +587,7 @@ void GlMeshRenderer::sampleRender(const std::vector<Plane>& planes, const TexelM
       const double x = texelMap.scale * r[0] + texelMap.offset, y = texelMap.scale * r[1] + texelMap.offset;
       layer.inverseDepth[i] = double(r[2]);
       for (int k = 0; k < channels; ++k) layer.colour[k][i] = s.sample(planes[size_t(k)], x, y);
-      layer.edge[i] = s.edgeAt(r) ? 1 : 0;
+      layer.edge[i] = s.edges[i];
     }
   });
 }
@@ -588,7 +629,8 @@ void GlMeshRenderer::sampleChroma420(const std::vector<const Plane*>& planes, do
         if (onFront(down)) uy = (down[0] - front[0]) * 2.0 * sy, vy = (down[1] - front[1]) * 2.0 * sy;
         double u = front[0] + sx * ux + sy * uy, v = front[1] + sx * vx + sy * vy;
         double q = front[2];
-        bool edge = s.edgeAt(front);
+        auto edgeOf = [&](const float* r) { return s.edges[size_t(r - samples) / 4] != 0; };
+        bool edge = edgeOf(front);
         // All four on one surface: their mean, which is the centre where the mapping is affine.
         if (onFront(block[0][0]) && onFront(block[0][1]) && onFront(block[1][0]) && onFront(block[1][1])) {
           u = v = q = 0.0;
@@ -597,7 +639,7 @@ void GlMeshRenderer::sampleChroma420(const std::vector<const Plane*>& planes, do
               u += 0.25 * r[0];
               v += 0.25 * r[1];
               q += 0.25 * r[2];
-              edge = edge || s.edgeAt(r);
+              edge = edge || edgeOf(r);
             }
         }
         const size_t c = size_t(j) * size_t(width) + size_t(i);
