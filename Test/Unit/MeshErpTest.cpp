@@ -215,9 +215,11 @@ MeshResult meshRender(const Scene& scene, const test::SynthesisInputs& inputs, c
 TEST(MeshErpGl, ErpReferenceRenderedIntoItselfIsExact) {
   REQUIRE_GL();
   const test::GeneratedScene& scene = room();
-  for (double yaw : {0.0, 97.0}) {
+  // A full sphere, the same turned, and a partial range (180 x 120 degrees, as some of RVS's cameras).
+  for (double yaw : {0.0, 97.0, -1.0}) {
     Camera reference = erpCamera("ring0", 256, 128, Vec3(-0.15, 0, 0));
-    reference.R = rotationFromYawPitchRoll(yaw, yaw / 10, 0);
+    if (yaw >= 0) reference.R = rotationFromYawPitchRoll(yaw, yaw / 10, 0);
+    else reference.erp = EquirectangularRange{256, 128, -90, 90, -60, 60};
     const DepthRange range = scene.cameraRange({reference}, 16);
     const Scene s = test::makeScene({reference}, reference, scene.textureFormat(), range);
     const test::SynthesisInputs inputs = test::renderInputs(scene, s);
@@ -357,6 +359,21 @@ TEST(MeshErpGl, RoomFromTwoErpReferencesAgainstTheExactRender) {
     test::recordFigure("mesh_above_pole_rows_psnr_y", poles);
     EXPECT_LE(poleHoles, 0.002);
     EXPECT_GE(poles, 28.0);
+  }
+  // A partial range (180 x 120 degrees, turned 30 degrees left) as the virtual camera: no wrap copies,
+  // points outside its range clipped.
+  {
+    Camera partial = erpCamera("partial", width, height, middle);
+    partial.erp = EquirectangularRange{width, height, -90, 90, -60, 60};
+    partial.R = rotationFromYawPitchRoll(30, 0, 0);
+    const Frame truth = scene.texture(partial);
+    const double psnr = psnrY(truth, run(left, right, partial).output);
+    const Scene s = test::makeScene({left, right}, partial, scene.textureFormat(), range);
+    const double viewSyn = psnrY(truth, test::synthesize(s, test::renderInputs(scene, s)).output);
+    test::recordFigure("mesh_partial_erp_virtual_psnr_y_from_erp", psnr);
+    test::recordFigure("viewsyn_partial_erp_virtual_psnr_y_from_erp", viewSyn);
+    EXPECT_GE(psnr, 23.0);
+    EXPECT_GE(psnr, viewSyn - 1.0);
   }
   // ERP references into perspective viewports, and perspective references into the ERP camera (mixed).
   const double narrowFromErp = psnrY(scene.texture(narrow), run(left, right, narrow).output);
