@@ -228,6 +228,7 @@ struct GlMeshRenderer::Impl {
   const DepthMesh* mesh = nullptr;          // the uploaded mesh (its edge flags)
   int renderedWidth = 0, renderedHeight = 0;
   std::unique_ptr<ProjectedPass> projected;  // ERP cameras (uploadProjectedMesh)
+  double referenceWrap = 0.0;                // setReferenceWrap: columns in a turn of the reference; 0 none
 
   Impl() : gl(context.gl()) {
     program = linkProgram(gl, kVertexShader, kFragmentShader);
@@ -502,6 +503,8 @@ void GlMeshRenderer::finishRender(const RenderGrid& grid, const TexelMap& texelM
   }
 }
 
+void GlMeshRenderer::setReferenceWrap(double columns) { impl_->referenceWrap = columns; }
+
 void GlMeshRenderer::uploadProjectedMesh(const ProjectedMesh& mesh) {
   Impl& s = *impl_;
   const GlFunctions& gl = s.gl;
@@ -618,6 +621,12 @@ void GlMeshRenderer::sampleChroma420(const std::vector<const Plane*>& planes, do
           }
         if (!front) continue;  // a hole
         auto onFront = [&](const float* r) { return r && double(r[2]) >= (1.0 - sameSurface) * double(front[2]); };
+        // The column a sample shows, within half a turn of the front sample's for a reference that wraps
+        // (a full-circle ERP one: setReferenceWrap), so samples on both sides of its seam average well.
+        auto column = [&](const float* r) {
+          const double u = r[0];
+          return s.referenceWrap > 0.0 ? u + s.referenceWrap * std::round((front[0] - u) / s.referenceWrap) : u;
+        };
         // Where the front surface shows at the chroma centre: from the front sample, half a luma pixel
         // right or left and down or up, along the reference positions of its neighbours in the block on
         // the same surface (where there is none, one reference pixel per luma pixel).
@@ -625,8 +634,8 @@ void GlMeshRenderer::sampleChroma420(const std::vector<const Plane*>& planes, do
         const float* down = block[1 - frontY][frontX];
         const double sx = frontX == 0 ? 0.5 : -0.5, sy = frontY == 0 ? 0.5 : -0.5;
         double ux = 1.0, vx = 0.0, uy = 0.0, vy = 1.0;  // d(u, v) / dx and d(u, v) / dy
-        if (onFront(across)) ux = (across[0] - front[0]) * 2.0 * sx, vx = (across[1] - front[1]) * 2.0 * sx;
-        if (onFront(down)) uy = (down[0] - front[0]) * 2.0 * sy, vy = (down[1] - front[1]) * 2.0 * sy;
+        if (onFront(across)) ux = (column(across) - front[0]) * 2.0 * sx, vx = (across[1] - front[1]) * 2.0 * sx;
+        if (onFront(down)) uy = (column(down) - front[0]) * 2.0 * sy, vy = (down[1] - front[1]) * 2.0 * sy;
         double u = front[0] + sx * ux + sy * uy, v = front[1] + sx * vx + sy * vy;
         double q = front[2];
         auto edgeOf = [&](const float* r) { return s.edges[size_t(r - samples) / 4] != 0; };
@@ -636,7 +645,7 @@ void GlMeshRenderer::sampleChroma420(const std::vector<const Plane*>& planes, do
           u = v = q = 0.0;
           for (const auto& row : block)
             for (const float* r : row) {
-              u += 0.25 * r[0];
+              u += 0.25 * column(r);
               v += 0.25 * r[1];
               q += 0.25 * r[2];
               edge = edge || edgeOf(r);

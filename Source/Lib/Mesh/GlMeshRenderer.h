@@ -70,6 +70,9 @@ public:
   void uploadProjectedMesh(const ProjectedMesh& mesh);
   void renderProjected(const RenderGrid& grid, const TexelMap& texelMap, WarpedLayer& layer,
                        RenderExtras* extras = nullptr);
+  // A full-circle ERP reference: `columns` (its width) is a whole turn, so sampleChroma420 combines the
+  // reference positions of neighbouring samples across its seam; 0 (the default): no wrap.
+  void setReferenceWrap(double columns);
   // The last render's samples coloured from other planes (4:4:4 chroma at luma resolution, texel map
   // as given): `layer` gets the render's q and edges and the planes' colours.
   void sampleRender(const std::vector<Plane>& planes, const TexelMap& texelMap, WarpedLayer& layer) const;
