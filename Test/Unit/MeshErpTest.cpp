@@ -292,29 +292,44 @@ Camera pinholeCamera(const std::string& name, double degrees, double yaw, const 
   return c;
 }
 
-TEST(MeshErpGl, RoomFromTwoErpReferencesAgainstTheExactRender) {
-  REQUIRE_GL();
+// The room's rig (as ViewSyn's EquirectangularSynthTest has it): two ERP references on a ring of radius
+// 0.15, virtual cameras off the ring's centre: an ERP one, the same turned half a turn (its wrap where
+// the references' middle columns land), perspective viewports turned 30 degrees left (144 degrees, the
+// ERP pictures' angular resolution at its centre, and 90), and perspective references of the same
+// pixel count at the ring's cameras.
+struct RoomRig {
+  static constexpr int width = 256, height = 128;
   const test::GeneratedScene& scene = room();
-  const int width = 256, height = 128;
-  const Camera left = erpCamera("ring0", width, height, Vec3(-0.15, 0, 0));
-  const Camera right = erpCamera("ring1", width, height, Vec3(0.15, 0, 0));
-  const Vec3 middle(0.05, 0.02, 0.04);
-  const Camera erpVirtual = erpCamera("centre", width, height, middle);
-  Camera rotated = erpVirtual;  // its wrap where the references' middle columns land
-  rotated.R = rotationFromYawPitchRoll(180, 0, 0);
-  const Camera& turned = rotated;
-  const double wideDegrees = 2 * std::atan((width / 2.0) / (width / (2 * kPi))) * 180 / kPi;
-  const Camera wide = pinholeCamera("wide", wideDegrees, 30, middle, width, height);
-  const Camera narrow = pinholeCamera("narrow", 90, 30, middle, width, height);
-  const Camera perspectiveLeft = pinholeCamera("left", wideDegrees + 10, 30, left.t, width, height);
-  const Camera perspectiveRight = pinholeCamera("right", wideDegrees + 10, 30, right.t, width, height);
-  const DepthRange range = scene.cameraRange({left, right, erpVirtual, wide, perspectiveLeft, perspectiveRight}, 16);
-  const auto run = [&](const Camera& a, const Camera& b, const Camera& target) {
+  Vec3 middle{0.05, 0.02, 0.04};
+  Camera left = erpCamera("ring0", width, height, Vec3(-0.15, 0, 0));
+  Camera right = erpCamera("ring1", width, height, Vec3(0.15, 0, 0));
+  Camera erpVirtual = erpCamera("centre", width, height, middle);
+  Camera turned = erpVirtual;
+  double wideDegrees = 2 * std::atan((width / 2.0) / (width / (2 * kPi))) * 180 / kPi;
+  Camera wide = pinholeCamera("wide", wideDegrees, 30, middle, width, height);
+  Camera narrow = pinholeCamera("narrow", 90, 30, middle, width, height);
+  Camera perspectiveLeft = pinholeCamera("left", wideDegrees + 10, 30, left.t, width, height);
+  Camera perspectiveRight = pinholeCamera("right", wideDegrees + 10, 30, right.t, width, height);
+  DepthRange range;
+
+  RoomRig() {
+    turned.R = rotationFromYawPitchRoll(180, 0, 0);
+    range = scene.cameraRange({left, right, erpVirtual, wide, perspectiveLeft, perspectiveRight}, 16);
+  }
+  // MeshRender at default settings (MeshDiscontinuityThreshold 0.02 with the ERP form of the
+  // grazing-plane rule) from references a and b into `target`.
+  MeshResult run(const Camera& a, const Camera& b, const Camera& target) const {
     const Scene s = test::makeScene({a, b}, target, scene.textureFormat(), range);
-    // Default settings: MeshDiscontinuityThreshold 0.02 with the ERP form of the grazing-plane rule.
-    const MeshSettings settings;
-    return meshRender(s, test::renderInputs(scene, s), settings);
-  };
+    return meshRender(s, test::renderInputs(scene, s));
+  }
+};
+
+TEST(MeshErpGl, RoomIntoErpCamerasAgainstTheExactRenderWithTheWrapAndThePolesCovered) {
+  REQUIRE_GL();
+  const RoomRig rig;
+  const test::GeneratedScene& scene = rig.scene;
+  const Camera &left = rig.left, &right = rig.right, &erpVirtual = rig.erpVirtual, &turned = rig.turned;
+  const auto run = [&](const Camera& a, const Camera& b, const Camera& target) { return rig.run(a, b, target); };
   for (const Camera* target : {&erpVirtual, &turned}) {
     const std::string name = target == &turned ? "turned_erp_virtual" : "erp_virtual";
     const Frame truth = scene.texture(*target);
@@ -366,6 +381,17 @@ TEST(MeshErpGl, RoomFromTwoErpReferencesAgainstTheExactRender) {
     EXPECT_LE(seamHoles, 0.002) << name;
     EXPECT_LE(poleHoles, 0.002) << name;
   }
+}
+
+TEST(MeshErpGl, RoomIntoAnErpCameraOnAReferencesPoleAxisAndIntoAPartialRange) {
+  REQUIRE_GL();
+  const RoomRig rig;
+  const test::GeneratedScene& scene = rig.scene;
+  const int width = rig.width, height = rig.height;
+  const Camera &left = rig.left, &right = rig.right;
+  const Vec3& middle = rig.middle;
+  const DepthRange& range = rig.range;
+  const auto run = [&](const Camera& a, const Camera& b, const Camera& target) { return rig.run(a, b, target); };
   // One reference and an ERP camera 2 above it: both poles' axes are one line, so the reference's
   // pole points lie on the virtual camera's pole axis (no longitude there) and its fans around them
   // must fill the pole rows. Splitting the triangles around the pole and drawing the last piece as a
@@ -397,6 +423,16 @@ TEST(MeshErpGl, RoomFromTwoErpReferencesAgainstTheExactRender) {
     EXPECT_GE(psnr, 23.0);
     EXPECT_GE(psnr, viewSyn - 1.0);
   }
+}
+
+TEST(MeshErpGl, RoomIntoPerspectiveViewportsAndFromPerspectiveReferences) {
+  REQUIRE_GL();
+  const RoomRig rig;
+  const test::GeneratedScene& scene = rig.scene;
+  const Camera &left = rig.left, &right = rig.right, &erpVirtual = rig.erpVirtual;
+  const Camera &wide = rig.wide, &narrow = rig.narrow;
+  const Camera &perspectiveLeft = rig.perspectiveLeft, &perspectiveRight = rig.perspectiveRight;
+  const auto run = [&](const Camera& a, const Camera& b, const Camera& target) { return rig.run(a, b, target); };
   // ERP references into perspective viewports, and perspective references into the ERP camera (mixed).
   const double narrowFromErp = psnrY(scene.texture(narrow), run(left, right, narrow).output);
   const double wideFromErp = psnrY(scene.texture(wide), run(left, right, wide).output);

@@ -304,6 +304,52 @@ private:
 
 }  // namespace
 
+namespace {
+
+// Into a pinhole virtual camera: P applied in double to every usable vertex; q = w / w_clip as the
+// pinhole pass has it. The triangles, points and orphans are the mesh's own.
+void clipForPinhole(const DepthMesh& mesh, const std::vector<ErpVertex>& vertices, const std::vector<uint8_t>& usable,
+                    const Mat4& projection, ProjectedMesh& out) {
+  const size_t n = mesh.vertexCount();
+  out.positions.assign(n * 4, 0.0f);
+  out.attributes.assign(n * 4, 0.0f);
+  for (size_t i = 0; i < n; ++i) {
+    if (!usable[i]) continue;
+    const ErpVertex& p = vertices[i];
+    float* position = &out.positions[i * 4];
+    for (int r = 0; r < 4; ++r) {
+      const double* row = projection.m[r];
+      position[r] = float(row[0] * p.point[0] + row[1] * p.point[1] + row[2] * p.point[2] + row[3] * p.point[3]);
+    }
+    float* attribute = &out.attributes[i * 4];
+    attribute[0] = float(p.u);
+    attribute[1] = float(p.v);
+    attribute[2] = float(p.point[3]);
+    attribute[3] = position[3];
+  }
+  out.triangles = mesh.triangles;
+  out.points = mesh.points;
+  out.farthestOrphans = mesh.farthestOrphans;
+}
+
+// Into an ERP virtual camera: triangle by triangle (ErpProjector), then the points.
+void projectForErp(const DepthMesh& mesh, std::vector<ErpVertex>& vertices, const std::vector<uint8_t>& usable,
+                   ErpProjector& projector, ProjectedMesh& out) {
+  out.positions.reserve(mesh.vertexCount() * 4);
+  out.attributes.reserve(mesh.vertexCount() * 4);
+  out.triangles.reserve(mesh.triangles.size());
+  for (size_t t = 0; t + 2 < mesh.triangles.size(); t += 3) {
+    const uint32_t a = mesh.triangles[t], b = mesh.triangles[t + 1], c = mesh.triangles[t + 2];
+    if (usable[a] && usable[b] && usable[c]) projector.triangle(vertices[a], vertices[b], vertices[c], 0);
+  }
+  for (uint32_t i : mesh.points)
+    if (usable[i] && !vertices[i].axis) out.points.push_back(projector.vertexIndex(vertices[i]));
+  for (uint32_t i : mesh.farthestOrphans)
+    if (usable[i] && !vertices[i].axis) out.farthestOrphans.push_back(projector.vertexIndex(vertices[i]));
+}
+
+}  // namespace
+
 bool projectMesh(const DepthMesh& mesh, const Camera& reference, const Camera& virtualCamera, const RenderGrid& grid,
                  ProjectedMesh& out) {
   VS_CHECK(mesh.vertices.size() == mesh.vertexCount() * 4);
@@ -315,7 +361,8 @@ bool projectMesh(const DepthMesh& mesh, const Camera& reference, const Camera& v
   out.mesh = &mesh;
   const size_t n = mesh.vertexCount();
   const RelativePose pose = relativePose(reference, virtualCamera);
-  // Every valid vertex in virtual camera coordinates, homogeneous: (R x + t w, w) of x = (x, y, z) w.
+  // Every valid vertex in virtual camera coordinates, homogeneous: (R x + t w, w) of x = (x, y, z) w,
+  // and its q; the range of q gives the depth-buffer planes.
   std::vector<ErpVertex> vertices(n);
   std::vector<uint8_t> usable(n, 0);
   double lo = HUGE_VAL, hi = -HUGE_VAL;
@@ -346,43 +393,12 @@ bool projectMesh(const DepthMesh& mesh, const Camera& reference, const Camera& v
   }
   if (lo > hi) return false;
   const InverseDepthRange planes = clipPlanes({lo, hi});
-
   if (!erpVirtual) {
-    // A pinhole virtual camera: P applied in double; q = w / w_clip as the pinhole pass has it.
-    const Mat4 projection = projectionMatrix(grid, planes);
-    out.positions.assign(n * 4, 0.0f);
-    out.attributes.assign(n * 4, 0.0f);
-    for (size_t i = 0; i < n; ++i) {
-      if (!usable[i]) continue;
-      const ErpVertex& p = vertices[i];
-      for (int r = 0; r < 4; ++r) {
-        const double* row = projection.m[r];
-        out.positions[i * 4 + size_t(r)] =
-            float(row[0] * p.point[0] + row[1] * p.point[1] + row[2] * p.point[2] + row[3] * p.point[3]);
-      }
-      out.attributes[i * 4] = float(p.u);
-      out.attributes[i * 4 + 1] = float(p.v);
-      out.attributes[i * 4 + 2] = float(p.point[3]);
-      out.attributes[i * 4 + 3] = out.positions[i * 4 + 3];
-    }
-    out.triangles = mesh.triangles;
-    out.points = mesh.points;
-    out.farthestOrphans = mesh.farthestOrphans;
+    clipForPinhole(mesh, vertices, usable, projectionMatrix(grid, planes), out);
     return true;
   }
-
   projector.setPlanes(planes);
-  out.positions.reserve(n * 4);
-  out.attributes.reserve(n * 4);
-  out.triangles.reserve(mesh.triangles.size());
-  for (size_t t = 0; t + 2 < mesh.triangles.size(); t += 3) {
-    const uint32_t a = mesh.triangles[t], b = mesh.triangles[t + 1], c = mesh.triangles[t + 2];
-    if (usable[a] && usable[b] && usable[c]) projector.triangle(vertices[a], vertices[b], vertices[c], 0);
-  }
-  for (uint32_t i : mesh.points)
-    if (usable[i] && !vertices[i].axis) out.points.push_back(projector.vertexIndex(vertices[i]));
-  for (uint32_t i : mesh.farthestOrphans)
-    if (usable[i] && !vertices[i].axis) out.farthestOrphans.push_back(projector.vertexIndex(vertices[i]));
+  projectForErp(mesh, vertices, usable, projector, out);
   return true;
 }
 
