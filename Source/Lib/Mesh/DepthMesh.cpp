@@ -340,25 +340,41 @@ bool DepthMeshBuilder::merge(DepthMesh& mesh, const std::vector<double>& inverse
   if (luma && options_.maxColourError > 0.0) {
     allowance.resize(mesh.vertexCount());
     const double halfColour = 0.5 * options_.maxColourError;
+    // The allowance of each step up to 1023 (10-bit samples), computed once.
+    std::vector<float> allowanceOfStep(1024);
+    auto allowanceOf = [&](int step) {
+      return float(step > 0 ? std::min(halfBound, halfColour / double(step)) : halfBound);
+    };
+    for (int step = 0; step < int(allowanceOfStep.size()); ++step) allowanceOfStep[size_t(step)] = allowanceOf(step);
+    // The largest step from a pixel to the 3 x 3 around it (clamped at the picture's border) is
+    // max(largest - centre, centre - smallest) over the 3 x 3: the largest and smallest of each column's
+    // three rows first, then of three such columns.
+    std::vector<uint16_t> columnMax(static_cast<size_t>(width_)), columnMin(static_cast<size_t>(width_));
     for (int r = 0; r < rows; ++r) {
       const int py = pixelV_[size_t(r)];
+      const uint16_t* above = luma->row(std::max(py - 1, 0));
+      const uint16_t* centreRow = luma->row(py);
+      const uint16_t* below = luma->row(std::min(py + 1, height_ - 1));
+      for (int x = 0; x < width_; ++x) {
+        columnMax[size_t(x)] = std::max({above[x], centreRow[x], below[x]});
+        columnMin[size_t(x)] = std::min({above[x], centreRow[x], below[x]});
+      }
       for (int c = 0; c < columns; ++c) {
         const int px = pixelU_[size_t(c)];
-        const int centre = luma->row(py)[px];
-        int step = 0;
-        for (int y = std::max(py - 1, 0); y <= std::min(py + 1, height_ - 1); ++y) {
-          const uint16_t* row = luma->row(y);
-          for (int x = std::max(px - 1, 0); x <= std::min(px + 1, width_ - 1); ++x) step = std::max(step, std::abs(int(row[x]) - centre));
-        }
+        const int left = std::max(px - 1, 0), right = std::min(px + 1, width_ - 1);
+        const int largest = std::max({columnMax[size_t(left)], columnMax[size_t(px)], columnMax[size_t(right)]});
+        const int smallest = std::min({columnMin[size_t(left)], columnMin[size_t(px)], columnMin[size_t(right)]});
+        const int centre = centreRow[px];
+        const int step = std::max(largest - centre, centre - smallest);
         allowance[size_t(r) * size_t(columns) + size_t(c)] =
-            float(step > 0 ? std::min(halfBound, halfColour / double(step)) : halfBound);
+            step < int(allowanceOfStep.size()) ? allowanceOfStep[size_t(step)] : allowanceOf(step);
       }
     }
   }
   // Whether every vertex of the block lies within the tolerance of the two triangles through its corners
   // (split along the diagonal from (x0, y0) to (x1, y1)). The tolerance in q is the bound over the
-  // largest displacement rate at the corners; half the bound, since a fan around the centre (drawn when
-  // a neighbour is finer) interpolates vertices that are themselves up to the tolerance off.
+  // largest displacement rate at the corners; half the bound, since the drawn triangles interpolate
+  // vertices that are themselves up to the tolerance off.
   auto planarBlock = [&](int x0, int y0, int size) {
     const int x1 = x0 + size, y1 = y0 + size;
     const double u0 = mesh.gridU[size_t(x0)], u1 = mesh.gridU[size_t(x1)];
@@ -372,7 +388,6 @@ bool DepthMeshBuilder::merge(DepthMesh& mesh, const std::vector<double>& inverse
       if (!(r < std::numeric_limits<double>::infinity())) return false;  // not in front of the virtual camera
       rate = std::max(rate, r);
     }
-    const double tolerance = rate > 0.0 ? halfBound / rate : std::numeric_limits<double>::infinity();
     const double su = 1.0 / (u1 - u0), sv = 1.0 / (v1 - v0);
     for (int y = y0; y <= y1; ++y) {
       const double dv = (mesh.gridV[size_t(y)] - v0) * sv;
@@ -381,8 +396,8 @@ bool DepthMeshBuilder::merge(DepthMesh& mesh, const std::vector<double>& inverse
       for (int x = x0; x <= x1; ++x, ++q) {
         const double du = (mesh.gridU[size_t(x)] - u0) * su;
         const double plane = du >= dv ? q00 + du * (q10 - q00) + dv * (q11 - q10) : q00 + dv * (q01 - q00) + du * (q11 - q01);
-        const double limit = allowed ? (rate > 0.0 ? double(allowed[x - x0]) / rate : tolerance) : tolerance;
-        if (!(std::fabs(*q - plane) <= limit)) return false;
+        // Within the tolerance: the displacement (q's error times the rate) within the allowance.
+        if (!(std::fabs(*q - plane) * rate <= (allowed ? double(allowed[x - x0]) : halfBound))) return false;
       }
     }
     return true;
