@@ -307,9 +307,11 @@ bool DepthMesh::edgeAt(double u, double v) const {
   if (columns < 2 || rows < 2) return false;
   // The cell: the last grid line at or before the position, clamped to the grid.
   const int c = cellOf(gridU, gridStep, u), r = cellOf(gridV, gridStep, v);
+  const size_t q0 = size_t(r) * size_t(columns) + size_t(c), q1 = q0 + 1, q2 = q0 + size_t(columns), q3 = q2 + 1;
+  // Most cells have no corner on a dropped triangle: no weight can make them an edge.
+  if (!(boundary[q0] > 0.0f || boundary[q1] > 0.0f || boundary[q2] > 0.0f || boundary[q3] > 0.0f)) return false;
   const double fu = (u - gridU[size_t(c)]) / (gridU[size_t(c) + 1] - gridU[size_t(c)]);
   const double fv = (v - gridV[size_t(r)]) / (gridV[size_t(r) + 1] - gridV[size_t(r)]);
-  const size_t q0 = size_t(r) * size_t(columns) + size_t(c), q1 = q0 + 1, q2 = q0 + size_t(columns), q3 = q2 + 1;
   // Barycentric weights of the triangle's corners; a corner counts when its weight is above the
   // position's float rounding (as the interpolated flag of a rasterised triangle is above 0 there).
   constexpr double kWeight = 1e-3;
