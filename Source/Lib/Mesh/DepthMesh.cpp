@@ -377,6 +377,7 @@ bool DepthMeshBuilder::merge(DepthMesh& mesh, const std::vector<double>& inverse
   // (split along the diagonal from (x0, y0) to (x1, y1)). The tolerance in q is the bound over the
   // largest displacement rate at the corners; half the bound, since the drawn triangles interpolate
   // vertices that are themselves up to the tolerance off.
+  std::vector<double> blockDu;  // planarBlock's scratch: each column's du in the block
   auto planarBlock = [&](int x0, int y0, int size) {
     const int x1 = x0 + size, y1 = y0 + size;
     const double u0 = mesh.gridU[size_t(x0)], u1 = mesh.gridU[size_t(x1)];
@@ -391,16 +392,26 @@ bool DepthMeshBuilder::merge(DepthMesh& mesh, const std::vector<double>& inverse
       rate = std::max(rate, r);
     }
     const double su = 1.0 / (u1 - u0), sv = 1.0 / (v1 - v0);
+    const int n = size + 1;
+    blockDu.resize(size_t(n));
+    for (int i = 0; i < n; ++i) blockDu[size_t(i)] = (mesh.gridU[size_t(x0 + i)] - u0) * su;  // increasing
+    // The plane at (du, dv): q00 + du (q10 - q00) + dv (q11 - q10) where du >= dv, else
+    // q00 + dv (q01 - q00) + du (q11 - q01); each row's dv terms are computed once.
+    const double upperU = q10 - q00, upperV = q11 - q10, lowerU = q11 - q01, lowerV = q01 - q00;
     for (int y = y0; y <= y1; ++y) {
       const double dv = (mesh.gridV[size_t(y)] - v0) * sv;
+      const double upperRow = dv * upperV, lowerRow = q00 + dv * lowerV;
       const double* q = &inverseCameraZ[vertexIndex(x0, y)];
       const float* allowed = allowance.empty() ? nullptr : &allowance[vertexIndex(x0, y)];
-      for (int x = x0; x <= x1; ++x, ++q) {
-        const double du = (mesh.gridU[size_t(x)] - u0) * su;
-        const double plane = du >= dv ? q00 + du * (q10 - q00) + dv * (q11 - q10) : q00 + dv * (q01 - q00) + du * (q11 - q01);
-        // Within the tolerance: the displacement (q's error times the rate) within the allowance.
-        if (!(std::fabs(*q - plane) * rate <= (allowed ? double(allowed[x - x0]) : halfBound))) return false;
-      }
+      // Within the tolerance: the displacement (q's error times the rate) within the allowance.
+      auto within = [&](int i, double plane) {
+        return std::fabs(q[i] - plane) * rate <= (allowed ? double(allowed[i]) : halfBound);
+      };
+      int i = 0;
+      for (; i < n && !(blockDu[size_t(i)] >= dv); ++i)
+        if (!within(i, lowerRow + blockDu[size_t(i)] * lowerU)) return false;
+      for (; i < n; ++i)
+        if (!within(i, q00 + blockDu[size_t(i)] * upperU + upperRow)) return false;
     }
     return true;
   };
