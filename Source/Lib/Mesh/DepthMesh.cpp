@@ -328,9 +328,11 @@ bool DepthMesh::edgeAt(double u, double v) const {
   if (columns < 2 || rows < 2) return false;
   // The cell: the last grid line at or before the position, clamped to the grid.
   const int c = cellOf(gridU, gridStep, u), r = cellOf(gridV, gridStep, v);
+  const size_t q0 = size_t(r) * size_t(columns) + size_t(c), q1 = q0 + 1, q2 = q0 + size_t(columns), q3 = q2 + 1;
+  // Most cells have no corner on a dropped triangle: no weight can make them an edge.
+  if (!(boundary[q0] > 0.0f || boundary[q1] > 0.0f || boundary[q2] > 0.0f || boundary[q3] > 0.0f)) return false;
   const double fu = (u - gridU[size_t(c)]) / (gridU[size_t(c) + 1] - gridU[size_t(c)]);
   const double fv = (v - gridV[size_t(r)]) / (gridV[size_t(r) + 1] - gridV[size_t(r)]);
-  const size_t q0 = size_t(r) * size_t(columns) + size_t(c), q1 = q0 + 1, q2 = q0 + size_t(columns), q3 = q2 + 1;
   // Barycentric weights of the triangle's corners; a corner counts when its weight is above the
   // position's float rounding (as the interpolated flag of a rasterised triangle is above 0 there).
   constexpr double kWeight = 1e-3;
@@ -361,25 +363,42 @@ bool DepthMeshBuilder::merge(DepthMesh& mesh, const std::vector<double>& inverse
   if (luma && options_.maxColourError > 0.0) {
     allowance.resize(mesh.vertexCount());
     const double halfColour = 0.5 * options_.maxColourError;
+    // The allowance of each step up to 1023 (10-bit samples), computed once.
+    std::vector<float> allowanceOfStep(1024);
+    auto allowanceOf = [&](int step) {
+      return float(step > 0 ? std::min(halfBound, halfColour / double(step)) : halfBound);
+    };
+    for (int step = 0; step < int(allowanceOfStep.size()); ++step) allowanceOfStep[size_t(step)] = allowanceOf(step);
+    // The largest step from a pixel to the 3 x 3 around it (clamped at the picture's border) is
+    // max(largest - centre, centre - smallest) over the 3 x 3: the largest and smallest of each column's
+    // three rows first, then of three such columns.
+    std::vector<uint16_t> columnMax(static_cast<size_t>(width_)), columnMin(static_cast<size_t>(width_));
     for (int r = 0; r < rows; ++r) {
       const int py = pixelV_[size_t(r)];
+      const uint16_t* above = luma->row(std::max(py - 1, 0));
+      const uint16_t* centreRow = luma->row(py);
+      const uint16_t* below = luma->row(std::min(py + 1, height_ - 1));
+      for (int x = 0; x < width_; ++x) {
+        columnMax[size_t(x)] = std::max({above[x], centreRow[x], below[x]});
+        columnMin[size_t(x)] = std::min({above[x], centreRow[x], below[x]});
+      }
       for (int c = 0; c < columns; ++c) {
         const int px = pixelU_[size_t(c)];
-        const int centre = luma->row(py)[px];
-        int step = 0;
-        for (int y = std::max(py - 1, 0); y <= std::min(py + 1, height_ - 1); ++y) {
-          const uint16_t* row = luma->row(y);
-          for (int x = std::max(px - 1, 0); x <= std::min(px + 1, width_ - 1); ++x) step = std::max(step, std::abs(int(row[x]) - centre));
-        }
+        const int left = std::max(px - 1, 0), right = std::min(px + 1, width_ - 1);
+        const int largest = std::max({columnMax[size_t(left)], columnMax[size_t(px)], columnMax[size_t(right)]});
+        const int smallest = std::min({columnMin[size_t(left)], columnMin[size_t(px)], columnMin[size_t(right)]});
+        const int centre = centreRow[px];
+        const int step = std::max(largest - centre, centre - smallest);
         allowance[size_t(r) * size_t(columns) + size_t(c)] =
-            float(step > 0 ? std::min(halfBound, halfColour / double(step)) : halfBound);
+            step < int(allowanceOfStep.size()) ? allowanceOfStep[size_t(step)] : allowanceOf(step);
       }
     }
   }
   // Whether every vertex of the block lies within the tolerance of the two triangles through its corners
   // (split along the diagonal from (x0, y0) to (x1, y1)). The tolerance in q is the bound over the
-  // largest displacement rate at the corners; half the bound, since a fan around the centre (drawn when
-  // a neighbour is finer) interpolates vertices that are themselves up to the tolerance off.
+  // largest displacement rate at the corners; half the bound, since the drawn triangles interpolate
+  // vertices that are themselves up to the tolerance off.
+  std::vector<double> blockDu;  // planarBlock's scratch: each column's du in the block
   auto planarBlock = [&](int x0, int y0, int size) {
     const int x1 = x0 + size, y1 = y0 + size;
     const double u0 = mesh.gridU[size_t(x0)], u1 = mesh.gridU[size_t(x1)];
@@ -393,18 +412,27 @@ bool DepthMeshBuilder::merge(DepthMesh& mesh, const std::vector<double>& inverse
       if (!(r < std::numeric_limits<double>::infinity())) return false;  // not in front of the virtual camera
       rate = std::max(rate, r);
     }
-    const double tolerance = rate > 0.0 ? halfBound / rate : std::numeric_limits<double>::infinity();
     const double su = 1.0 / (u1 - u0), sv = 1.0 / (v1 - v0);
+    const int n = size + 1;
+    blockDu.resize(size_t(n));
+    for (int i = 0; i < n; ++i) blockDu[size_t(i)] = (mesh.gridU[size_t(x0 + i)] - u0) * su;  // increasing
+    // The plane at (du, dv): q00 + du (q10 - q00) + dv (q11 - q10) where du >= dv, else
+    // q00 + dv (q01 - q00) + du (q11 - q01); each row's dv terms are computed once.
+    const double upperU = q10 - q00, upperV = q11 - q10, lowerU = q11 - q01, lowerV = q01 - q00;
     for (int y = y0; y <= y1; ++y) {
       const double dv = (mesh.gridV[size_t(y)] - v0) * sv;
+      const double upperRow = dv * upperV, lowerRow = q00 + dv * lowerV;
       const double* q = &inverseCameraZ[vertexIndex(x0, y)];
       const float* allowed = allowance.empty() ? nullptr : &allowance[vertexIndex(x0, y)];
-      for (int x = x0; x <= x1; ++x, ++q) {
-        const double du = (mesh.gridU[size_t(x)] - u0) * su;
-        const double plane = du >= dv ? q00 + du * (q10 - q00) + dv * (q11 - q10) : q00 + dv * (q01 - q00) + du * (q11 - q01);
-        const double limit = allowed ? (rate > 0.0 ? double(allowed[x - x0]) / rate : tolerance) : tolerance;
-        if (!(std::fabs(*q - plane) <= limit)) return false;
-      }
+      // Within the tolerance: the displacement (q's error times the rate) within the allowance.
+      auto within = [&](int i, double plane) {
+        return std::fabs(q[i] - plane) * rate <= (allowed ? double(allowed[i]) : halfBound);
+      };
+      int i = 0;
+      for (; i < n && !(blockDu[size_t(i)] >= dv); ++i)
+        if (!within(i, lowerRow + blockDu[size_t(i)] * lowerU)) return false;
+      for (; i < n; ++i)
+        if (!within(i, q00 + blockDu[size_t(i)] * upperU + upperRow)) return false;
     }
     return true;
   };

@@ -269,29 +269,30 @@ void MeshSynthesizer::buildMeshes(const std::vector<ReferenceFrame>& references)
 void MeshSynthesizer::buildMeshesNow(const std::vector<ReferenceFrame>& references) {
   VS_CHECK(references.size() == views_.size());
   const SynthesisSettings& s = scene_.settings;
-  alignedDepthSamples_ = 0;
-  std::vector<const Plane*> lumas, depths;
+  std::vector<const Plane*> lumas;
   for (const ReferenceFrame& reference : references) lumas.push_back(&reference.texture->planes[0]);
-  for (size_t k = 0; k < views_.size(); ++k) {
-    ViewState& view = views_[k];
-    const Plane* depth = references[k].depth;
-    if (plan_.missingDepthFill) {
-      fillMissingDepthRuns(*depth, plan_.missingDepthLevel, inverseZTable(s.references[k].depthRange), view.filledDepth,
-                           view.filledSamples);
-      if (plan_.missingDepthRunTest)
-        testFilledRuns(scene_, k, references, plan_.missingDepthLevel, view.filledDepth, view.filledSamples);
-      depth = &view.filledDepth;
-    }
-    depths.push_back(&aligner_.align(k, *depth, lumas, alignedDepthSamples_));
-  }
-  // The views' meshes on the worker threads, one view each.
+  // Each view on a worker thread of its own, from its depth map to its mesh: missing-depth runs
+  // filled, edges aligned (each reads only its own state and every view's inputs), mesh built.
+  std::vector<size_t> moved(views_.size(), 0);
   parallelRanges(
       int(views_.size()),
       [&](int first, int last) {
-        for (int k = first; k < last; ++k)
-          views_[size_t(k)].builder.build(*depths[size_t(k)], views_[size_t(k)].mesh, lumas[size_t(k)]);
+        for (size_t k = size_t(first); k < size_t(last); ++k) {
+          ViewState& view = views_[k];
+          const Plane* depth = references[k].depth;
+          if (plan_.missingDepthFill) {
+            fillMissingDepthRuns(*depth, plan_.missingDepthLevel, inverseZTable(s.references[k].depthRange), view.filledDepth,
+                                 view.filledSamples);
+            if (plan_.missingDepthRunTest)
+              testFilledRuns(scene_, k, references, plan_.missingDepthLevel, view.filledDepth, view.filledSamples);
+            depth = &view.filledDepth;
+          }
+          view.builder.build(aligner_.align(k, *depth, lumas, moved[k]), view.mesh, lumas[k]);
+        }
       },
       double(views_.size()));
+  alignedDepthSamples_ = 0;
+  for (size_t samples : moved) alignedDepthSamples_ += samples;
 }
 
 std::string MeshSynthesizer::meshSizeLine() const {
