@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <limits>
 #include <set>
 #include <utility>
 #include <vector>
@@ -137,6 +138,9 @@ TEST(MeshAdaptive, SameAreaNoTJunctionAndEverySampleWithinTheBound) {
     // inverse depth interpolated at its position in the triangles that contain it, times the rate.
     std::vector<uint8_t> inGrid(grid.vertexCount(), 0);
     for (uint32_t i : grid.triangles) inGrid[i] = 1;
+    // The vertices hold q (<= 1/100 here) in float: the interpolated q is exact to a few of its ulps,
+    // each 1.2e-5 px at this rate, whatever the triangles (the old 1e-6 px held only by luck of the fan).
+    const double floatSlack = 4.0 * double(std::numeric_limits<float>::epsilon()) * 0.01 * kRate;
     double worst = 0.0;
     size_t checked = 0;
     for (uint32_t i = 0; i < uint32_t(grid.vertexCount()); ++i) {
@@ -157,10 +161,10 @@ TEST(MeshAdaptive, SameAreaNoTJunctionAndEverySampleWithinTheBound) {
         if (beta < -1e-9 || gamma < -1e-9 || beta + gamma > 1.0 + 1e-9) continue;
         const double interpolated = (1.0 - beta - gamma) * qOf(mesh, a) + beta * qOf(mesh, b) + gamma * qOf(mesh, c);
         const double error = std::fabs(interpolated - q) * kRate;
-        EXPECT_LE(error, maxError + 1e-6) << "vertex " << i << ", MeshMaxError " << maxError;
+        EXPECT_LE(error, maxError + floatSlack) << "vertex " << i << ", MeshMaxError " << maxError;
         if (maxColourError > 0.0) {  // with the texture: the colour error the displacement causes
           const int x = std::clamp(int(std::lround(u)), 0, kWidth - 1), y = std::clamp(int(std::lround(v)), 0, kHeight - 1);
-          EXPECT_LE(error * lumaStep(luma, x, y), maxColourError + 1e-6) << "vertex " << i;
+          EXPECT_LE(error * lumaStep(luma, x, y), maxColourError + floatSlack * lumaStep(luma, x, y)) << "vertex " << i;
         }
         worst = std::max(worst, error);
         found = true;

@@ -28,11 +28,7 @@ int main(int argc, char** argv) {
   tool.validate = [](const vs::Config& config, const vs::Scene& scene) {
     vs::readMeshSettings(config);
     vs::makePlan(scene, vs::Tool::MeshRender);  // refuses what MeshRender cannot do, as a run would
-    // The frame loop would refuse it at frame 0 (Pipeline/FrameLoop.cpp); --check says so up front.
-    if (!scene.virtualCameraPerFrame.empty())
-      throw vs::InputError(config.origin("VirtualPoseTraceName") +
-                           ": VirtualPoseTraceName: MeshRender does not move its virtual camera along a pose trace "
-                           "(ViewSyn does)");
+    // A pose trace (VirtualPoseTraceName) moves the virtual camera frame by frame, as in ViewSyn.
   };
   tool.extraOutputs = [](const vs::Config& config, const vs::Scene& scene) {
     std::vector<vs::NamedOutput> plyFiles;  // MeshPlyOutput: one file per reference view

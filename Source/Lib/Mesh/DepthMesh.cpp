@@ -7,6 +7,7 @@
 #include <utility>
 
 #include "Common/Error.h"
+#include "Mesh/MeshErp.h"
 
 namespace vs {
 
@@ -36,6 +37,43 @@ constexpr int kPlanarLevelSlack = 2;
 inline double relativeStep(double qa, double qb) {
   const double hi = std::max(qa, qb);
   return hi > 0.0 ? 1.0 - std::min(qa, qb) / hi : 0.0;
+}
+
+// A grid cell's triangles, as build() decides them, in one byte: the low 3 bits say how the quad is
+// split (kCellTriangles), bits 3 and 4 which of its (at most two) triangles are kept. The adaptive
+// merge and the plain grid both write the kept ones from it, so no full-grid index list is stored.
+constexpr uint8_t kSplitMain = 0, kSplitAnti = 1;  // four valid corners, split along either diagonal
+// 2 + k: only corner k is invalid, one triangle; kNoTriangle: fewer than three valid corners.
+constexpr uint8_t kNoTriangle = 6;
+constexpr uint8_t kKeptFirst = 8, kKeptSecond = 16;
+// The corners (0 (c, r), 1 (c+1, r), 2 (c, r+1), 3 (c+1, r+1)) of each split's triangles, in the order
+// they were always emitted in; -1: no second triangle.
+constexpr int kCellTriangles[7][2][3] = {{{0, 1, 3}, {0, 3, 2}}, {{0, 1, 2}, {1, 3, 2}}, {{1, 3, 2}, {-1, -1, -1}},
+                                         {{0, 3, 2}, {-1, -1, -1}}, {{0, 1, 3}, {-1, -1, -1}}, {{0, 1, 2}, {-1, -1, -1}},
+                                         {{-1, -1, -1}, {-1, -1, -1}}};
+
+// Appends the kept triangles of the cell whose corner 0 is vertex q0 (grid `columns` wide).
+inline void appendCellTriangles(uint8_t code, uint32_t q0, int columns, std::vector<uint32_t>& triangles) {
+  const uint32_t corners[4] = {q0, q0 + 1, q0 + uint32_t(columns), q0 + uint32_t(columns) + 1};
+  const int split = code & 7;
+  for (int t = 0; t < 2; ++t)
+    if (code & (t == 0 ? kKeptFirst : kKeptSecond)) {
+      const int* k = kCellTriangles[split][t];
+      triangles.insert(triangles.end(), {corners[k[0]], corners[k[1]], corners[k[2]]});
+    }
+}
+
+// The index of the last of `lines` (-0.5, 0, step, 2 step, ..., size - 1, size - 0.5) at or before
+// `position`, clamped to [0, lines.size() - 2]: the cell of the grid along one axis. A binary search
+// gives the same; this guesses from the step and corrects the guess against the lines themselves.
+inline int cellOf(const std::vector<double>& lines, int step, double position) {
+  const int last = int(lines.size()) - 2;
+  if (!(position < lines[size_t(last)])) return last;  // also NaN, as the search's end
+  if (!(position >= lines[1])) return 0;
+  int c = std::min(1 + int(position / double(step)), last);
+  while (c > 0 && lines[size_t(c)] > position) --c;
+  while (c < last && lines[size_t(c) + 1] <= position) ++c;
+  return c;
 }
 
 }  // namespace
@@ -72,6 +110,10 @@ DepthMeshBuilder::DepthMeshBuilder(const Camera& reference, const DepthRange& ra
     inverseZ_[size_t(options.missingDepthLevel)] = std::nan("");
   gridPositions(width, options.gridStep, gridU_, pixelU_);
   gridPositions(height, options.gridStep, gridV_, pixelV_);
+  if (reference.isEquirectangular()) {  // rays, the wrap column and the poles (MeshErp.h)
+    VS_CHECK(options.depthType == kDepthTypeCamera && !rate_);
+    erpMeshGrid(reference, gridU_, pixelU_, gridV_, erpRays_, erpPoleRows_);
+  }
   if (options.depthType == kDepthTypeWorld) {
     // As referenceVertex(): a ray (nearly) parallel to the plane z = Z gets D_z = 0, which drops it.
     const Mat3 cameraToWorld = inverse(reference.R);
@@ -90,6 +132,7 @@ void DepthMeshBuilder::build(const Plane& depth, DepthMesh& mesh, const Plane* l
   const size_t count = size_t(columns) * size_t(rows);
   mesh.columns = columns;
   mesh.rows = rows;
+  mesh.gridStep = options_.gridStep;
   mesh.gridU = gridU_;
   mesh.gridV = gridV_;
   mesh.vertices.assign(count * 4, 0.0f);
@@ -97,7 +140,6 @@ void DepthMeshBuilder::build(const Plane& depth, DepthMesh& mesh, const Plane* l
   mesh.valid.assign(count, 0);
   mesh.cellSplit.assign(size_t(columns - 1) * size_t(rows - 1), 0);
   mesh.triangles.clear();
-  mesh.triangles.reserve(count * 6);
   mesh.points.clear();
   mesh.farthestOrphans.clear();
   mesh.droppedTriangles = 0;
@@ -107,7 +149,7 @@ void DepthMeshBuilder::build(const Plane& depth, DepthMesh& mesh, const Plane* l
 
   const bool world = options_.depthType == kDepthTypeWorld;
   // Levels are affine in the image on a plane only for camera depth (DepthType 0).
-  const bool planarEdges = options_.depthType == kDepthTypeCamera;
+  const bool planarEdges = options_.depthType == kDepthTypeCamera;  // ERP: its own form (MeshErp.h)
   const double centreZ = reference_.t.z;
   for (int r = 0; r < rows; ++r) {
     const uint16_t* depthRow = depth.row(pixelV_[size_t(r)]);
@@ -116,6 +158,19 @@ void DepthMeshBuilder::build(const Plane& depth, DepthMesh& mesh, const Plane* l
       const uint16_t sampleLevel = depthRow[pixelU_[size_t(c)]];
       double w = sampleLevel < inverseZ_.size() ? inverseZ_[sampleLevel] : std::nan("");
       if (std::isnan(w)) continue;
+      if (!erpRays_.empty()) {  // ERP: (ray, 1 / distance) (MeshErp.h)
+        if (!(w >= 0.0) || !std::isfinite(w)) continue;
+        const Vec3& ray = erpRays_[i];
+        float* vertex = &mesh.vertices[i * 4];
+        vertex[0] = float(ray.x);
+        vertex[1] = float(ray.y);
+        vertex[2] = float(ray.z);
+        vertex[3] = float(w);
+        mesh.valid[i] = 1;
+        cameraInverseZ[i] = w;
+        level[i] = sampleLevel;
+        continue;
+      }
       // referenceVertex() without recomputing the ray per vertex: the same formula, D_z cached.
       double a = 1.0;
       if (world) {
@@ -139,6 +194,8 @@ void DepthMeshBuilder::build(const Plane& depth, DepthMesh& mesh, const Plane* l
     }
   }
 
+  if (!erpPoleRows_.empty()) joinErpPoleRows(erpPoleRows_, mesh, cameraInverseZ);
+
   const double threshold = options_.discontinuityThreshold;
   // A grid edge from vertex a to vertex b lies on a plane when it belongs to four valid vertices in a
   // row on its line (a and b, and two more before, after, or one on each side) whose depth levels
@@ -156,6 +213,7 @@ void DepthMeshBuilder::build(const Plane& depth, DepthMesh& mesh, const Plane* l
       const size_t i = inside ? size_t(r) * columns + c : 0;
       line[k + 2] = inside && mesh.valid[i] ? level[i] : std::numeric_limits<int>::min();
     }
+    if (!erpRays_.empty()) return erpEdgeOnPlane(reference_, gridU_, gridV_, erpPoleRows_, ra, ca, dr, dc, line);
     const int step = line[3] - line[2];
     for (int first = 0; first <= 2; ++first) {  // windows line[first .. first + 3], all hold a and b
       bool even = true;
@@ -188,47 +246,50 @@ void DepthMeshBuilder::build(const Plane& depth, DepthMesh& mesh, const Plane* l
     }
     return link[0] && link[1] && link[2];
   };
+  // Each cell's split and kept triangles (kCellTriangles); the vertices of kept triangles are `used`.
+  const int cellsX = columns - 1;
+  std::vector<uint8_t> cellCode(size_t(cellsX) * size_t(rows - 1), kNoTriangle);
+  std::vector<uint8_t> used(count, 0);
   auto emit = [&](uint32_t a, uint32_t b, uint32_t c) {
     if (kept(a, b, c)) {
-      mesh.triangles.insert(mesh.triangles.end(), {a, b, c});
-      return;
+      used[a] = used[b] = used[c] = 1;
+      ++mesh.gridTriangles;
+      return true;
     }
     ++mesh.droppedTriangles;
     mesh.boundary[a] = mesh.boundary[b] = mesh.boundary[c] = 1.0f;
+    return false;
   };
-  // Where each cell's triangles start in mesh.triangles (the adaptive merge copies the cells it keeps).
-  std::vector<uint32_t> cellStart;
-  if (rate_) cellStart.reserve(size_t(columns - 1) * size_t(rows - 1) + 1);
   for (int r = 0; r + 1 < rows; ++r)
     for (int c = 0; c + 1 < columns; ++c) {
-      if (rate_) cellStart.push_back(uint32_t(mesh.triangles.size()));
-      // Corners: 0 (c, r), 1 (c+1, r), 2 (c, r+1), 3 (c+1, r+1).
-      const uint32_t q0 = uint32_t(size_t(r) * columns + c), q1 = q0 + 1, q2 = q0 + uint32_t(columns), q3 = q2 + 1;
-      const int validCount = mesh.valid[q0] + mesh.valid[q1] + mesh.valid[q2] + mesh.valid[q3];
+      uint8_t& code = cellCode[size_t(r) * size_t(cellsX) + size_t(c)];
+      const uint32_t q[4] = {uint32_t(size_t(r) * columns + c), uint32_t(size_t(r) * columns + c) + 1,
+                             uint32_t(size_t(r + 1) * columns + c), uint32_t(size_t(r + 1) * columns + c) + 1};
+      const int validCount = mesh.valid[q[0]] + mesh.valid[q[1]] + mesh.valid[q[2]] + mesh.valid[q[3]];
       if (validCount < 4) {
         // Next to missing data: what is left is a mesh border.
-        for (uint32_t q : {q0, q1, q2, q3})
-          if (mesh.valid[q]) mesh.boundary[q] = 1.0f;
+        for (uint32_t corner : q)
+          if (mesh.valid[corner]) mesh.boundary[corner] = 1.0f;
         if (validCount < 3) {
           mesh.droppedTriangles += 2;
           continue;
         }
         ++mesh.droppedTriangles;
-        if (!mesh.valid[q0]) emit(q1, q3, q2);
-        else if (!mesh.valid[q1]) emit(q0, q3, q2);
-        else if (!mesh.valid[q2]) emit(q0, q1, q3);
-        else emit(q0, q1, q2);
-        continue;
-      }
-      // Split along the diagonal whose ends are closer in depth: across a depth step that keeps one
-      // triangle whole on each side instead of stretching both.
-      if (relativeStep(cameraInverseZ[q0], cameraInverseZ[q3]) <= relativeStep(cameraInverseZ[q1], cameraInverseZ[q2])) {
-        emit(q0, q1, q3);
-        emit(q0, q3, q2);
+        int missing = 0;
+        while (mesh.valid[q[missing]]) ++missing;
+        code = uint8_t(2 + missing);
       } else {
-        mesh.cellSplit[size_t(r) * size_t(columns - 1) + size_t(c)] = 1;
-        emit(q0, q1, q2);
-        emit(q1, q3, q2);
+        // Split along the diagonal whose ends are closer in depth: across a depth step that keeps one
+        // triangle whole on each side instead of stretching both.
+        const bool anti = !(relativeStep(cameraInverseZ[q[0]], cameraInverseZ[q[3]]) <=
+                            relativeStep(cameraInverseZ[q[1]], cameraInverseZ[q[2]]));
+        if (anti) mesh.cellSplit[size_t(r) * size_t(cellsX) + size_t(c)] = 1;
+        code = anti ? kSplitAnti : kSplitMain;
+      }
+      const int split = code;
+      for (int t = 0; t < 2; ++t) {
+        const int* k = kCellTriangles[split][t];
+        if (k[0] >= 0 && emit(q[k[0]], q[k[1]], q[k[2]])) code = uint8_t(code | (t == 0 ? kKeptFirst : kKeptSecond));
       }
     }
 
@@ -247,27 +308,31 @@ void DepthMeshBuilder::build(const Plane& depth, DepthMesh& mesh, const Plane* l
       }
     return true;
   };
-  std::vector<uint8_t> used(count, 0);
-  for (uint32_t index : mesh.triangles) used[index] = 1;
   for (size_t i = 0; i < count; ++i) {
     if (used[i] ? mesh.boundary[i] > 0.0f : mesh.valid[i] && !farthestAround(i)) mesh.points.push_back(uint32_t(i));
     else if (!used[i] && mesh.valid[i]) mesh.farthestOrphans.push_back(uint32_t(i));
   }
-  mesh.gridTriangles = mesh.triangleCount();
-  if (rate_) {
-    cellStart.push_back(uint32_t(mesh.triangles.size()));
-    merge(mesh, cameraInverseZ, cellStart, luma && luma->width == width_ && luma->height == height_ ? luma : nullptr);
-  }
+  // The adaptive mesh has at most the grid's triangles (a merged block of s x s cells, s >= 2, is at
+  // most 4 s triangles against the grid's 2 s^2): one allocation, of which only the used part is touched.
+  mesh.triangles.reserve(mesh.gridTriangles * 3);
+  if (rate_ && merge(mesh, cameraInverseZ, cellCode, luma && luma->width == width_ && luma->height == height_ ? luma : nullptr))
+    return;
+  // The grid's triangles as they are, cell by cell.
+  for (int r = 0; r + 1 < rows; ++r)
+    for (int c = 0; c + 1 < columns; ++c)
+      appendCellTriangles(cellCode[size_t(r) * size_t(cellsX) + size_t(c)], uint32_t(size_t(r) * columns + c), columns,
+                          mesh.triangles);
 }
 
 bool DepthMesh::edgeAt(double u, double v) const {
   if (columns < 2 || rows < 2) return false;
   // The cell: the last grid line at or before the position, clamped to the grid.
-  const int c = std::clamp(int(std::upper_bound(gridU.begin(), gridU.end(), u) - gridU.begin()) - 1, 0, columns - 2);
-  const int r = std::clamp(int(std::upper_bound(gridV.begin(), gridV.end(), v) - gridV.begin()) - 1, 0, rows - 2);
+  const int c = cellOf(gridU, gridStep, u), r = cellOf(gridV, gridStep, v);
+  const size_t q0 = size_t(r) * size_t(columns) + size_t(c), q1 = q0 + 1, q2 = q0 + size_t(columns), q3 = q2 + 1;
+  // Most cells have no corner on a dropped triangle: no weight can make them an edge.
+  if (!(boundary[q0] > 0.0f || boundary[q1] > 0.0f || boundary[q2] > 0.0f || boundary[q3] > 0.0f)) return false;
   const double fu = (u - gridU[size_t(c)]) / (gridU[size_t(c) + 1] - gridU[size_t(c)]);
   const double fv = (v - gridV[size_t(r)]) / (gridV[size_t(r) + 1] - gridV[size_t(r)]);
-  const size_t q0 = size_t(r) * size_t(columns) + size_t(c), q1 = q0 + 1, q2 = q0 + size_t(columns), q3 = q2 + 1;
   // Barycentric weights of the triangle's corners; a corner counts when its weight is above the
   // position's float rounding (as the interpolated flag of a rasterised triangle is above 0 there).
   constexpr double kWeight = 1e-3;
@@ -278,8 +343,8 @@ bool DepthMesh::edgeAt(double u, double v) const {
                         : on(q1, 1.0 - fv) || on(q2, 1.0 - fu) || on(q3, fu + fv - 1.0);
 }
 
-void DepthMeshBuilder::merge(DepthMesh& mesh, const std::vector<double>& inverseCameraZ,
-                             const std::vector<uint32_t>& cellStart, const Plane* luma) const {
+bool DepthMeshBuilder::merge(DepthMesh& mesh, const std::vector<double>& inverseCameraZ,
+                             const std::vector<uint8_t>& cellCode, const Plane* luma) const {
   const int columns = mesh.columns, rows = mesh.rows;
   const int cellsX = columns - 1, cellsY = rows - 1;
   constexpr int kMaxLevel = 7;  // blocks of at most 128 x 128 cells
@@ -289,7 +354,7 @@ void DepthMeshBuilder::merge(DepthMesh& mesh, const std::vector<double>& inverse
   std::vector<int> blocksX(1, cellsX), blocksY(1, cellsY);
   ok[0].assign(size_t(cellsX) * size_t(cellsY), 0);
   auto vertexIndex = [&](int x, int y) { return size_t(y) * size_t(columns) + size_t(x); };
-  for (size_t cell = 0; cell < ok[0].size(); ++cell) ok[0][cell] = cellStart[cell + 1] - cellStart[cell] == 6;
+  for (size_t cell = 0; cell < ok[0].size(); ++cell) ok[0][cell] = (cellCode[cell] & (kKeptFirst | kKeptSecond)) == (kKeptFirst | kKeptSecond);
   const double halfBound = 0.5 * std::max(options_.maxError, 0.0);
   // Each vertex's allowance in virtual pixels (half of it, as halfBound): MeshMaxError, capped with
   // MeshMaxColourError by the colour error a displacement causes at its pixel (the largest luma step
@@ -298,25 +363,42 @@ void DepthMeshBuilder::merge(DepthMesh& mesh, const std::vector<double>& inverse
   if (luma && options_.maxColourError > 0.0) {
     allowance.resize(mesh.vertexCount());
     const double halfColour = 0.5 * options_.maxColourError;
+    // The allowance of each step up to 1023 (10-bit samples), computed once.
+    std::vector<float> allowanceOfStep(1024);
+    auto allowanceOf = [&](int step) {
+      return float(step > 0 ? std::min(halfBound, halfColour / double(step)) : halfBound);
+    };
+    for (int step = 0; step < int(allowanceOfStep.size()); ++step) allowanceOfStep[size_t(step)] = allowanceOf(step);
+    // The largest step from a pixel to the 3 x 3 around it (clamped at the picture's border) is
+    // max(largest - centre, centre - smallest) over the 3 x 3: the largest and smallest of each column's
+    // three rows first, then of three such columns.
+    std::vector<uint16_t> columnMax(static_cast<size_t>(width_)), columnMin(static_cast<size_t>(width_));
     for (int r = 0; r < rows; ++r) {
       const int py = pixelV_[size_t(r)];
+      const uint16_t* above = luma->row(std::max(py - 1, 0));
+      const uint16_t* centreRow = luma->row(py);
+      const uint16_t* below = luma->row(std::min(py + 1, height_ - 1));
+      for (int x = 0; x < width_; ++x) {
+        columnMax[size_t(x)] = std::max({above[x], centreRow[x], below[x]});
+        columnMin[size_t(x)] = std::min({above[x], centreRow[x], below[x]});
+      }
       for (int c = 0; c < columns; ++c) {
         const int px = pixelU_[size_t(c)];
-        const int centre = luma->row(py)[px];
-        int step = 0;
-        for (int y = std::max(py - 1, 0); y <= std::min(py + 1, height_ - 1); ++y) {
-          const uint16_t* row = luma->row(y);
-          for (int x = std::max(px - 1, 0); x <= std::min(px + 1, width_ - 1); ++x) step = std::max(step, std::abs(int(row[x]) - centre));
-        }
+        const int left = std::max(px - 1, 0), right = std::min(px + 1, width_ - 1);
+        const int largest = std::max({columnMax[size_t(left)], columnMax[size_t(px)], columnMax[size_t(right)]});
+        const int smallest = std::min({columnMin[size_t(left)], columnMin[size_t(px)], columnMin[size_t(right)]});
+        const int centre = centreRow[px];
+        const int step = std::max(largest - centre, centre - smallest);
         allowance[size_t(r) * size_t(columns) + size_t(c)] =
-            float(step > 0 ? std::min(halfBound, halfColour / double(step)) : halfBound);
+            step < int(allowanceOfStep.size()) ? allowanceOfStep[size_t(step)] : allowanceOf(step);
       }
     }
   }
   // Whether every vertex of the block lies within the tolerance of the two triangles through its corners
   // (split along the diagonal from (x0, y0) to (x1, y1)). The tolerance in q is the bound over the
-  // largest displacement rate at the corners; half the bound, since a fan around the centre (drawn when
-  // a neighbour is finer) interpolates vertices that are themselves up to the tolerance off.
+  // largest displacement rate at the corners; half the bound, since the drawn triangles interpolate
+  // vertices that are themselves up to the tolerance off.
+  std::vector<double> blockDu;  // planarBlock's scratch: each column's du in the block
   auto planarBlock = [&](int x0, int y0, int size) {
     const int x1 = x0 + size, y1 = y0 + size;
     const double u0 = mesh.gridU[size_t(x0)], u1 = mesh.gridU[size_t(x1)];
@@ -330,18 +412,27 @@ void DepthMeshBuilder::merge(DepthMesh& mesh, const std::vector<double>& inverse
       if (!(r < std::numeric_limits<double>::infinity())) return false;  // not in front of the virtual camera
       rate = std::max(rate, r);
     }
-    const double tolerance = rate > 0.0 ? halfBound / rate : std::numeric_limits<double>::infinity();
     const double su = 1.0 / (u1 - u0), sv = 1.0 / (v1 - v0);
+    const int n = size + 1;
+    blockDu.resize(size_t(n));
+    for (int i = 0; i < n; ++i) blockDu[size_t(i)] = (mesh.gridU[size_t(x0 + i)] - u0) * su;  // increasing
+    // The plane at (du, dv): q00 + du (q10 - q00) + dv (q11 - q10) where du >= dv, else
+    // q00 + dv (q01 - q00) + du (q11 - q01); each row's dv terms are computed once.
+    const double upperU = q10 - q00, upperV = q11 - q10, lowerU = q11 - q01, lowerV = q01 - q00;
     for (int y = y0; y <= y1; ++y) {
       const double dv = (mesh.gridV[size_t(y)] - v0) * sv;
+      const double upperRow = dv * upperV, lowerRow = q00 + dv * lowerV;
       const double* q = &inverseCameraZ[vertexIndex(x0, y)];
       const float* allowed = allowance.empty() ? nullptr : &allowance[vertexIndex(x0, y)];
-      for (int x = x0; x <= x1; ++x, ++q) {
-        const double du = (mesh.gridU[size_t(x)] - u0) * su;
-        const double plane = du >= dv ? q00 + du * (q10 - q00) + dv * (q11 - q10) : q00 + dv * (q01 - q00) + du * (q11 - q01);
-        const double limit = allowed ? (rate > 0.0 ? double(allowed[x - x0]) / rate : tolerance) : tolerance;
-        if (!(std::fabs(*q - plane) <= limit)) return false;
-      }
+      // Within the tolerance: the displacement (q's error times the rate) within the allowance.
+      auto within = [&](int i, double plane) {
+        return std::fabs(q[i] - plane) * rate <= (allowed ? double(allowed[i]) : halfBound);
+      };
+      int i = 0;
+      for (; i < n && !(blockDu[size_t(i)] >= dv); ++i)
+        if (!within(i, lowerRow + blockDu[size_t(i)] * lowerU)) return false;
+      for (; i < n; ++i)
+        if (!within(i, q00 + blockDu[size_t(i)] * upperU + upperRow)) return false;
     }
     return true;
   };
@@ -366,7 +457,7 @@ void DepthMeshBuilder::merge(DepthMesh& mesh, const std::vector<double>& inverse
     blocksY.push_back(by);
   }
   const int top = int(ok.size()) - 1;
-  if (top == 0) return;  // nothing merged
+  if (top == 0) return false;  // nothing merged
 
   // The leaves, top-down: a merged block not inside a larger merged one; cells elsewhere. Every leaf's
   // corners are marked: a merged block's sides pass through the marked vertices of its neighbours.
@@ -394,13 +485,12 @@ void DepthMeshBuilder::merge(DepthMesh& mesh, const std::vector<double>& inverse
   for (int by = 0; by << top < cellsY; ++by)
     for (int bx = 0; bx << top < cellsX; ++bx) collect(top, bx, by);
 
-  std::vector<uint32_t> triangles;
-  triangles.reserve(mesh.triangles.size() / 4);
+  std::vector<uint32_t>& triangles = mesh.triangles;
   std::vector<uint32_t> ring;
   for (const Leaf& leaf : leaves) {
     if (leaf.level == 0) {
-      const size_t cell = size_t(leaf.y) * size_t(cellsX) + size_t(leaf.x);
-      triangles.insert(triangles.end(), mesh.triangles.begin() + cellStart[cell], mesh.triangles.begin() + cellStart[cell + 1]);
+      appendCellTriangles(cellCode[size_t(leaf.y) * size_t(cellsX) + size_t(leaf.x)], uint32_t(vertexIndex(leaf.x, leaf.y)),
+                          columns, triangles);
       continue;
     }
     const int size = 1 << leaf.level, x0 = leaf.x, y0 = leaf.y, x1 = x0 + size, y1 = y0 + size;
@@ -410,21 +500,34 @@ void DepthMeshBuilder::merge(DepthMesh& mesh, const std::vector<double>& inverse
       if (corner[vertexIndex(x, y0)]) ring.push_back(uint32_t(vertexIndex(x, y0)));
     for (int y = y0; y < y1; ++y)
       if (corner[vertexIndex(x1, y)]) ring.push_back(uint32_t(vertexIndex(x1, y)));
+    const size_t last = ring.size();  // where (x1, y1) is
     for (int x = x1; x > x0; --x)
       if (corner[vertexIndex(x, y1)]) ring.push_back(uint32_t(vertexIndex(x, y1)));
     for (int y = y1; y > y0; --y)
       if (corner[vertexIndex(x0, y)]) ring.push_back(uint32_t(vertexIndex(x0, y)));
-    const uint32_t c00 = uint32_t(vertexIndex(x0, y0)), c10 = uint32_t(vertexIndex(x1, y0));
-    const uint32_t c01 = uint32_t(vertexIndex(x0, y1)), c11 = uint32_t(vertexIndex(x1, y1));
     if (ring.size() == 4) {  // the two triangles the block was tested against
-      triangles.insert(triangles.end(), {c00, c10, c11, c00, c11, c01});
+      triangles.insert(triangles.end(), {ring[0], ring[1], ring[2], ring[0], ring[2], ring[3]});
       continue;
     }
-    const uint32_t centre = uint32_t(vertexIndex(x0 + size / 2, y0 + size / 2));
-    for (size_t k = 0; k < ring.size(); ++k)
-      triangles.insert(triangles.end(), {centre, ring[k], ring[(k + 1) % ring.size()]});
+    ring.push_back(ring[0]);
+    // Each of the two tested triangles, (x0, y0) (x1, y0) (x1, y1) and (x1, y1) (x0, y1) (x0, y0), with the
+    // marked vertices on its two outer sides: polygon p[0 .. m] whose corners are p[0], p[j] and p[m]
+    // (p[m] to p[0] is the diagonal). Triangulated without a vertex of its own: a fan from p[m] over the
+    // first side but its last piece, then a fan from the vertex before p[j] over the second side; m - 1
+    // triangles, each inside the tested triangle, so no sample is farther from them than from it plus
+    // the vertices' own tolerance. The block takes n - 2 triangles for n marked vertices.
+    auto half = [&](size_t first, size_t corner2, size_t end) {  // ring indices of p[0], p[j], p[m]
+      for (size_t k = first; k + 2 <= corner2; ++k) triangles.insert(triangles.end(), {ring[end], ring[k], ring[k + 1]});
+      const uint32_t pivot = ring[corner2 - 1];
+      for (size_t k = corner2; k < end; ++k) triangles.insert(triangles.end(), {pivot, ring[k], ring[k + 1]});
+    };
+    size_t topRight = 0, bottomLeft = last;  // ring indices of (x1, y0) and (x0, y1)
+    while (ring[topRight] != uint32_t(vertexIndex(x1, y0))) ++topRight;
+    while (ring[bottomLeft] != uint32_t(vertexIndex(x0, y1))) ++bottomLeft;
+    half(0, topRight, last);
+    half(last, bottomLeft, ring.size() - 1);
   }
-  mesh.triangles.swap(triangles);
+  return true;
 }
 
 }  // namespace vs

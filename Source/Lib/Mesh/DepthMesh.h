@@ -40,13 +40,18 @@
 // into a pixel that nothing else of their view covers and that is not part of a larger hole, which
 // gives a reference rendered into itself back exactly without letting them into disocclusions.
 //
+// An equirectangular (ERP) reference's mesh differs where Mesh/MeshErp.h says: vertices (ray, 1 / distance)
+// on the camera's rays, a full circle's wrap column instead of the border columns, pole rows joined
+// into one point, the grazing-plane rule in its ERP form, no adaptive merge.
+//
 // Adaptive mesh (MeshMaxError, doc/meshrender.md "Adaptive mesh"): given how far a point moves in the
 // virtual camera per unit of its inverse depth (a DisplacementRate, which depends on the camera model),
 // aligned square blocks of 2^k x 2^k grid cells whose every triangle is kept and whose every vertex lies
 // within the bound of the two triangles through the block's corners are merged (bottom-up, as a
-// region quadtree), at most 128 cells wide. A merged block is drawn as two triangles, or as a fan
-// around its centre vertex through every vertex of a smaller neighbour on its sides, so the mesh has
-// no T-junctions and no cracks. A cell with a dropped triangle (a depth edge) or an invalid vertex is
+// region quadtree), at most 128 cells wide. A merged block is drawn as two triangles, or, where smaller
+// neighbours put vertices on its sides, as a triangulation of each of the two tested triangles through
+// those vertices (n - 2 triangles for n vertices on the block's outline, each inside one tested
+// triangle), so the mesh has no T-junctions and no cracks. A cell with a dropped triangle (a depth edge) or an invalid vertex is
 // never merged: it stays as it is, and the merged blocks beside it pass through all its vertices, so
 // the mesh's outline keeps full resolution.
 #include <cstddef>
@@ -79,13 +84,15 @@ using DisplacementRate = std::function<double(double u, double v, double q)>;
 
 struct DepthMesh {
   int columns = 0, rows = 0;           // vertex grid size
+  int gridStep = 1;                    // MeshGridStep: spacing of the inner grid lines (gridU, gridV)
   std::vector<double> gridU, gridV;    // reference pixel position of each grid column and row
   std::vector<float> vertices;         // 4 floats a vertex, row-major over the grid: (a u, a v, a, w)
   std::vector<float> boundary;         // 1 float a vertex: 1 where it belongs to a dropped triangle
   // Per grid cell, the diagonal its quad was split along: 0 from corner (c, r) to (c+1, r+1), 1 from
   // (c+1, r) to (c, r+1). With `boundary`, it tells whether the grid triangle under a reference
   // position touches a dropped one (edgeAt), whatever triangles the adaptive mesh drew there.
-  std::vector<uint8_t> cellSplit;  std::vector<uint8_t> valid;          // 1 a vertex: a finite point in front of the reference camera
+  std::vector<uint8_t> cellSplit;
+  std::vector<uint8_t> valid;            // 1 a vertex: a finite point in front of the reference camera
   std::vector<uint32_t> triangles;     // 3 vertex indices a triangle
   std::vector<uint32_t> points;        // border vertices of kept triangles and orphans, drawn as points
   std::vector<uint32_t> farthestOrphans;  // locally farthest orphans: drawn only into their own lone hole
@@ -121,8 +128,9 @@ public:
   const MeshOptions& options() const { return options_; }
 
 private:
-  // Replaces the grid's triangles by the adaptive mesh's (the header comment).
-  void merge(DepthMesh& mesh, const std::vector<double>& inverseCameraZ, const std::vector<uint32_t>& cellStart,
+  // Writes the adaptive mesh's triangles (the header comment) from each grid cell's split and kept
+  // triangles (cellCode, DepthMesh.cpp); false, with nothing written, when no block merges.
+  bool merge(DepthMesh& mesh, const std::vector<double>& inverseCameraZ, const std::vector<uint8_t>& cellCode,
              const Plane* luma) const;
 
   Camera reference_;
@@ -133,6 +141,8 @@ private:
   std::vector<double> gridU_, gridV_;
   std::vector<int> pixelU_, pixelV_;  // depth sample each grid column and row reads
   std::vector<double> worldRayZ_;     // DepthType 1: D_z of each grid vertex
+  std::vector<Vec3> erpRays_;         // ERP reference: the unit ray of each grid vertex (MeshErp.h)
+  std::vector<int> erpPoleRows_;      // ERP reference: grid rows on a pole
 };
 
 }  // namespace vs

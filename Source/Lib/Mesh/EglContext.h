@@ -24,6 +24,7 @@ namespace vs {
   X(PFNGLVIEWPORTPROC, Viewport)                                                       \
   X(PFNGLPIXELSTOREIPROC, PixelStorei)                                                 \
   X(PFNGLFINISHPROC, Finish)                                                           \
+  X(PFNGLFLUSHPROC, Flush)                                                             \
   X(PFNGLGENVERTEXARRAYSPROC, GenVertexArrays)                                         \
   X(PFNGLBINDVERTEXARRAYPROC, BindVertexArray)                                         \
   X(PFNGLDELETEVERTEXARRAYSPROC, DeleteVertexArrays)                                   \

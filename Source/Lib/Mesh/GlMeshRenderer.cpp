@@ -63,6 +63,53 @@ void main() {
 }
 )";
 
+// The projected pass (ERP cameras, Mesh/MeshErp.h): the vertices come in clip coordinates, computed on
+// the CPU, with (u, v, n, d) per vertex: the reference pixel and q = n / d, interpolated with
+// perspective correction like the pinhole pass's. Points show their vertex's own reference position.
+const char* const kProjectedVertexShader = R"(#version 330 core
+layout(location = 0) in vec4 position;
+layout(location = 1) in vec4 reference;
+out vec4 referenceDepth;
+void main() {
+  gl_Position = position;
+  referenceDepth = reference;
+}
+)";
+
+const char* const kProjectedFragmentShader = R"(#version 330 core
+in vec4 referenceDepth;
+uniform float drawnMark;
+layout(location = 0) out vec4 referenceDepthFlags;
+void main() {
+  referenceDepthFlags = vec4(referenceDepth.xy, max(referenceDepth.z / referenceDepth.w, 0.0), drawnMark);
+}
+)";
+
+// The triangles' own pair of shaders: the same values as the pair above with drawingPoints 0 and
+// drawnMark 1, from two varyings instead of three. llvmpipe stores every varying's plane equations
+// with each binned triangle (48 bytes each), and binning ~200 000 triangles a view touches tens of
+// megabytes of fresh memory, which costs more than the rasterisation on this machine.
+const char* const kTriangleVertexShader = R"(#version 330 core
+layout(location = 0) in vec4 vertex;
+uniform mat4 clipFromReference;
+out vec4 referenceVertex;
+void main() {
+  gl_Position = clipFromReference * vertex;
+  referenceVertex = vertex;
+}
+)";
+
+const char* const kTriangleFragmentShader = R"(#version 330 core
+in vec4 referenceVertex;
+layout(location = 0) out vec4 referenceDepthFlags;
+void main() {
+  referenceDepthFlags = vec4(referenceVertex.xy / referenceVertex.z, max(referenceVertex.w * gl_FragCoord.w, 0.0), 1.0);
+}
+)";
+
+// Parts a view's triangles are drawn in (GlMeshRenderer::render).
+constexpr int kDrawParts = 4;
+
 // Inverse of a 4x4 matrix by Gauss-Jordan elimination with partial pivoting, in double; false when
 // it is singular (a pivot below 1e-12 of the largest entry).
 bool inverse(const Mat4& a, Mat4& result) {
@@ -123,16 +170,54 @@ float bilinear(const Plane& plane, double x, double y) {
   return float(top + ay * (bottom - top));
 }
 
+// Compiles and links a vertex and a fragment shader into a program; throws InputError when the driver
+// cannot.
+GLuint linkProgram(const GlFunctions& gl, const char* vertexSource, const char* fragmentSource) {
+  const GLuint vertexShader = compileShader(gl, GL_VERTEX_SHADER, vertexSource);
+  GLuint fragmentShader = 0;
+  try {
+    fragmentShader = compileShader(gl, GL_FRAGMENT_SHADER, fragmentSource);
+  } catch (...) {
+    gl.DeleteShader(vertexShader);
+    throw;
+  }
+  const GLuint program = gl.CreateProgram();
+  gl.AttachShader(program, vertexShader);
+  gl.AttachShader(program, fragmentShader);
+  gl.LinkProgram(program);
+  gl.DeleteShader(vertexShader);
+  gl.DeleteShader(fragmentShader);
+  GLint linked = 0;
+  gl.GetProgramiv(program, GL_LINK_STATUS, &linked);
+  if (!linked) {
+    char log[4096] = {0};
+    gl.GetProgramInfoLog(program, sizeof log, nullptr, log);
+    gl.DeleteProgram(program);
+    throw InputError(std::string("the OpenGL driver cannot link MeshRender's shaders: ") + log);
+  }
+  return program;
+}
+
 }  // namespace
+
+// The GL objects of the projected pass, created on its first use.
+struct ProjectedPass {
+  GLuint program = 0, vertexArray = 0, positionBuffer = 0, attributeBuffer = 0, indexBuffer = 0;
+  GLint drawnMarkLocation = -1;
+  GLsizeiptr positionBytes = 0, attributeBytes = 0, indexBytes = 0;
+  GLsizei triangleIndexCount = 0, pointCount = 0, orphanCount = 0;
+  std::vector<uint32_t> indices;  // triangles, then points, then locally farthest orphans
+};
 
 struct GlMeshRenderer::Impl {
   EglContext context;
   const GlFunctions& gl;
-  GLuint program = 0, vertexArray = 0, vertexBuffer = 0, indexBuffer = 0;
+  GLuint program = 0, triangleProgram = 0, vertexArray = 0, vertexBuffer = 0, indexBuffer = 0;
   GLsizei pointCount = 0;
   GLsizei orphanCount = 0;  // locally farthest orphans, after the points in `indices`
   std::vector<uint32_t> indices;  // triangles, then points, then locally farthest orphans
   GLuint framebuffer = 0, colourBuffer = 0, depthBuffer = 0;
+  GLint triangleClipLocation = -1;
   GLint clipLocation = -1, referenceFromClipLocation = -1, viewportLocation = -1, drawingPointsLocation = -1,
         drawnMarkLocation = -1;
   int framebufferWidth = 0, framebufferHeight = 0;
@@ -142,32 +227,22 @@ struct GlMeshRenderer::Impl {
   std::vector<Plane> planes;                // the "texture": the reference planes, sampled on the CPU
   std::unique_ptr<SubPixelSampler> sampler;  // null: exact bilinear
   std::vector<float> readBack;              // last render: (u, v, q, flags) per sample
+  std::vector<uint8_t> edges;               // last render: edgeAt() of each drawn sample
   const DepthMesh* mesh = nullptr;          // the uploaded mesh (its edge flags)
   int renderedWidth = 0, renderedHeight = 0;
+  std::unique_ptr<ProjectedPass> projected;  // ERP cameras (uploadProjectedMesh)
+  double referenceWrap = 0.0;                // setReferenceWrap: columns in a turn of the reference; 0 none
 
   Impl() : gl(context.gl()) {
-    const GLuint vertexShader = compileShader(gl, GL_VERTEX_SHADER, kVertexShader);
-    GLuint fragmentShader = 0;
+    program = linkProgram(gl, kVertexShader, kFragmentShader);
     try {
-      fragmentShader = compileShader(gl, GL_FRAGMENT_SHADER, kFragmentShader);
+      triangleProgram = linkProgram(gl, kTriangleVertexShader, kTriangleFragmentShader);
     } catch (...) {
-      gl.DeleteShader(vertexShader);
+      gl.DeleteProgram(program);
       throw;
     }
-    program = gl.CreateProgram();
-    gl.AttachShader(program, vertexShader);
-    gl.AttachShader(program, fragmentShader);
-    gl.LinkProgram(program);
-    gl.DeleteShader(vertexShader);
-    gl.DeleteShader(fragmentShader);
-    GLint linked = 0;
-    gl.GetProgramiv(program, GL_LINK_STATUS, &linked);
-    if (!linked) {
-      char log[4096] = {0};
-      gl.GetProgramInfoLog(program, sizeof log, nullptr, log);
-      gl.DeleteProgram(program);
-      throw InputError(std::string("the OpenGL driver cannot link MeshRender's shaders: ") + log);
-    }
+    triangleClipLocation = gl.GetUniformLocation(triangleProgram, "clipFromReference");
+    VS_CHECK(triangleClipLocation >= 0);
     clipLocation = gl.GetUniformLocation(program, "clipFromReference");
     referenceFromClipLocation = gl.GetUniformLocation(program, "referenceFromClip");
     viewportLocation = gl.GetUniformLocation(program, "viewportSize");
@@ -194,6 +269,13 @@ struct GlMeshRenderer::Impl {
 
   ~Impl() {
     context.makeCurrent();
+    if (projected) {
+      gl.DeleteBuffers(1, &projected->positionBuffer);
+      gl.DeleteBuffers(1, &projected->attributeBuffer);
+      gl.DeleteBuffers(1, &projected->indexBuffer);
+      gl.DeleteVertexArrays(1, &projected->vertexArray);
+      gl.DeleteProgram(projected->program);
+    }
     gl.DeleteFramebuffers(1, &framebuffer);
     gl.DeleteRenderbuffers(1, &colourBuffer);
     gl.DeleteRenderbuffers(1, &depthBuffer);
@@ -201,6 +283,7 @@ struct GlMeshRenderer::Impl {
     gl.DeleteBuffers(1, &indexBuffer);
     gl.DeleteVertexArrays(1, &vertexArray);
     gl.DeleteProgram(program);
+    gl.DeleteProgram(triangleProgram);
   }
 
   void checkErrors(const char* what) const {
@@ -263,6 +346,23 @@ struct GlMeshRenderer::Impl {
     }
   }
 
+  // Binds the framebuffer for `grid`, cleared, with the depth test on.
+  void beginRender(const RenderGrid& grid) {
+    context.makeCurrent();
+    VS_CHECK(!planes.empty() && grid.width > 0 && grid.height > 0);
+    ensureFramebuffer(grid.width, grid.height);
+    gl.BindFramebuffer(GL_FRAMEBUFFER, framebuffer);
+    gl.Viewport(0, 0, grid.width, grid.height);
+    const float clearReference[4] = {0.0f, 0.0f, float(kNoDepth), 0.0f};
+    const float clearDepth = 1.0f;
+    gl.ClearBufferfv(GL_COLOR, 0, clearReference);
+    gl.ClearBufferfv(GL_DEPTH, 0, &clearDepth);
+    gl.Enable(GL_DEPTH_TEST);
+    gl.DepthFunc(GL_LESS);  // smaller z_ndc is larger q: nearer
+    gl.Disable(GL_CULL_FACE);
+    gl.Disable(GL_BLEND);
+  }
+
   // The edge flag of a sample: every point is on an edge (a border vertex, or an orphan); a triangle's
   // fragment is when the grid triangle under its reference position touches a dropped one.
   bool edgeAt(const float* sample) const { return sample[3] != 1.0f || (mesh && mesh->edgeAt(sample[0], sample[1])); }
@@ -319,24 +419,27 @@ void GlMeshRenderer::render(const Mat4& clip, const RenderGrid& grid, const Texe
                             RenderExtras* extras) {
   Impl& s = *impl_;
   const GlFunctions& gl = s.gl;
-  s.context.makeCurrent();
-  VS_CHECK(!s.planes.empty() && grid.width > 0 && grid.height > 0);
-  s.ensureFramebuffer(grid.width, grid.height);
+  s.beginRender(grid);
 
-  gl.BindFramebuffer(GL_FRAMEBUFFER, s.framebuffer);
-  gl.Viewport(0, 0, grid.width, grid.height);
-  const float clearReference[4] = {0.0f, 0.0f, float(kNoDepth), 0.0f};
-  const float clearDepth = 1.0f;
-  gl.ClearBufferfv(GL_COLOR, 0, clearReference);
-  gl.ClearBufferfv(GL_DEPTH, 0, &clearDepth);
-  gl.Enable(GL_DEPTH_TEST);
-  gl.DepthFunc(GL_LESS);  // smaller z_ndc is larger q: nearer
-  gl.Disable(GL_CULL_FACE);
-  gl.Disable(GL_BLEND);
-
-  gl.UseProgram(s.program);
   float matrix[16];
   toGlMatrix(clip, matrix);
+  gl.BindVertexArray(s.vertexArray);
+  if (s.triangleIndexCount > 0) {
+    gl.UseProgram(s.triangleProgram);
+    gl.UniformMatrix4fv(s.triangleClipLocation, 1, GL_FALSE, matrix);
+    // In parts, each flushed: a software rasteriser (llvmpipe) bins a part's triangles on this thread
+    // and rasterises a flushed part on its own threads, so binning the next part overlaps rasterising
+    // this one instead of leaving the other cores idle. Same triangles in the same order: same pixels.
+    const GLsizei triangles = s.triangleIndexCount / 3;
+    for (int part = 0; part < kDrawParts; ++part) {
+      const GLsizei first = GLsizei(int64_t(triangles) * part / kDrawParts), last = GLsizei(int64_t(triangles) * (part + 1) / kDrawParts);
+      if (last == first) continue;
+      gl.DrawElements(GL_TRIANGLES, 3 * (last - first), GL_UNSIGNED_INT,
+                      reinterpret_cast<const void*>(size_t(first) * 3 * sizeof(uint32_t)));
+      if (part + 1 < kDrawParts) gl.Flush();
+    }
+  }
+  gl.UseProgram(s.program);
   gl.UniformMatrix4fv(s.clipLocation, 1, GL_FALSE, matrix);
   // Points look along their fragments' own rays (the shader's drawingPoints); where the matrix cannot
   // be inverted they keep the vertex's position.
@@ -345,10 +448,6 @@ void GlMeshRenderer::render(const Mat4& clip, const RenderGrid& grid, const Texe
   toGlMatrix(back, matrix);
   gl.UniformMatrix4fv(s.referenceFromClipLocation, 1, GL_FALSE, matrix);
   gl.Uniform2f(s.viewportLocation, float(grid.width), float(grid.height));
-  gl.Uniform1i(s.drawingPointsLocation, 0);
-  gl.Uniform1f(s.drawnMarkLocation, 1.0f);
-  gl.BindVertexArray(s.vertexArray);
-  if (s.triangleIndexCount > 0) gl.DrawElements(GL_TRIANGLES, s.triangleIndexCount, GL_UNSIGNED_INT, nullptr);
   // One-pixel points (the default point size) after the triangles: the depth test keeps the nearer.
   // Marked 3: drawn, and on an edge.
   gl.Uniform1i(s.drawingPointsLocation, invertible ? 1 : 0);
@@ -368,6 +467,13 @@ void GlMeshRenderer::render(const Mat4& clip, const RenderGrid& grid, const Texe
     gl.DepthFunc(GL_LESS);
   }
 
+  finishRender(grid, texelMap, layer, extras);
+}
+
+void GlMeshRenderer::finishRender(const RenderGrid& grid, const TexelMap& texelMap, WarpedLayer& layer,
+                                  RenderExtras* extras) {
+  Impl& s = *impl_;
+  const GlFunctions& gl = s.gl;
   // Framebuffer row 0 is image row 0 (MeshProjection.h): read back as it lies.
   const int width = grid.width, height = grid.height;
   const size_t n = size_t(width) * size_t(height);
@@ -391,6 +497,12 @@ void GlMeshRenderer::render(const Mat4& clip, const RenderGrid& grid, const Texe
       if (!(drawn(x - 1, y) && drawn(x + 1, y) && drawn(x, y - 1) && drawn(x, y + 1))) rejected.push_back(i);
     }
   for (size_t i : rejected) samples[i * 4 + 3] = 0.0f;
+  // Each drawn sample's edge flag, once: the luma and the chroma samplings read it.
+  s.edges.resize(n);
+  parallelRanges(height, [&](int y0, int y1) {
+    for (size_t i = size_t(y0) * size_t(width); i < size_t(y1) * size_t(width); ++i)
+      s.edges[i] = samples[i * 4 + 3] != 0.0f && s.edgeAt(samples + i * 4) ? 1 : 0;
+  });
 
   sampleRender(s.planes, texelMap, layer);
   if (extras) {
@@ -402,6 +514,80 @@ void GlMeshRenderer::render(const Mat4& clip, const RenderGrid& grid, const Texe
         extras->referenceV[i] = samples[i * 4 + 1];
       }
   }
+}
+
+void GlMeshRenderer::setReferenceWrap(double columns) { impl_->referenceWrap = columns; }
+
+void GlMeshRenderer::uploadProjectedMesh(const ProjectedMesh& mesh) {
+  Impl& s = *impl_;
+  const GlFunctions& gl = s.gl;
+  s.context.makeCurrent();
+  VS_CHECK(mesh.mesh && mesh.attributes.size() == mesh.positions.size());
+  VS_CHECK(mesh.triangles.size() + mesh.points.size() + mesh.farthestOrphans.size() <=
+           size_t(std::numeric_limits<GLsizei>::max()));
+  if (!s.projected) {
+    auto pass = std::make_unique<ProjectedPass>();
+    pass->program = linkProgram(gl, kProjectedVertexShader, kProjectedFragmentShader);
+    pass->drawnMarkLocation = gl.GetUniformLocation(pass->program, "drawnMark");
+    VS_CHECK(pass->drawnMarkLocation >= 0);
+    gl.GenVertexArrays(1, &pass->vertexArray);
+    gl.BindVertexArray(pass->vertexArray);
+    gl.GenBuffers(1, &pass->positionBuffer);
+    gl.GenBuffers(1, &pass->attributeBuffer);
+    gl.GenBuffers(1, &pass->indexBuffer);
+    gl.BindBuffer(GL_ARRAY_BUFFER, pass->positionBuffer);
+    gl.VertexAttribPointer(0, 4, GL_FLOAT, GL_FALSE, 0, nullptr);
+    gl.EnableVertexAttribArray(0);
+    gl.BindBuffer(GL_ARRAY_BUFFER, pass->attributeBuffer);
+    gl.VertexAttribPointer(1, 4, GL_FLOAT, GL_FALSE, 0, nullptr);
+    gl.EnableVertexAttribArray(1);
+    gl.BindBuffer(GL_ELEMENT_ARRAY_BUFFER, pass->indexBuffer);
+    s.projected = std::move(pass);
+  }
+  ProjectedPass& p = *s.projected;
+  gl.BindVertexArray(p.vertexArray);
+  s.upload(GL_ARRAY_BUFFER, p.positionBuffer, GLsizeiptr(mesh.positions.size() * sizeof(float)), mesh.positions.data(),
+           p.positionBytes);
+  s.upload(GL_ARRAY_BUFFER, p.attributeBuffer, GLsizeiptr(mesh.attributes.size() * sizeof(float)),
+           mesh.attributes.data(), p.attributeBytes);
+  p.indices = mesh.triangles;
+  p.indices.insert(p.indices.end(), mesh.points.begin(), mesh.points.end());
+  p.indices.insert(p.indices.end(), mesh.farthestOrphans.begin(), mesh.farthestOrphans.end());
+  s.upload(GL_ELEMENT_ARRAY_BUFFER, p.indexBuffer, GLsizeiptr(p.indices.size() * sizeof(uint32_t)), p.indices.data(),
+           p.indexBytes);
+  p.triangleIndexCount = GLsizei(mesh.triangles.size());
+  p.pointCount = GLsizei(mesh.points.size());
+  p.orphanCount = GLsizei(mesh.farthestOrphans.size());
+  s.mesh = mesh.mesh;
+  s.checkErrors("uploading the projected mesh");
+}
+
+void GlMeshRenderer::renderProjected(const RenderGrid& grid, const TexelMap& texelMap, WarpedLayer& layer,
+                                     RenderExtras* extras) {
+  Impl& s = *impl_;
+  const GlFunctions& gl = s.gl;
+  VS_CHECK(s.projected != nullptr);
+  const ProjectedPass& p = *s.projected;
+  s.beginRender(grid);
+  gl.UseProgram(p.program);
+  gl.BindVertexArray(p.vertexArray);
+  // As render(): triangles, then points (mark 3), then the locally farthest orphans where nothing is drawn.
+  gl.Uniform1f(p.drawnMarkLocation, 1.0f);
+  if (p.triangleIndexCount > 0) gl.DrawElements(GL_TRIANGLES, p.triangleIndexCount, GL_UNSIGNED_INT, nullptr);
+  gl.Uniform1f(p.drawnMarkLocation, 3.0f);
+  if (p.pointCount > 0)
+    gl.DrawElements(GL_POINTS, p.pointCount, GL_UNSIGNED_INT,
+                    reinterpret_cast<const void*>(size_t(p.triangleIndexCount) * sizeof(uint32_t)));
+  if (p.orphanCount > 0) {
+    gl.Uniform1f(p.drawnMarkLocation, 2.0f);
+    gl.DepthRange(1.0, 1.0);
+    gl.DepthFunc(GL_LEQUAL);
+    gl.DrawElements(GL_POINTS, p.orphanCount, GL_UNSIGNED_INT,
+                    reinterpret_cast<const void*>(size_t(p.triangleIndexCount + p.pointCount) * sizeof(uint32_t)));
+    gl.DepthRange(0.0, 1.0);
+    gl.DepthFunc(GL_LESS);
+  }
+  finishRender(grid, texelMap, layer, extras);
 }
 
 void GlMeshRenderer::sampleRender(const std::vector<Plane>& planes, const TexelMap& texelMap, WarpedLayer& layer) const {
@@ -417,7 +603,7 @@ void GlMeshRenderer::sampleRender(const std::vector<Plane>& planes, const TexelM
       const double x = texelMap.scale * r[0] + texelMap.offset, y = texelMap.scale * r[1] + texelMap.offset;
       layer.inverseDepth[i] = double(r[2]);
       for (int k = 0; k < channels; ++k) layer.colour[k][i] = s.sample(planes[size_t(k)], x, y);
-      layer.edge[i] = s.edgeAt(r) ? 1 : 0;
+      layer.edge[i] = s.edges[i];
     }
   });
 }
@@ -448,6 +634,12 @@ void GlMeshRenderer::sampleChroma420(const std::vector<const Plane*>& planes, do
           }
         if (!front) continue;  // a hole
         auto onFront = [&](const float* r) { return r && double(r[2]) >= (1.0 - sameSurface) * double(front[2]); };
+        // The column a sample shows, within half a turn of the front sample's for a reference that wraps
+        // (a full-circle ERP one: setReferenceWrap), so samples on both sides of its seam average well.
+        auto column = [&](const float* r) {
+          const double u = r[0];
+          return s.referenceWrap > 0.0 ? u + s.referenceWrap * std::round((front[0] - u) / s.referenceWrap) : u;
+        };
         // Where the front surface shows at the chroma centre: from the front sample, half a luma pixel
         // right or left and down or up, along the reference positions of its neighbours in the block on
         // the same surface (where there is none, one reference pixel per luma pixel).
@@ -455,20 +647,21 @@ void GlMeshRenderer::sampleChroma420(const std::vector<const Plane*>& planes, do
         const float* down = block[1 - frontY][frontX];
         const double sx = frontX == 0 ? 0.5 : -0.5, sy = frontY == 0 ? 0.5 : -0.5;
         double ux = 1.0, vx = 0.0, uy = 0.0, vy = 1.0;  // d(u, v) / dx and d(u, v) / dy
-        if (onFront(across)) ux = (across[0] - front[0]) * 2.0 * sx, vx = (across[1] - front[1]) * 2.0 * sx;
-        if (onFront(down)) uy = (down[0] - front[0]) * 2.0 * sy, vy = (down[1] - front[1]) * 2.0 * sy;
+        if (onFront(across)) ux = (column(across) - front[0]) * 2.0 * sx, vx = (across[1] - front[1]) * 2.0 * sx;
+        if (onFront(down)) uy = (column(down) - front[0]) * 2.0 * sy, vy = (down[1] - front[1]) * 2.0 * sy;
         double u = front[0] + sx * ux + sy * uy, v = front[1] + sx * vx + sy * vy;
         double q = front[2];
-        bool edge = s.edgeAt(front);
+        auto edgeOf = [&](const float* r) { return s.edges[size_t(r - samples) / 4] != 0; };
+        bool edge = edgeOf(front);
         // All four on one surface: their mean, which is the centre where the mapping is affine.
         if (onFront(block[0][0]) && onFront(block[0][1]) && onFront(block[1][0]) && onFront(block[1][1])) {
           u = v = q = 0.0;
           for (const auto& row : block)
             for (const float* r : row) {
-              u += 0.25 * r[0];
+              u += 0.25 * column(r);
               v += 0.25 * r[1];
               q += 0.25 * r[2];
-              edge = edge || s.edgeAt(r);
+              edge = edge || edgeOf(r);
             }
         }
         const size_t c = size_t(j) * size_t(width) + size_t(i);

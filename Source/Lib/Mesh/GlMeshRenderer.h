@@ -17,6 +17,7 @@
 #include "Common/Frame.h"
 #include "Mesh/DepthMesh.h"
 #include "Mesh/EglContext.h"
+#include "Mesh/MeshErp.h"
 #include "Mesh/MeshProjection.h"
 #include "Synth/Interpolation.h"
 #include "Synth/Layer.h"
@@ -63,6 +64,15 @@ public:
   // a vertex on a dropped triangle). Throws InputError when the grid exceeds the GL limits.
   void render(const Mat4& clip, const RenderGrid& grid, const TexelMap& texelMap, WarpedLayer& layer,
               RenderExtras* extras = nullptr);
+  // ERP cameras (Mesh/MeshErp.h): uploads a mesh already in the virtual camera's clip coordinates (kept
+  // until the next call; its DepthMesh must outlive the renders), and renders it as render() does,
+  // into `grid`, read back and coloured the same way.
+  void uploadProjectedMesh(const ProjectedMesh& mesh);
+  void renderProjected(const RenderGrid& grid, const TexelMap& texelMap, WarpedLayer& layer,
+                       RenderExtras* extras = nullptr);
+  // A full-circle ERP reference: `columns` (its width) is a whole turn, so sampleChroma420 combines the
+  // reference positions of neighbouring samples across its seam; 0 (the default): no wrap.
+  void setReferenceWrap(double columns);
   // The last render's samples coloured from other planes (4:4:4 chroma at luma resolution, texel map
   // as given): `layer` gets the render's q and edges and the planes' colours.
   void sampleRender(const std::vector<Plane>& planes, const TexelMap& texelMap, WarpedLayer& layer) const;
@@ -74,6 +84,8 @@ public:
   void sampleChroma420(const std::vector<const Plane*>& planes, double sameSurface, WarpedLayer& layer) const;
 
 private:
+  // Reads the drawn framebuffer back and colours it into `layer` (both passes).
+  void finishRender(const RenderGrid& grid, const TexelMap& texelMap, WarpedLayer& layer, RenderExtras* extras);
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };

@@ -67,13 +67,16 @@ void writeMeshPly(SafeOutputFile& file, const DepthMesh& mesh, const Camera& ref
       const float* v = &mesh.vertices[i * 4];
       if (!(v[3] > 0.0f)) continue;  // at infinity
       const double u = mesh.gridU[size_t(c)], vv = mesh.gridV[size_t(r)];
-      const Vec3 world = reference.cameraToWorld(reference.pixelToCamera(u, vv, double(v[2]) / double(v[3])));
+      // The vertex's depth: z = a / w, or for an ERP camera the distance 1 / w (Mesh/MeshErp.h).
+      const double depth = reference.isEquirectangular() ? 1.0 / double(v[3]) : double(v[2]) / double(v[3]);
+      const Vec3 world = reference.cameraToWorld(reference.pixelToCamera(u, vv, depth));
       if (!isFinite(world)) continue;
       newIndex[i] = vertexCount++;
       putFloat(vertexBytes, float(world.x));
       putFloat(vertexBytes, float(world.y));
       putFloat(vertexBytes, float(world.z));
-      const int px = std::clamp(int(std::lround(u)), 0, format.width - 1);
+      const long column = std::lround(u);  // an ERP wrap column (u = W) shows column 0
+      const int px = std::clamp(int(reference.isEquirectangular() ? column % format.width : column), 0, format.width - 1);
       const int py = std::clamp(int(std::lround(vv)), 0, format.height - 1);
       for (int k = 0; k < 3; ++k) {
         const uint16_t sample = colour ? rgb.planes[k].at(px, py) : texture.planes[0].at(px, py);

@@ -19,7 +19,7 @@ namespace {
 class MeshFrameRenderer : public FrameRenderer {
 public:
   MeshFrameRenderer(const Scene& scene, const Plan& plan, const MeshSettings& settings)
-      : synthesizer_(scene, plan, settings) {}
+      : scene_(scene), synthesizer_(scene_, plan, settings) {}
   void render(const std::vector<ReferenceFrame>& references, Frame& output, StageTimes& times) override {
     synthesizer_.synthesize(references, output, times);
   }
@@ -39,8 +39,15 @@ public:
   int64_t uncoveredSamples() const override { return int64_t(synthesizer_.holesAfterBlend()); }
   std::vector<NamedOutput> extraOutputs() const override { return synthesizer_.plyOutputs(); }
   void commitOutputs() override { synthesizer_.commitPlyFiles(); }
+  // A pose trace (VirtualPoseTraceName): the plan is made again for the moved camera, as ViewSyn does.
+  bool moveVirtualCamera(const Camera& camera) override {
+    scene_.virtualCamera = camera;  // the synthesizer reads the scene it was given: this copy
+    synthesizer_.virtualCameraMoved(makePlan(scene_, Tool::MeshRender));
+    return true;
+  }
 
 private:
+  Scene scene_;  // a copy: a pose trace moves its virtual camera
   MeshSynthesizer synthesizer_;
 };
 
@@ -82,7 +89,28 @@ std::vector<std::string> MeshSynthesizer::decideMissingDepth(const std::vector<R
   return plan_.missingDepthEvidence;
 }
 
+void MeshSynthesizer::virtualCameraMoved(const Plan& moved) {
+  VS_CHECK(moved.tool == Tool::MeshRender && moved.blending.weights.size() == views_.size());
+  const Camera& camera = scene_.virtualCamera;
+  if (camera.projection == builtFor_.projection && camera.K == builtFor_.K && camera.R == builtFor_.R &&
+      camera.t == builtFor_.t && camera.erp == builtFor_.erp)
+    return;  // the same pose: meshes, planes and plan stay
+  Plan plan = moved;
+  if (plan_.missingDepthDecided) {  // a MissingDepthLevel auto decision of the first frame is kept
+    plan.missingDepthLevel = plan_.missingDepthLevel;
+    plan.missingDepthFill = plan_.missingDepthFill;
+    plan.missingDepthEvidence = plan_.missingDepthEvidence;
+    plan.missingDepthDecided = true;
+  }
+  plan_ = std::move(plan);
+  aligner_ = DepthEdgeAligner(scene_.settings, plan_.missingDepthLevel);
+  lumaGrid_ = lumaGrid(camera, outputFormat_.width, outputFormat_.height);
+  buildViews();              // the adaptive mesh's bound and the depth-buffer planes depend on the camera
+  meshesPrebuilt_ = false;   // meshes built for the old camera are built again
+}
+
 void MeshSynthesizer::buildViews() {
+  builtFor_ = scene_.virtualCamera;
   const SynthesisSettings& s = scene_.settings;
   const MeshSettings& settings = settings_;
   const Scene& scene = scene_;
@@ -95,13 +123,15 @@ void MeshSynthesizer::buildViews() {
   options.maxError = settings.maxError;
   options.maxColourError = settings.maxColourError;
   for (const ReferenceView& reference : s.references) {
-    // MeshMaxError is in the virtual camera's luma pixels.
+    // MeshMaxError is in the virtual camera's luma pixels. With an ERP camera the mesh is not merged and
+    // the depth-buffer planes come from each frame's projected mesh (Mesh/MeshErp.h).
+    const bool erp = projectedPass(reference.camera, scene.virtualCamera);
     ViewState view{DepthMeshBuilder(reference.camera, reference.depthRange, s.depthFormat.width, s.depthFormat.height, options,
-                                    pinholeDisplacementRate(reference.camera, scene.virtualCamera, lumaGrid_)),
+                                    erp ? DisplacementRate{} : pinholeDisplacementRate(reference.camera, scene.virtualCamera, lumaGrid_)),
                    false, {}, {}, {}, {}, {}, {}};
     InverseDepthRange range;
-    view.depthRangeBounded = sceneInverseDepthRange(reference.camera, reference.depthRange, s.depthType,
-                                                    s.depthFormat.width, s.depthFormat.height, scene.virtualCamera, range);
+    view.depthRangeBounded = !erp && sceneInverseDepthRange(reference.camera, reference.depthRange, s.depthType,
+                                                            s.depthFormat.width, s.depthFormat.height, scene.virtualCamera, range);
     if (view.depthRangeBounded) view.planes = clipPlanes(range);
     views_.push_back(std::move(view));
   }
@@ -118,7 +148,12 @@ std::vector<std::string> MeshSynthesizer::plan() const {
                 settings_.gridStep, settings_.discontinuityThreshold);
   lines.push_back(line);
   for (size_t k = 0; k < views_.size(); ++k)
-    lines.push_back(s.references[k].label + " view: depth-buffer planes " +
+    if (projectedPass(s.references[k].camera, scene_.virtualCamera))
+      lines.push_back(s.references[k].label +
+                      " view: equirectangular camera(s): the mesh is taken into the virtual camera on the CPU, not merged "
+                      "(MeshMaxError and MeshMaxColourError do not apply); depth-buffer planes from each frame's mesh");
+    else
+      lines.push_back(s.references[k].label + " view: depth-buffer planes " +
                     (views_[k].depthRangeBounded ? "from the scene's depth range" : "from each frame's mesh (the depth range is unbounded in the virtual camera)"));
   for (const std::string& decision : plan_.lines()) lines.push_back(decision);
   if (!settings_.plyPath.empty()) {
@@ -160,10 +195,18 @@ void MeshSynthesizer::synthesize(const std::vector<ReferenceFrame>& references, 
     const Frame& texture = *references[k].texture;
 
     auto start = std::chrono::steady_clock::now();
-    renderer_.uploadMesh(view.mesh);
-    const InverseDepthRange planes = view.depthRangeBounded
-                                         ? view.planes
-                                         : clipPlanes(meshInverseDepthRange(view.mesh, reference.camera, scene_.virtualCamera));
+    const bool projected = projectedPass(reference.camera, scene_.virtualCamera);
+    InverseDepthRange planes;
+    if (projected) {  // ERP: the mesh taken into the virtual camera on the CPU
+      if (projectMesh(view.mesh, reference.camera, scene_.virtualCamera, lumaGrid_, projected_))
+        renderer_.uploadProjectedMesh(projected_);
+      else
+        renderer_.uploadProjectedMesh(ProjectedMesh{{}, {}, {}, {}, {}, &view.mesh});  // nothing in front
+    } else {
+      renderer_.uploadMesh(view.mesh);
+      planes = view.depthRangeBounded ? view.planes
+                                      : clipPlanes(meshInverseDepthRange(view.mesh, reference.camera, scene_.virtualCamera));
+    }
     times.depthWarp += secondsSince(start);
 
     start = std::chrono::steady_clock::now();
@@ -174,8 +217,13 @@ void MeshSynthesizer::synthesize(const std::vector<ReferenceFrame>& references, 
     } else {
       renderer_.uploadTexture({&texture.planes[0]});
     }
-    renderer_.render(meshClipMatrix(reference.camera, scene_.virtualCamera, lumaGrid_, planes), lumaGrid_, TexelMap{},
-                     view.luma);
+    const bool wraps = reference.camera.isEquirectangular() && reference.camera.erp.wraps();
+    renderer_.setReferenceWrap(wraps ? double(reference.camera.erp.width) : 0.0);
+    if (projected)
+      renderer_.renderProjected(lumaGrid_, TexelMap{}, view.luma);
+    else
+      renderer_.render(meshClipMatrix(reference.camera, scene_.virtualCamera, lumaGrid_, planes), lumaGrid_, TexelMap{},
+                       view.luma);
     if (hasChroma_ && !rgb_) {
       if (outputFormat_.chroma == ChromaFormat::Yuv420)
         renderer_.sampleChroma420({&texture.planes[1], &texture.planes[2]}, settings_.discontinuityThreshold, view.chroma);
@@ -221,29 +269,30 @@ void MeshSynthesizer::buildMeshes(const std::vector<ReferenceFrame>& references)
 void MeshSynthesizer::buildMeshesNow(const std::vector<ReferenceFrame>& references) {
   VS_CHECK(references.size() == views_.size());
   const SynthesisSettings& s = scene_.settings;
-  alignedDepthSamples_ = 0;
-  std::vector<const Plane*> lumas, depths;
+  std::vector<const Plane*> lumas;
   for (const ReferenceFrame& reference : references) lumas.push_back(&reference.texture->planes[0]);
-  for (size_t k = 0; k < views_.size(); ++k) {
-    ViewState& view = views_[k];
-    const Plane* depth = references[k].depth;
-    if (plan_.missingDepthFill) {
-      fillMissingDepthRuns(*depth, plan_.missingDepthLevel, inverseZTable(s.references[k].depthRange), view.filledDepth,
-                           view.filledSamples);
-      if (plan_.missingDepthRunTest)
-        testFilledRuns(scene_, k, references, plan_.missingDepthLevel, view.filledDepth, view.filledSamples);
-      depth = &view.filledDepth;
-    }
-    depths.push_back(&aligner_.align(k, *depth, lumas, alignedDepthSamples_));
-  }
-  // The views' meshes on the worker threads, one view each.
+  // Each view on a worker thread of its own, from its depth map to its mesh: missing-depth runs
+  // filled, edges aligned (each reads only its own state and every view's inputs), mesh built.
+  std::vector<size_t> moved(views_.size(), 0);
   parallelRanges(
       int(views_.size()),
       [&](int first, int last) {
-        for (int k = first; k < last; ++k)
-          views_[size_t(k)].builder.build(*depths[size_t(k)], views_[size_t(k)].mesh, lumas[size_t(k)]);
+        for (size_t k = size_t(first); k < size_t(last); ++k) {
+          ViewState& view = views_[k];
+          const Plane* depth = references[k].depth;
+          if (plan_.missingDepthFill) {
+            fillMissingDepthRuns(*depth, plan_.missingDepthLevel, inverseZTable(s.references[k].depthRange), view.filledDepth,
+                                 view.filledSamples);
+            if (plan_.missingDepthRunTest)
+              testFilledRuns(scene_, k, references, plan_.missingDepthLevel, view.filledDepth, view.filledSamples);
+            depth = &view.filledDepth;
+          }
+          view.builder.build(aligner_.align(k, *depth, lumas, moved[k]), view.mesh, lumas[k]);
+        }
       },
       double(views_.size()));
+  alignedDepthSamples_ = 0;
+  for (size_t samples : moved) alignedDepthSamples_ += samples;
 }
 
 std::string MeshSynthesizer::meshSizeLine() const {

@@ -21,6 +21,7 @@
 #include "Common/Scene.h"
 #include "Mesh/DepthMesh.h"
 #include "Mesh/GlMeshRenderer.h"
+#include "Mesh/MeshErp.h"
 #include "Mesh/MeshProjection.h"
 #include "Plan/Plan.h"
 #include "Synth/EdgeAlign.h"
@@ -59,6 +60,11 @@ public:
   // MissingDepthLevel auto: the plan's decision on the first frame (Plan/MissingDepth.h); the meshes
   // are rebuilt with it. Returns the decision's lines; none when there is nothing to decide.
   std::vector<std::string> decideMissingDepth(const std::vector<ReferenceFrame>& firstFrame);
+
+  // VirtualPoseTraceName: the scene's virtual camera has moved (the caller changed the Scene this
+  // synthesizer reads); `plan` is makePlan for the moved camera. The next frame's meshes are built for
+  // it; a MissingDepthLevel auto decision already taken is kept. Nothing changes for the same pose.
+  void virtualCameraMoved(const Plan& plan);
 
   // Builds the meshes of these references now; the next synthesize() uses them (and counts their time).
   void buildMeshes(const std::vector<ReferenceFrame>& references);
@@ -106,6 +112,8 @@ private:
   bool hasChroma_;  // plan_.chroma
   GlMeshRenderer renderer_;
   RenderGrid lumaGrid_;
+  ProjectedMesh projected_;  // ERP cameras: a view's mesh in clip coordinates (Mesh/MeshErp.h)
+  Camera builtFor_;  // the virtual camera views_ were built for
   DepthEdgeAligner aligner_;  // DepthEdgeAlignment, as ViewSyn does it
   std::vector<ViewState> views_;
   BlendedLayer blendedLuma_, blendedChroma_;

@@ -23,7 +23,7 @@ double pixelsPerRadian(const Camera& camera) {
 }
 
 // What no stage can do with an equirectangular camera, refused with the reason.
-void refuseEquirectangular(const Scene& scene, Tool tool) {
+void refuseEquirectangular(const Scene& scene) {
   std::vector<const Camera*> erp;
   for (const ReferenceView& view : scene.settings.references)
     if (view.camera.isEquirectangular()) erp.push_back(&view.camera);
@@ -38,10 +38,6 @@ void refuseEquirectangular(const Scene& scene, Tool tool) {
                        std::to_string(camera->erp.width) + "x" + std::to_string(camera->erp.height) +
                        ", but the pictures are " + std::to_string(format.width) + "x" + std::to_string(format.height) +
                        "; an ERP picture must have its camera's resolution");
-  if (tool == Tool::MeshRender)
-    throw InputError("camera '" + erp[0]->name +
-                     "' is equirectangular: MeshRender renders pinhole cameras only (its OpenGL projection is a "
-                     "pinhole one); use ViewSyn, whose general path maps ERP cameras");
   if (scene.settings.depthType == 1)
     throw InputError("DepthType 1 (depth values are world z coordinates) with the equirectangular camera '" +
                      erp[0]->name + "': an ERP depth map holds distances along the rays (MPEG-I); use DepthType 0");
@@ -145,7 +141,7 @@ Plan makePlan(const Scene& scene, Tool tool) {
     throw InputError("OutputVirtualDepthMapName '" + s.virtualDepthPath +
                      "': MeshRender cannot write the virtual view's depth (ViewSyn can); remove the key or set it to -");
   plan.virtualDepthOutput = !s.virtualDepthPath.empty();
-  refuseEquirectangular(scene, tool);
+  refuseEquirectangular(scene);
 
   for (size_t k = 0; k < s.references.size() && tool == Tool::ViewSyn; ++k)
     if (sameCamera(s.references[k].camera, scene.virtualCamera)) {
