@@ -138,25 +138,33 @@ Vec3 backProjectDepth(const Camera& camera, double u, double v, double depthValu
 
 namespace {
 
-// Fills the runs of `missing` along one line of samples (n samples, `stride` apart) that have a valid
-// sample at both ends with the farther end's level.
-size_t fillLine(uint16_t* line, uint8_t* mark, int n, ptrdiff_t stride, uint16_t missing,
-                const std::vector<double>& inverseZ) {
+// Fills the runs of `missing` along one row of n samples that have a valid sample at both ends with
+// the farther end's level.
+size_t fillRow(uint16_t* line, uint8_t* mark, int n, uint16_t missing, const std::vector<double>& inverseZ) {
   auto inverse = [&](uint16_t level) { return level < inverseZ.size() ? inverseZ[level] : 0.0; };
   size_t count = 0;
   for (int k = 0; k < n;) {
-    if (line[k * stride] != missing) {
+    // Missing samples are few: sixteen at a time are passed while none is (a test that vectorises).
+    if (k + 16 <= n) {
+      bool any = false;
+      for (int i = 0; i < 16; ++i) any |= line[k + i] == missing;
+      if (!any) {
+        k += 16;
+        continue;
+      }
+    }
+    if (line[k] != missing) {
       ++k;
       continue;
     }
     int end = k;
-    while (end < n && line[end * stride] == missing) ++end;
+    while (end < n && line[end] == missing) ++end;
     if (k > 0 && end < n) {
-      const uint16_t before = line[(k - 1) * stride], after = line[end * stride];
+      const uint16_t before = line[k - 1], after = line[end];
       const uint16_t farther = inverse(after) < inverse(before) ? after : before;
       for (int j = k; j < end; ++j) {
-        line[j * stride] = farther;
-        mark[j * stride] = 1;
+        line[j] = farther;
+        mark[j] = 1;
       }
       count += size_t(end - k);
     }
@@ -175,10 +183,40 @@ size_t fillMissingDepthRuns(const Plane& depth, int missingLevel, const std::vec
   const uint16_t missing = uint16_t(missingLevel);
   const int w = depth.width, h = depth.height;
   size_t count = 0;
-  for (int y = 0; y < h; ++y)
-    count += fillLine(out.samples.data() + size_t(y) * w, filled.data() + size_t(y) * w, w, 1, missing, inverseZ);
-  for (int x = 0; x < w; ++x)
-    count += fillLine(out.samples.data() + x, filled.data() + x, h, w, missing, inverseZ);
+  for (int y = 0; y < h; ++y) count += fillRow(out.row(y), filled.data() + size_t(y) * w, w, missing, inverseZ);
+  // Then the columns, each the same way, visited row by row in memory order: each column's last valid
+  // sample so far (its row, -1: none); a valid sample more than one row below it closes a run of
+  // missing samples between them, filled with the farther of the two. The runs are found by a
+  // branch-free pass over the row that vectorises, and only they are visited.
+  std::vector<int> lastValid(size_t(w), -1);
+  std::vector<uint8_t> closes(static_cast<size_t>(w));
+  auto inverse = [&](uint16_t level) { return level < inverseZ.size() ? inverseZ[level] : 0.0; };
+  for (int y = 0; y < h; ++y) {
+    const uint16_t* row = out.row(y);
+    int* last = lastValid.data();
+    uint8_t* close = closes.data();
+    bool any = false;
+    for (int x = 0; x < w; ++x) {
+      const bool valid = row[x] != missing;
+      close[x] = uint8_t(valid & (last[x] >= 0) & (last[x] < y - 1));
+      any |= close[x] != 0;
+      last[x] = valid ? y : last[x];
+    }
+    if (!any) continue;
+    for (int x = 0; x < w; ++x) {
+      if (!close[x]) continue;
+      // Rows above y down to the last valid one: the run is rows top + 1 .. y - 1.
+      int top = y - 1;
+      while (out.at(x, top) == missing) --top;
+      const uint16_t before = out.at(x, top), after = row[x];
+      const uint16_t farther = inverse(after) < inverse(before) ? after : before;
+      for (int r = top + 1; r < y; ++r) {
+        out.at(x, r) = farther;
+        filled[size_t(r) * w + size_t(x)] = 1;
+      }
+      count += size_t(y - 1 - top);
+    }
+  }
   return count;
 }
 

@@ -2,7 +2,10 @@
 
 #include <cmath>
 #include <cstdio>
+#include <cstdint>
 #include <cstdlib>
+#include <cstring>
+#include <utility>
 
 #include "Common/Depth.h"
 #include "Common/Error.h"
@@ -182,6 +185,12 @@ RunTestCounts testFilledRuns(const Scene& scene, size_t k, const std::vector<Ref
     uint16_t* row = filledDepth.samples.data() + size_t(y) * w;
     const uint8_t* mark = filled.data() + size_t(y) * w;
     for (int x = 0; x < w;) {
+      // Filled samples are few: eight marks at a time are passed while none is set.
+      uint64_t eight;
+      if (x + 8 <= w && (std::memcpy(&eight, mark + x, sizeof eight), eight == 0)) {
+        x += 8;
+        continue;
+      }
       if (!mark[x]) {
         ++x;
         continue;
@@ -237,7 +246,9 @@ RunTestCounts testFilledRuns(const Scene& scene, size_t k, const std::vector<Ref
   return counts;
 }
 
-void decideMissingDepth(const Scene& scene, const std::vector<ReferenceFrame>& references, Plan& plan) {
+void decideMissingDepth(const Scene& scene, const std::vector<ReferenceFrame>& references, Plan& plan,
+                        std::vector<FilledDepth>* firstFrameFill) {
+  if (firstFrameFill) firstFrameFill->clear();
   if (!plan.missingDepthAuto || plan.missingDepthDecided) return;
   const std::vector<FarEvidence> evidence = testFarReading(scene, references);
   size_t tested = 0, contradicted = 0;
@@ -256,6 +267,7 @@ void decideMissingDepth(const Scene& scene, const std::vector<ReferenceFrame>& r
                                                         "other views contradict)"
                                                       : "treated as missing (MissingDepthFill 0: not filled)";
   plan.missingDepthEvidence.clear();
+  if (firstFrameFill && plan.missingDepthRunTest) firstFrameFill->resize(evidence.size());
   for (size_t k = 0; k < evidence.size(); ++k) {
     const FarEvidence& e = evidence[k];
     std::string line = "depth level 0 (auto), " + scene.settings.references[k].label + ": " +
@@ -274,6 +286,7 @@ void decideMissingDepth(const Scene& scene, const std::vector<ReferenceFrame>& r
       const RunTestCounts runs = testFilledRuns(scene, k, references, plan.missingDepthLevel, filledDepth, filled);
       line += "; frame 0: " + std::to_string(runs.runs) + " runs, " + std::to_string(runs.toNear) +
               " to the nearer side, " + std::to_string(runs.toFar) + " to Zfar";
+      if (firstFrameFill) (*firstFrameFill)[k] = {std::move(filledDepth), std::move(filled)};
     }
     plan.missingDepthEvidence.push_back(line);
   }

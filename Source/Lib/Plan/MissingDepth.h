@@ -5,6 +5,7 @@
 // reference views. Where such a view sees a valid, nearer surface there, or also level 0 but a colour
 // that differs by more than the tolerance, "far" is contradicted. The plan then reads level 0 as
 // missing and filled when most tested samples contradict it, and keeps VSRS's far reading otherwise.
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -68,9 +69,19 @@ struct RunTestCounts {
 RunTestCounts testFilledRuns(const Scene& scene, size_t k, const std::vector<ReferenceFrame>& references,
                              int missingLevel, Plane& filledDepth, const std::vector<uint8_t>& filled);
 
+// One reference view's depth map after fillMissingDepthRuns and testFilledRuns, and its marks.
+struct FilledDepth {
+  Plane depth;
+  std::vector<uint8_t> filled;
+};
+
 // With plan.missingDepthAuto: sets plan.missingDepthLevel, missingDepthFill, missingDepthRunTest and
 // missingDepthEvidence
 // from testFarReading on the first frame, and marks the plan decided. Without it: nothing.
-void decideMissingDepth(const Scene& scene, const std::vector<ReferenceFrame>& references, Plan& plan);
+// With the run test chosen, its per-view counts are computed on the first frame's filled maps; given
+// `firstFrameFill`, those maps (one per reference view, in the scene's order) are handed over, so that
+// a renderer that draws this frame next need not fill and test them again. Otherwise it is left empty.
+void decideMissingDepth(const Scene& scene, const std::vector<ReferenceFrame>& references, Plan& plan,
+                        std::vector<FilledDepth>* firstFrameFill = nullptr);
 
 }  // namespace vs
