@@ -184,37 +184,49 @@ size_t fillMissingDepthRuns(const Plane& depth, int missingLevel, const std::vec
   const int w = depth.width, h = depth.height;
   size_t count = 0;
   for (int y = 0; y < h; ++y) count += fillRow(out.row(y), filled.data() + size_t(y) * w, w, missing, inverseZ);
-  // Then the columns, each the same way, visited row by row in memory order: each column's last valid
-  // sample so far (its row, -1: none); a valid sample more than one row below it closes a run of
-  // missing samples between them, filled with the farther of the two. The runs are found by a
-  // branch-free pass over the row that vectorises, and only they are visited.
-  std::vector<int> lastValid(size_t(w), -1);
-  std::vector<uint8_t> closes(static_cast<size_t>(w));
+  // Then the columns, each the same way, visited row by row in memory order. What the rows left
+  // missing is little: a column's run opens at a missing sample below a valid one and closes at the
+  // next valid sample, which fills it with the farther of the two. Rows without a missing sample are
+  // passed sixteen samples at a time, and only the open columns are looked at in every row.
+  std::vector<int> runStart(size_t(w), -1);  // per column: the first row of its open run; -1: none
+  std::vector<int> open;                      // the columns with an open run
   auto inverse = [&](uint16_t level) { return level < inverseZ.size() ? inverseZ[level] : 0.0; };
   for (int y = 0; y < h; ++y) {
-    const uint16_t* row = out.row(y);
-    int* last = lastValid.data();
-    uint8_t* close = closes.data();
-    bool any = false;
-    for (int x = 0; x < w; ++x) {
-      const bool valid = row[x] != missing;
-      close[x] = uint8_t(valid & (last[x] >= 0) & (last[x] < y - 1));
-      any |= close[x] != 0;
-      last[x] = valid ? y : last[x];
-    }
-    if (!any) continue;
-    for (int x = 0; x < w; ++x) {
-      if (!close[x]) continue;
-      // Rows above y down to the last valid one: the run is rows top + 1 .. y - 1.
-      int top = y - 1;
-      while (out.at(x, top) == missing) --top;
-      const uint16_t before = out.at(x, top), after = row[x];
+    uint16_t* row = out.row(y);
+    size_t kept = 0;
+    for (const int x : open) {
+      if (row[x] == missing) {
+        open[kept++] = x;
+        continue;
+      }
+      const int top = runStart[size_t(x)];
+      const uint16_t before = out.at(x, top - 1), after = row[x];
       const uint16_t farther = inverse(after) < inverse(before) ? after : before;
-      for (int r = top + 1; r < y; ++r) {
+      for (int r = top; r < y; ++r) {
         out.at(x, r) = farther;
         filled[size_t(r) * w + size_t(x)] = 1;
       }
-      count += size_t(y - 1 - top);
+      count += size_t(y - top);
+      runStart[size_t(x)] = -1;
+    }
+    open.resize(kept);
+    if (y == 0) continue;  // nothing valid above the first row
+    const uint16_t* above = out.row(y - 1);
+    for (int x = 0; x < w; ++x) {
+      if (x + 16 <= w) {
+        bool any = false;
+        for (int i = 0; i < 16; ++i) any |= row[x + i] == missing;
+        if (!any) {
+          x += 15;
+          continue;
+        }
+      }
+      // A missing sample below a valid one opens a run (below a missing one, the run is open already
+      // or there is nothing valid above).
+      if (row[x] == missing && above[x] != missing && runStart[size_t(x)] < 0) {
+        runStart[size_t(x)] = y;
+        open.push_back(x);
+      }
     }
   }
   return count;

@@ -53,9 +53,8 @@ bool Synthesizer::reuseFirstFrameFill(size_t k, const Plane& depth) {
   const uint16_t* source = depth.samples.data();
   const uint16_t* made = fill.depth.samples.data();
   const uint8_t* marks = fill.filled.data();
-  size_t differ = 0;
-  for (size_t i = 0, n = depth.samples.size(); i < n; ++i)
-    differ += size_t(source[i] != (marks[i] ? missing : made[i]));
+  uint16_t differ = 0;
+  for (size_t i = 0, n = depth.samples.size(); i < n; ++i) differ |= uint16_t(source[i] ^ (marks[i] ? missing : made[i]));
   if (differ != 0) return false;
   ViewState& view = views_[k];
   std::swap(view.filledDepth, fill.depth);
