@@ -96,6 +96,12 @@ struct RowKernels {
   // edge is null, edge[x] |= sum[x] > most.
   void (*holeCounts)(const double* depth, int width, uint8_t* padded, uint8_t* count);
   void (*windowStep)(uint8_t* sum, const uint8_t* entering, const uint8_t* leaving, uint8_t* edge, int width, int most);
+  // The reference depth steps of a row (Synth/ReferenceEdges.cpp): step[x] = 1 where level row[x] is
+  // `missing`, or a neighbour (row[x - 1], row[x + 1], above[x], below[x]; the sample itself beyond
+  // the row's ends) is `missing` or differs from it by minStep levels or more; else 0. `missing` -1:
+  // no level is missing.
+  void (*referenceSteps)(const uint16_t* row, const uint16_t* above, const uint16_t* below, int width, int missing,
+                         int minStep, uint8_t* step);
   // The two-view blend of samples [begin, end), for 1, 2 or 3 channels, each with and without
   // NearestViewOnly ([channels - 1][nearestViewOnly]); true where the general blend finds no bestView.
   bool (*blendTwoViews[3][2])(const TwoViewBlendRows& blend, size_t begin, size_t end);
