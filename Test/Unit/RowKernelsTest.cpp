@@ -337,6 +337,36 @@ TEST(RowKernels, ReferenceStepsAreThePlainRule) {
           }
 }
 
+// Depth edge alignment's edge pairs against the rule written plainly, with the same levels as above.
+TEST(RowKernels, DepthEdgePairsAreThePlainRule) {
+  std::mt19937 rng(15);
+  for (const RowKernels* kernels : levels())
+    for (const int width : kWidths)
+      for (const int maxLevel : {255, 65535})
+        for (const int missing : {0, 7, -1, 65535})
+          for (const int minStep : {1, 10, 3000, 0, 70000}) {
+            std::uniform_int_distribution<int> level(0, maxLevel), small(0, 2 * std::min(minStep, 20) + 1);
+            std::vector<uint16_t> a(static_cast<size_t>(width)), b(static_cast<size_t>(width));
+            for (int x = 0; x < width; ++x) {
+              a[size_t(x)] = uint16_t(small(rng) == 0 ? level(rng) : x > 0 ? a[size_t(x) - 1] : level(rng));
+              const int roll = small(rng);
+              int value = roll == 0 ? level(rng) : std::min(maxLevel, std::max(0, a[size_t(x)] + roll - std::min(minStep, 20)));
+              if (roll == 1 && missing >= 0 && missing <= maxLevel) value = missing;
+              b[size_t(x)] = uint16_t(value);
+              if (small(rng) == 1 && missing >= 0 && missing <= maxLevel) a[size_t(x)] = uint16_t(missing);
+            }
+            std::vector<uint8_t> flags(static_cast<size_t>(width), 99);
+            kernels->depthEdgePairs(a.data(), b.data(), width, missing, minStep, flags.data());
+            for (int x = 0; x < width; ++x) {
+              const int p = a[size_t(x)], q = b[size_t(x)];
+              const bool expected = p != missing && q != missing && std::abs(p - q) >= minStep;
+              ASSERT_EQ(flags[size_t(x)], uint8_t(expected))
+                  << "level " << kernels->level << " width " << width << " x " << x << " missing " << missing
+                  << " minStep " << minStep;
+            }
+          }
+}
+
 // The two-view blend against blendViews' rule written plainly: the nearest valid view's surface,
 // clean samples preferred, the weighted mean of the views on it (or the heaviest alone, or a view of
 // weight 1 wherever it is valid).

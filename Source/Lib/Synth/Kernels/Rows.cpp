@@ -283,6 +283,25 @@ void referenceSteps(const uint16_t* row, const uint16_t* above, const uint16_t* 
     step[x] = stepAt(row[x], row[x - 1], row[x + 1], above[x], below[x], missing, minStep);
 }
 
+void depthEdgePairs(const uint16_t* a, const uint16_t* b, int n, int missing, int minStep, uint8_t* flags) {
+  if (missing >= -1 && missing <= 0xffff && minStep >= 1 && minStep <= 0xffff) {
+    // In 16-bit lanes, as referenceSteps.
+    const uint16_t miss = uint16_t(missing < 0 ? 0 : missing), any = uint16_t(missing < 0 ? 0 : 0xffff);
+    const uint16_t least = uint16_t(minStep);
+    for (int x = 0; x < n; ++x) {
+      const uint16_t p = a[x], q = b[x];
+      const uint16_t distance = uint16_t(p > q ? p - q : q - p);
+      const uint16_t missingOne = uint16_t((uint16_t(-uint16_t(p == miss)) | uint16_t(-uint16_t(q == miss))) & any);
+      flags[x] = uint8_t(uint16_t(~missingOne & uint16_t(-uint16_t(distance >= least))) & 1);
+    }
+    return;
+  }
+  for (int x = 0; x < n; ++x) {
+    const int p = a[x], q = b[x];
+    flags[x] = uint8_t((p != missing) & (q != missing) & ((p > q ? p - q : q - p) >= minStep));
+  }
+}
+
 template <int TAPS>
 void sampleRowPhase(const uint16_t* taps, const float* kernel, long long count, float* out) {
   float k[TAPS];
@@ -453,6 +472,7 @@ const RowKernels rowKernelsOfLevel = {forwardRow,
                                       holeCounts,
                                       windowStep,
                                       referenceSteps,
+                                      depthEdgePairs,
                                       {{blendTwoViews<1, false>, blendTwoViews<1, true>},
                                        {blendTwoViews<2, false>, blendTwoViews<2, true>},
                                        {blendTwoViews<3, false>, blendTwoViews<3, true>}},

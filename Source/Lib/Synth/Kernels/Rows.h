@@ -102,6 +102,9 @@ struct RowKernels {
   // no level is missing.
   void (*referenceSteps)(const uint16_t* row, const uint16_t* above, const uint16_t* below, int width, int missing,
                          int minStep, uint8_t* step);
+  // Depth edge alignment's edges (Synth/EdgeAlign.cpp): flags[x] = 1 where levels a[x] and b[x] are
+  // neither `missing` (-1: none is) and differ by minStep or more; else 0, for x in [0, n).
+  void (*depthEdgePairs)(const uint16_t* a, const uint16_t* b, int n, int missing, int minStep, uint8_t* flags);
   // The two-view blend of samples [begin, end), for 1, 2 or 3 channels, each with and without
   // NearestViewOnly ([channels - 1][nearestViewOnly]); true where the general blend finds no bestView.
   bool (*blendTwoViews[3][2])(const TwoViewBlendRows& blend, size_t begin, size_t end);
