@@ -48,13 +48,17 @@ bool Synthesizer::reuseFirstFrameFill(size_t k, const Plane& depth) {
       fill.depth.samples.size() != depth.samples.size() || fill.filled.size() != depth.samples.size())
     return false;
   // Made from this map: equal to it where nothing was filled, and the missing level where it was
-  // (the fill and the run test change only those samples). A branch-free count that vectorises.
+  // (the fill and the run test change only those samples). The differences ORed in 16-bit lanes,
+  // with each mark (0 or 1) as a mask: a loop without branches that vectorises.
   const uint16_t missing = uint16_t(plan_.missingDepthLevel);
   const uint16_t* source = depth.samples.data();
   const uint16_t* made = fill.depth.samples.data();
   const uint8_t* marks = fill.filled.data();
   uint16_t differ = 0;
-  for (size_t i = 0, n = depth.samples.size(); i < n; ++i) differ |= uint16_t(source[i] ^ (marks[i] ? missing : made[i]));
+  for (size_t i = 0, n = depth.samples.size(); i < n; ++i) {
+    const uint16_t filled = uint16_t(-uint16_t(marks[i] != 0));
+    differ |= uint16_t(uint16_t((source[i] ^ made[i]) & ~filled) | uint16_t((source[i] ^ missing) & filled));
+  }
   if (differ != 0) return false;
   ViewState& view = views_[k];
   std::swap(view.filledDepth, fill.depth);
