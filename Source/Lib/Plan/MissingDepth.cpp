@@ -41,12 +41,25 @@ std::string percent(double fraction) {
 
 }  // namespace
 
-std::vector<FarEvidence> testFarReading(const Scene& scene, const std::vector<ReferenceFrame>& references) {
+namespace {
+
+// runner(count, body), or body(0, count) without one.
+void runViews(const ViewRangeRunner& runner, size_t count, const std::function<void(int, int)>& body) {
+  if (runner) runner(int(count), body);
+  else body(0, int(count));
+}
+
+}  // namespace
+
+std::vector<FarEvidence> testFarReading(const Scene& scene, const std::vector<ReferenceFrame>& references,
+                                        const ViewRangeRunner& runner) {
   const SynthesisSettings& s = scene.settings;
   VS_CHECK(references.size() == s.references.size());
   std::vector<FarEvidence> evidence(references.size());
   const double colourTolerance = kFarColourTolerance * double(s.textureFormat.maxValue());
-  for (size_t k = 0; k < references.size(); ++k) {
+  // Each view's evidence on its own (the views' tests only read the frame).
+  runViews(runner, references.size(), [&](int first, int last) {
+  for (size_t k = size_t(first); k < size_t(last); ++k) {
     const Plane& depth = *references[k].depth;
     const Plane& luma = references[k].texture->planes[0];
     FarEvidence& e = evidence[k];
@@ -82,6 +95,7 @@ std::vector<FarEvidence> testFarReading(const Scene& scene, const std::vector<Re
         e.contradicted += seen && contradicted;
       }
   }
+  });
   return evidence;
 }
 
@@ -247,10 +261,10 @@ RunTestCounts testFilledRuns(const Scene& scene, size_t k, const std::vector<Ref
 }
 
 void decideMissingDepth(const Scene& scene, const std::vector<ReferenceFrame>& references, Plan& plan,
-                        std::vector<FilledDepth>* firstFrameFill) {
+                        std::vector<FilledDepth>* firstFrameFill, const ViewRangeRunner& runner) {
   if (firstFrameFill) firstFrameFill->clear();
   if (!plan.missingDepthAuto || plan.missingDepthDecided) return;
-  const std::vector<FarEvidence> evidence = testFarReading(scene, references);
+  const std::vector<FarEvidence> evidence = testFarReading(scene, references, runner);
   size_t tested = 0, contradicted = 0;
   for (const FarEvidence& e : evidence) {
     tested += e.tested;
@@ -266,8 +280,18 @@ void decideMissingDepth(const Scene& scene, const std::vector<ReferenceFrame>& r
                                                         "(the nearer where its colours match, Zfar where the "
                                                         "other views contradict)"
                                                       : "treated as missing (MissingDepthFill 0: not filled)";
+  // What the per-run test does on this frame (the renderers repeat it on every frame), each view on
+  // its own.
+  std::vector<FilledDepth> fills(plan.missingDepthRunTest ? evidence.size() : 0);
+  std::vector<RunTestCounts> runCounts(fills.size());
+  runViews(runner, fills.size(), [&](int first, int last) {
+    for (size_t k = size_t(first); k < size_t(last); ++k) {
+      fillMissingDepthRuns(*references[k].depth, plan.missingDepthLevel,
+                           inverseZTable(scene.settings.references[k].depthRange), fills[k].depth, fills[k].filled);
+      runCounts[k] = testFilledRuns(scene, k, references, plan.missingDepthLevel, fills[k].depth, fills[k].filled);
+    }
+  });
   plan.missingDepthEvidence.clear();
-  if (firstFrameFill && plan.missingDepthRunTest) firstFrameFill->resize(evidence.size());
   for (size_t k = 0; k < evidence.size(); ++k) {
     const FarEvidence& e = evidence[k];
     std::string line = "depth level 0 (auto), " + scene.settings.references[k].label + ": " +
@@ -278,18 +302,13 @@ void decideMissingDepth(const Scene& scene, const std::vector<ReferenceFrame>& r
                        : ", none seen by another view";
     line += ": " + reading;
     if (plan.missingDepthRunTest) {
-      // What the per-run test does on this frame (the renderers repeat it on every frame).
-      Plane filledDepth;
-      std::vector<uint8_t> filled;
-      fillMissingDepthRuns(*references[k].depth, plan.missingDepthLevel,
-                           inverseZTable(scene.settings.references[k].depthRange), filledDepth, filled);
-      const RunTestCounts runs = testFilledRuns(scene, k, references, plan.missingDepthLevel, filledDepth, filled);
+      const RunTestCounts& runs = runCounts[k];
       line += "; frame 0: " + std::to_string(runs.runs) + " runs, " + std::to_string(runs.toNear) +
               " to the nearer side, " + std::to_string(runs.toFar) + " to Zfar";
-      if (firstFrameFill) (*firstFrameFill)[k] = {std::move(filledDepth), std::move(filled)};
     }
     plan.missingDepthEvidence.push_back(line);
   }
+  if (firstFrameFill) *firstFrameFill = std::move(fills);
   plan.missingDepthDecided = true;
 }
 

@@ -1,6 +1,7 @@
 #include "Synth/ViewSynRenderer.h"
 
 #include <cstdio>
+#include <functional>
 #include <memory>
 #include <utility>
 
@@ -25,7 +26,11 @@ public:
   std::vector<std::string> prepare(const std::vector<ReferenceFrame>& firstFrame) override {
     if (plan_.copyOf >= 0 || !plan_.missingDepthAuto || synthesizer_) return {};
     std::vector<FilledDepth> firstFrameFill;  // the maps the decision filled: frame 0 need not again
-    decideMissingDepth(scene_, firstFrame, plan_, &firstFrameFill);
+    // The views' tests side by side on the pool's threads, a view per stripe.
+    const ViewRangeRunner onThreads = [](int count, const std::function<void(int, int)>& body) {
+      parallelStripes(count, count, body);
+    };
+    decideMissingDepth(scene_, firstFrame, plan_, &firstFrameFill, onThreads);
     synthesizer_ = std::make_unique<Synthesizer>(scene_, plan_);
     synthesizer_->takeFirstFrameFill(std::move(firstFrameFill));
     return plan_.missingDepthEvidence;
