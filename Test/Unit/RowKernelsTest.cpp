@@ -367,6 +367,22 @@ TEST(RowKernels, DepthEdgePairsAreThePlainRule) {
           }
 }
 
+// Crack closing's candidates against the comparison written plainly, on rows with holes, NaN,
+// infinities and -0 (awkwardRow), limits of 0 and above.
+TEST(RowKernels, BehindFlagsAreThePlainComparison) {
+  std::mt19937 rng(16);
+  for (const RowKernels* kernels : levels())
+    for (const int n : kWidths)
+      for (const double limit : {0.0, 0.01, 0.5, kInf}) {
+        const std::vector<double> front = awkwardRow(rng, n, 3.0), behind = awkwardRow(rng, n, 3.0);
+        std::vector<uint8_t> flags(static_cast<size_t>(n), 99);
+        kernels->behindFlags(front.data(), behind.data(), n, limit, flags.data());
+        for (int i = 0; i < n; ++i)
+          ASSERT_EQ(flags[size_t(i)], uint8_t(behind[size_t(i)] < front[size_t(i)] - limit))
+              << "level " << kernels->level << " n " << n << " i " << i;
+      }
+}
+
 // The two-view blend against blendViews' rule written plainly: the nearest valid view's surface,
 // clean samples preferred, the weighted mean of the views on it (or the heaviest alone, or a view of
 // weight 1 wherever it is valid).

@@ -302,6 +302,10 @@ void depthEdgePairs(const uint16_t* a, const uint16_t* b, int n, int missing, in
   }
 }
 
+void behindFlags(const double* front, const double* behind, int n, double limit, uint8_t* flags) {
+  for (int i = 0; i < n; ++i) flags[i] = uint8_t(behind[i] < front[i] - limit);
+}
+
 template <int TAPS>
 void sampleRowPhase(const uint16_t* taps, const float* kernel, long long count, float* out) {
   float k[TAPS];
@@ -473,6 +477,7 @@ const RowKernels rowKernelsOfLevel = {forwardRow,
                                       windowStep,
                                       referenceSteps,
                                       depthEdgePairs,
+                                      behindFlags,
                                       {{blendTwoViews<1, false>, blendTwoViews<1, true>},
                                        {blendTwoViews<2, false>, blendTwoViews<2, true>},
                                        {blendTwoViews<3, false>, blendTwoViews<3, true>}},

@@ -105,6 +105,9 @@ struct RowKernels {
   // Depth edge alignment's edges (Synth/EdgeAlign.cpp): flags[x] = 1 where levels a[x] and b[x] are
   // neither `missing` (-1: none is) and differ by minStep or more; else 0, for x in [0, n).
   void (*depthEdgePairs)(const uint16_t* a, const uint16_t* b, int n, int missing, int minStep, uint8_t* flags);
+  // Crack closing's candidates (Synth/Cracks.cpp): flags[i] = 1 where behind[i] < front[i] - limit (a
+  // sample more than the tolerance behind its neighbour; NaN compares false), else 0, for i in [0, n).
+  void (*behindFlags)(const double* front, const double* behind, int n, double limit, uint8_t* flags);
   // The two-view blend of samples [begin, end), for 1, 2 or 3 channels, each with and without
   // NearestViewOnly ([channels - 1][nearestViewOnly]); true where the general blend finds no bestView.
   bool (*blendTwoViews[3][2])(const TwoViewBlendRows& blend, size_t begin, size_t end);
