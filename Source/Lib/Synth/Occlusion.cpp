@@ -127,13 +127,13 @@ void rejectMisplacedSamples(const std::vector<WarpedLayer*>& views, const std::v
   const size_t n = size_t(w) * size_t(h);
   VS_CHECK(views.size() < kNone && weights.size() == views.size());
   for (const WarpedLayer* view : views) VS_CHECK(view->width == w && view->height == h);
-  UntouchedBuffer<uint8_t>& sole = scratch.soleView;
-  sole.resize(n);  // every sample written below
+  std::vector<uint8_t>& sole = scratch.soleView;
+  sole.resize(n);
   std::vector<uint8_t>& candidateRow = scratch.candidateRows;
   candidateRow.assign(size_t(h), 0);
   // 1 while a candidate is still behind the surroundings in every other view looked at so far.
   // (Written at every sample, and read, with more than two views only.)
-  UntouchedBuffer<uint8_t>& reject = scratch.stillBehind;
+  std::vector<uint8_t>& reject = scratch.stillBehind;
   if (views.size() > 2) reject.resize(n);
   std::vector<const double*> depths;
   for (const WarpedLayer* view : views) depths.push_back(view->inverseDepth.data());
@@ -178,7 +178,7 @@ void rejectMisplacedSamples(const std::vector<WarpedLayer*>& views, const std::v
   while (lastRow >= firstRow && !candidateRow[size_t(lastRow)]) --lastRow;
   if (firstRow > lastRow) return;
   UntouchedBuffer<double>& farthest = scratch.around;  // per candidate: the row's, then with the column's
-  UntouchedBuffer<double>& above = scratch.above;      // per sample: the column's last valid sample above
+  std::vector<double>& above = scratch.above;          // per sample: the column's last valid sample above
   std::vector<double>& columnLast = scratch.columnLast;
   farthest.resize(n);
   above.resize(n);
