@@ -1,5 +1,7 @@
 // Depth levels <-> Z, validation of depth ranges, and back-projection with DepthType 0 and 1.
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <string>
 #include <vector>
@@ -335,4 +337,64 @@ TEST(DepthTest, MissingRunsTakeTheFartherBoundingLevel) {
   // Off: a copy.
   EXPECT_EQ(vs::fillMissingDepthRuns(depth, -1, inverseZ, out, filled), 0u);
   EXPECT_TRUE(out.samples == depth.samples);
+}
+
+// The same rule written plainly (every row, then every column, one sample at a time) against
+// fillMissingDepthRuns on larger maps with few and many missing samples, runs longer than the
+// sixteen samples it passes at a time, runs in columns after runs in rows, and a missing level that
+// is not 0.
+TEST(DepthTest, MissingRunsMatchAPlainFillOnRandomMaps) {
+  const vs::DepthRange range{10.0, 100.0, 8};
+  const std::vector<double> inverseZ = vs::inverseZTable(range);
+  auto plainLine = [&](vs::Plane& map, std::vector<uint8_t>& marks, int n, int x0, int y0, int dx, int dy,
+                       uint16_t missing) {
+    auto at = [&](int i) -> uint16_t& { return map.at(x0 + i * dx, y0 + i * dy); };
+    for (int k = 0; k < n; ++k) {
+      if (at(k) != missing) continue;
+      int end = k;
+      while (end < n && at(end) == missing) ++end;
+      if (k > 0 && end < n) {
+        const uint16_t before = at(k - 1), after = at(end);
+        const uint16_t farther = inverseZ[after] < inverseZ[before] ? after : before;
+        for (int j = k; j < end; ++j) {
+          at(j) = farther;
+          marks[size_t(y0 + j * dy) * size_t(map.width) + size_t(x0 + j * dx)] = 1;
+        }
+      }
+      k = end;
+    }
+  };
+  uint32_t seed = 12345;
+  auto next = [&]() {
+    seed = seed * 1664525u + 1013904223u;
+    return seed >> 8;
+  };
+  for (int trial = 0; trial < 40; ++trial) {
+    const int w = 17 + int(next() % 90), h = 1 + int(next() % 40);
+    const uint16_t missing = trial % 4 == 3 ? 255 : 0;
+    const unsigned share = 1 + next() % 90;  // percent of missing samples
+    vs::Plane depth(w, h, 0);
+    for (uint16_t& level : depth.samples) {
+      level = uint16_t(1 + next() % 254);
+      if (next() % 100 < share) level = missing;
+    }
+    // A few long runs along rows and columns.
+    for (int r = 0; r < 3; ++r) {
+      const int y = int(next() % unsigned(h)), x = int(next() % unsigned(w));
+      for (int i = x; i < std::min(w, x + 40); ++i) depth.at(i, y) = missing;
+      for (int j = 0; j < h; ++j) depth.at(x, j) = j % 7 == 3 ? uint16_t(1 + next() % 254) : missing;
+    }
+    vs::Plane expected = depth;
+    std::vector<uint8_t> expectedMarks(depth.samples.size(), 0);
+    for (int y = 0; y < h; ++y) plainLine(expected, expectedMarks, w, 0, y, 1, 0, missing);
+    for (int x = 0; x < w; ++x) plainLine(expected, expectedMarks, h, x, 0, 0, 1, missing);
+    vs::Plane out;
+    std::vector<uint8_t> filled;
+    const size_t count = vs::fillMissingDepthRuns(depth, missing, inverseZ, out, filled);
+    size_t marked = 0;
+    for (uint8_t mark : expectedMarks) marked += mark;
+    ASSERT_TRUE(out.samples == expected.samples) << "trial " << trial << " (" << w << " x " << h << ")";
+    ASSERT_TRUE(filled == expectedMarks) << "trial " << trial;
+    EXPECT_EQ(count, marked) << "trial " << trial;
+  }
 }

@@ -107,6 +107,48 @@ TEST(MissingDepthAuto, HolesCutIntoDepthAreFilled) {
             << exactResult.psnr << " dB; " << result.plan.missingDepthEvidence[0] << "\n";
 }
 
+// The first frame's filled maps that the decision made are handed to the synthesizer (as ViewSyn
+// does) so that frame 0 is not filled and tested twice: the output is the same as filling afresh; a
+// map is taken only for the depth it was made from (other frames are filled afresh), and it is
+// really the one used (a map altered where the check cannot see it changes the output).
+TEST(MissingDepthAuto, FirstFrameFillIsTakenOnlyForItsOwnDepth) {
+  Rig rig(150.0);
+  test::RenderedReferences exact = test::renderReferences(rig.analytic, rig.scene);
+  test::RenderedReferences holed = exact;
+  for (size_t k = 0; k < holed.depths.size(); ++k)
+    for (int y = 4; y < holed.depths[k].height - 4; ++y)
+      for (int x = 0; x < holed.depths[k].width; ++x)
+        if (((x + 9 * int(k)) / 6) % 3 == 1 && (y / 6) % 2 == 0) holed.depths[k].at(x, y) = 0;
+  Scene scene = rig.scene;
+  scene.settings.missingDepthAuto = true;
+  scene.settings.missingDepthFillAuto = true;
+  Plan plan = test::planOnPath(scene);
+  std::vector<FilledDepth> fills;
+  decideMissingDepth(scene, holed.frames(), plan, &fills);
+  ASSERT_TRUE(plan.missingDepthRunTest);
+  ASSERT_EQ(fills.size(), 2u);
+  auto render = [&](const std::vector<FilledDepth>* given, test::RenderedReferences& frames) {
+    Synthesizer synthesizer(scene, plan);
+    if (given) synthesizer.takeFirstFrameFill(*given);
+    Frame output;
+    StageTimes times;
+    synthesizer.synthesize(frames.frames(), output, times);
+    return output.planes[0].samples;
+  };
+  EXPECT_TRUE(render(&fills, holed) == render(nullptr, holed));
+  EXPECT_TRUE(render(&fills, exact) == render(nullptr, exact)) << "made from another depth: filled afresh";
+  std::vector<FilledDepth> altered = fills;
+  size_t marked = 0;
+  for (FilledDepth& fill : altered)
+    for (size_t i = 0; i < fill.filled.size(); ++i)
+      if (fill.filled[i]) {
+        fill.depth.samples[i] = 255;
+        ++marked;
+      }
+  ASSERT_GT(marked, 100u);
+  EXPECT_FALSE(render(&altered, holed) == render(nullptr, holed)) << "the handed map is the one drawn";
+}
+
 // A mix in one picture: the plane behind the square truly at Zfar (level 0, most of the picture) and
 // holes cut into the square, also coded as level 0. The reading is one per scene: the plane's
 // agreeing samples outweigh the square's contradicted ones, so level 0 stays far, and that is the

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstdlib>
 #include <cstring>
 #include <limits>
 #include <random>
@@ -296,6 +297,90 @@ TEST(RowKernels, HoleCountsAndTheWindowCountHolesAroundEachSample) {
         ASSERT_EQ(edge[size_t(x)], uint8_t(before[size_t(x)] | (total > 20)));
       }
     }
+}
+
+// The reference depth steps against the rule written plainly (a neighbour beyond the row's ends is the
+// sample itself), on rows of levels that differ by about the step, with missing samples, at 8 and 16
+// bits, with a missing level of 0, of another value and none (-1), and steps the 16-bit loop cannot
+// hold.
+TEST(RowKernels, ReferenceStepsAreThePlainRule) {
+  std::mt19937 rng(14);
+  for (const RowKernels* kernels : levels())
+    for (const int width : kWidths)
+      for (const int maxLevel : {255, 65535})
+        for (const int missing : {0, 7, -1, 65535})
+          for (const int minStep : {1, 10, 3000, 0, 70000}) {
+            std::uniform_int_distribution<int> level(0, maxLevel), small(0, 2 * std::min(minStep, 20) + 1);
+            std::vector<uint16_t> rows(3 * size_t(width));
+            for (size_t i = 0; i < rows.size(); ++i) {
+              // Mostly near the previous level (within about the step), sometimes far or missing.
+              const int roll = small(rng);
+              const int previous = i > 0 ? rows[i - 1] : level(rng);
+              int value = roll == 0 ? level(rng) : std::min(maxLevel, std::max(0, previous + roll - std::min(minStep, 20)));
+              if (roll == 1 && missing >= 0 && missing <= maxLevel) value = missing;
+              rows[i] = uint16_t(value);
+            }
+            const uint16_t* above = rows.data();
+            const uint16_t* row = above + width;
+            const uint16_t* below = row + width;
+            std::vector<uint8_t> step(size_t(width), 99);
+            kernels->referenceSteps(row, above, below, width, missing, minStep, step.data());
+            for (int x = 0; x < width; ++x) {
+              const int self = row[x];
+              const int neighbours[4] = {x > 0 ? row[x - 1] : self, x + 1 < width ? row[x + 1] : self, above[x], below[x]};
+              bool expected = self == missing;
+              for (const int other : neighbours) expected = expected || other == missing || std::abs(self - other) >= minStep;
+              ASSERT_EQ(step[size_t(x)], uint8_t(expected))
+                  << "level " << kernels->level << " width " << width << " x " << x << " missing " << missing
+                  << " minStep " << minStep;
+            }
+          }
+}
+
+// Depth edge alignment's edge pairs against the rule written plainly, with the same levels as above.
+TEST(RowKernels, DepthEdgePairsAreThePlainRule) {
+  std::mt19937 rng(15);
+  for (const RowKernels* kernels : levels())
+    for (const int width : kWidths)
+      for (const int maxLevel : {255, 65535})
+        for (const int missing : {0, 7, -1, 65535})
+          for (const int minStep : {1, 10, 3000, 0, 70000}) {
+            std::uniform_int_distribution<int> level(0, maxLevel), small(0, 2 * std::min(minStep, 20) + 1);
+            std::vector<uint16_t> a(static_cast<size_t>(width)), b(static_cast<size_t>(width));
+            for (int x = 0; x < width; ++x) {
+              a[size_t(x)] = uint16_t(small(rng) == 0 ? level(rng) : x > 0 ? a[size_t(x) - 1] : level(rng));
+              const int roll = small(rng);
+              int value = roll == 0 ? level(rng) : std::min(maxLevel, std::max(0, a[size_t(x)] + roll - std::min(minStep, 20)));
+              if (roll == 1 && missing >= 0 && missing <= maxLevel) value = missing;
+              b[size_t(x)] = uint16_t(value);
+              if (small(rng) == 1 && missing >= 0 && missing <= maxLevel) a[size_t(x)] = uint16_t(missing);
+            }
+            std::vector<uint8_t> flags(static_cast<size_t>(width), 99);
+            kernels->depthEdgePairs(a.data(), b.data(), width, missing, minStep, flags.data());
+            for (int x = 0; x < width; ++x) {
+              const int p = a[size_t(x)], q = b[size_t(x)];
+              const bool expected = p != missing && q != missing && std::abs(p - q) >= minStep;
+              ASSERT_EQ(flags[size_t(x)], uint8_t(expected))
+                  << "level " << kernels->level << " width " << width << " x " << x << " missing " << missing
+                  << " minStep " << minStep;
+            }
+          }
+}
+
+// Crack closing's candidates against the comparison written plainly, on rows with holes, NaN,
+// infinities and -0 (awkwardRow), limits of 0 and above.
+TEST(RowKernels, BehindFlagsAreThePlainComparison) {
+  std::mt19937 rng(16);
+  for (const RowKernels* kernels : levels())
+    for (const int n : kWidths)
+      for (const double limit : {0.0, 0.01, 0.5, kInf}) {
+        const std::vector<double> front = awkwardRow(rng, n, 3.0), behind = awkwardRow(rng, n, 3.0);
+        std::vector<uint8_t> flags(static_cast<size_t>(n), 99);
+        kernels->behindFlags(front.data(), behind.data(), n, limit, flags.data());
+        for (int i = 0; i < n; ++i)
+          ASSERT_EQ(flags[size_t(i)], uint8_t(behind[size_t(i)] < front[size_t(i)] - limit))
+              << "level " << kernels->level << " n " << n << " i " << i;
+      }
 }
 
 // The two-view blend against blendViews' rule written plainly: the nearest valid view's surface,

@@ -138,25 +138,33 @@ Vec3 backProjectDepth(const Camera& camera, double u, double v, double depthValu
 
 namespace {
 
-// Fills the runs of `missing` along one line of samples (n samples, `stride` apart) that have a valid
-// sample at both ends with the farther end's level.
-size_t fillLine(uint16_t* line, uint8_t* mark, int n, ptrdiff_t stride, uint16_t missing,
-                const std::vector<double>& inverseZ) {
+// Fills the runs of `missing` along one row of n samples that have a valid sample at both ends with
+// the farther end's level.
+size_t fillRow(uint16_t* line, uint8_t* mark, int n, uint16_t missing, const std::vector<double>& inverseZ) {
   auto inverse = [&](uint16_t level) { return level < inverseZ.size() ? inverseZ[level] : 0.0; };
   size_t count = 0;
   for (int k = 0; k < n;) {
-    if (line[k * stride] != missing) {
+    // Missing samples are few: sixteen at a time are passed while none is (a test that vectorises).
+    if (k + 16 <= n) {
+      bool any = false;
+      for (int i = 0; i < 16; ++i) any |= line[k + i] == missing;
+      if (!any) {
+        k += 16;
+        continue;
+      }
+    }
+    if (line[k] != missing) {
       ++k;
       continue;
     }
     int end = k;
-    while (end < n && line[end * stride] == missing) ++end;
+    while (end < n && line[end] == missing) ++end;
     if (k > 0 && end < n) {
-      const uint16_t before = line[(k - 1) * stride], after = line[end * stride];
+      const uint16_t before = line[k - 1], after = line[end];
       const uint16_t farther = inverse(after) < inverse(before) ? after : before;
       for (int j = k; j < end; ++j) {
-        line[j * stride] = farther;
-        mark[j * stride] = 1;
+        line[j] = farther;
+        mark[j] = 1;
       }
       count += size_t(end - k);
     }
@@ -175,10 +183,52 @@ size_t fillMissingDepthRuns(const Plane& depth, int missingLevel, const std::vec
   const uint16_t missing = uint16_t(missingLevel);
   const int w = depth.width, h = depth.height;
   size_t count = 0;
-  for (int y = 0; y < h; ++y)
-    count += fillLine(out.samples.data() + size_t(y) * w, filled.data() + size_t(y) * w, w, 1, missing, inverseZ);
-  for (int x = 0; x < w; ++x)
-    count += fillLine(out.samples.data() + x, filled.data() + x, h, w, missing, inverseZ);
+  for (int y = 0; y < h; ++y) count += fillRow(out.row(y), filled.data() + size_t(y) * w, w, missing, inverseZ);
+  // Then the columns, each the same way, visited row by row in memory order. What the rows left
+  // missing is little: a column's run opens at a missing sample below a valid one and closes at the
+  // next valid sample, which fills it with the farther of the two. Rows without a missing sample are
+  // passed sixteen samples at a time, and only the open columns are looked at in every row.
+  std::vector<int> runStart(size_t(w), -1);  // per column: the first row of its open run; -1: none
+  std::vector<int> open;                      // the columns with an open run
+  auto inverse = [&](uint16_t level) { return level < inverseZ.size() ? inverseZ[level] : 0.0; };
+  for (int y = 0; y < h; ++y) {
+    uint16_t* row = out.row(y);
+    size_t kept = 0;
+    for (const int x : open) {
+      if (row[x] == missing) {
+        open[kept++] = x;
+        continue;
+      }
+      const int top = runStart[size_t(x)];
+      const uint16_t before = out.at(x, top - 1), after = row[x];
+      const uint16_t farther = inverse(after) < inverse(before) ? after : before;
+      for (int r = top; r < y; ++r) {
+        out.at(x, r) = farther;
+        filled[size_t(r) * w + size_t(x)] = 1;
+      }
+      count += size_t(y - top);
+      runStart[size_t(x)] = -1;
+    }
+    open.resize(kept);
+    if (y == 0) continue;  // nothing valid above the first row
+    const uint16_t* above = out.row(y - 1);
+    for (int x = 0; x < w; ++x) {
+      if (x + 16 <= w) {
+        bool any = false;
+        for (int i = 0; i < 16; ++i) any |= row[x + i] == missing;
+        if (!any) {
+          x += 15;
+          continue;
+        }
+      }
+      // A missing sample below a valid one opens a run (below a missing one, the run is open already
+      // or there is nothing valid above).
+      if (row[x] == missing && above[x] != missing && runStart[size_t(x)] < 0) {
+        runStart[size_t(x)] = y;
+        open.push_back(x);
+      }
+    }
+  }
   return count;
 }
 

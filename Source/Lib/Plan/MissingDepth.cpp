@@ -2,7 +2,10 @@
 
 #include <cmath>
 #include <cstdio>
+#include <cstdint>
 #include <cstdlib>
+#include <cstring>
+#include <utility>
 
 #include "Common/Depth.h"
 #include "Common/Error.h"
@@ -38,12 +41,25 @@ std::string percent(double fraction) {
 
 }  // namespace
 
-std::vector<FarEvidence> testFarReading(const Scene& scene, const std::vector<ReferenceFrame>& references) {
+namespace {
+
+// runner(count, body), or body(0, count) without one.
+void runViews(const ViewRangeRunner& runner, size_t count, const std::function<void(int, int)>& body) {
+  if (runner) runner(int(count), body);
+  else body(0, int(count));
+}
+
+}  // namespace
+
+std::vector<FarEvidence> testFarReading(const Scene& scene, const std::vector<ReferenceFrame>& references,
+                                        const ViewRangeRunner& runner) {
   const SynthesisSettings& s = scene.settings;
   VS_CHECK(references.size() == s.references.size());
   std::vector<FarEvidence> evidence(references.size());
   const double colourTolerance = kFarColourTolerance * double(s.textureFormat.maxValue());
-  for (size_t k = 0; k < references.size(); ++k) {
+  // Each view's evidence on its own (the views' tests only read the frame).
+  runViews(runner, references.size(), [&](int first, int last) {
+  for (size_t k = size_t(first); k < size_t(last); ++k) {
     const Plane& depth = *references[k].depth;
     const Plane& luma = references[k].texture->planes[0];
     FarEvidence& e = evidence[k];
@@ -79,6 +95,7 @@ std::vector<FarEvidence> testFarReading(const Scene& scene, const std::vector<Re
         e.contradicted += seen && contradicted;
       }
   }
+  });
   return evidence;
 }
 
@@ -182,6 +199,12 @@ RunTestCounts testFilledRuns(const Scene& scene, size_t k, const std::vector<Ref
     uint16_t* row = filledDepth.samples.data() + size_t(y) * w;
     const uint8_t* mark = filled.data() + size_t(y) * w;
     for (int x = 0; x < w;) {
+      // Filled samples are few: eight marks at a time are passed while none is set.
+      uint64_t eight;
+      if (x + 8 <= w && (std::memcpy(&eight, mark + x, sizeof eight), eight == 0)) {
+        x += 8;
+        continue;
+      }
       if (!mark[x]) {
         ++x;
         continue;
@@ -237,9 +260,11 @@ RunTestCounts testFilledRuns(const Scene& scene, size_t k, const std::vector<Ref
   return counts;
 }
 
-void decideMissingDepth(const Scene& scene, const std::vector<ReferenceFrame>& references, Plan& plan) {
+void decideMissingDepth(const Scene& scene, const std::vector<ReferenceFrame>& references, Plan& plan,
+                        std::vector<FilledDepth>* firstFrameFill, const ViewRangeRunner& runner) {
+  if (firstFrameFill) firstFrameFill->clear();
   if (!plan.missingDepthAuto || plan.missingDepthDecided) return;
-  const std::vector<FarEvidence> evidence = testFarReading(scene, references);
+  const std::vector<FarEvidence> evidence = testFarReading(scene, references, runner);
   size_t tested = 0, contradicted = 0;
   for (const FarEvidence& e : evidence) {
     tested += e.tested;
@@ -255,6 +280,17 @@ void decideMissingDepth(const Scene& scene, const std::vector<ReferenceFrame>& r
                                                         "(the nearer where its colours match, Zfar where the "
                                                         "other views contradict)"
                                                       : "treated as missing (MissingDepthFill 0: not filled)";
+  // What the per-run test does on this frame (the renderers repeat it on every frame), each view on
+  // its own.
+  std::vector<FilledDepth> fills(plan.missingDepthRunTest ? evidence.size() : 0);
+  std::vector<RunTestCounts> runCounts(fills.size());
+  runViews(runner, fills.size(), [&](int first, int last) {
+    for (size_t k = size_t(first); k < size_t(last); ++k) {
+      fillMissingDepthRuns(*references[k].depth, plan.missingDepthLevel,
+                           inverseZTable(scene.settings.references[k].depthRange), fills[k].depth, fills[k].filled);
+      runCounts[k] = testFilledRuns(scene, k, references, plan.missingDepthLevel, fills[k].depth, fills[k].filled);
+    }
+  });
   plan.missingDepthEvidence.clear();
   for (size_t k = 0; k < evidence.size(); ++k) {
     const FarEvidence& e = evidence[k];
@@ -266,17 +302,13 @@ void decideMissingDepth(const Scene& scene, const std::vector<ReferenceFrame>& r
                        : ", none seen by another view";
     line += ": " + reading;
     if (plan.missingDepthRunTest) {
-      // What the per-run test does on this frame (the renderers repeat it on every frame).
-      Plane filledDepth;
-      std::vector<uint8_t> filled;
-      fillMissingDepthRuns(*references[k].depth, plan.missingDepthLevel,
-                           inverseZTable(scene.settings.references[k].depthRange), filledDepth, filled);
-      const RunTestCounts runs = testFilledRuns(scene, k, references, plan.missingDepthLevel, filledDepth, filled);
+      const RunTestCounts& runs = runCounts[k];
       line += "; frame 0: " + std::to_string(runs.runs) + " runs, " + std::to_string(runs.toNear) +
               " to the nearer side, " + std::to_string(runs.toFar) + " to Zfar";
     }
     plan.missingDepthEvidence.push_back(line);
   }
+  if (firstFrameFill) *firstFrameFill = std::move(fills);
   plan.missingDepthDecided = true;
 }
 

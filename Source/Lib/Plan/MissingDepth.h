@@ -5,6 +5,8 @@
 // reference views. Where such a view sees a valid, nearer surface there, or also level 0 but a colour
 // that differs by more than the tolerance, "far" is contradicted. The plan then reads level 0 as
 // missing and filled when most tested samples contradict it, and keeps VSRS's far reading otherwise.
+#include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -29,9 +31,15 @@ struct FarEvidence {
 constexpr double kFarColourTolerance = 0.08;
 constexpr double kFarContradictedShare = 0.65;
 
+// Calls body(begin, end) on sub-ranges of [0, count) that together cover it, each once: the reference
+// views' tests below are independent, so a caller with threads (the synthesizer's pool) runs them side
+// by side. Empty: one call on the calling thread.
+using ViewRangeRunner = std::function<void(int count, const std::function<void(int, int)>& body)>;
+
 // Tests level 0's far reading in every reference view against the others (every second sample in
 // both directions). `references`: the first frame's inputs, in the scene's order.
-std::vector<FarEvidence> testFarReading(const Scene& scene, const std::vector<ReferenceFrame>& references);
+std::vector<FarEvidence> testFarReading(const Scene& scene, const std::vector<ReferenceFrame>& references,
+                                        const ViewRangeRunner& runner = {});
 
 // The per-run test that follows the fill under auto (doc/algorithms.md, "Depth level 0: far or
 // missing"): each run of filled samples along a row (one level, the farther end's) is tested in the
@@ -68,9 +76,19 @@ struct RunTestCounts {
 RunTestCounts testFilledRuns(const Scene& scene, size_t k, const std::vector<ReferenceFrame>& references,
                              int missingLevel, Plane& filledDepth, const std::vector<uint8_t>& filled);
 
+// One reference view's depth map after fillMissingDepthRuns and testFilledRuns, and its marks.
+struct FilledDepth {
+  Plane depth;
+  std::vector<uint8_t> filled;
+};
+
 // With plan.missingDepthAuto: sets plan.missingDepthLevel, missingDepthFill, missingDepthRunTest and
 // missingDepthEvidence
 // from testFarReading on the first frame, and marks the plan decided. Without it: nothing.
-void decideMissingDepth(const Scene& scene, const std::vector<ReferenceFrame>& references, Plan& plan);
+// With the run test chosen, its per-view counts are computed on the first frame's filled maps; given
+// `firstFrameFill`, those maps (one per reference view, in the scene's order) are handed over, so that
+// a renderer that draws this frame next need not fill and test them again. Otherwise it is left empty.
+void decideMissingDepth(const Scene& scene, const std::vector<ReferenceFrame>& references, Plan& plan,
+                        std::vector<FilledDepth>* firstFrameFill = nullptr, const ViewRangeRunner& runner = {});
 
 }  // namespace vs

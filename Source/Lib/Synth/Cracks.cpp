@@ -5,6 +5,7 @@
 #include <cstdint>
 
 #include "Synth/Flags.h"
+#include "Synth/Kernels/Rows.h"
 #include "Synth/Parallel.h"
 
 namespace vs {
@@ -38,10 +39,11 @@ void closeCracks(std::vector<double>& inverseDepth, int width, int height, doubl
     flagsBuffer->resize(size_t(width));
     uint8_t* flags = flagsBuffer->data();
     const double limit = tolerance;
+    const RowKernels& kernels = rowKernels();  // the loops compiled for the CPU's x86-64 level
     for (int y = y0; y < y1; ++y) {
       const double* z = zbuffer + size_t(y) * width;
       const size_t rowStart = size_t(y) * width;
-      for (int x = 1; x + 1 < width; ++x) flags[x] = uint8_t(z[x] < z[x - 1] - limit);
+      if (width > 2) kernels.behindFlags(z, z + 1, width - 2, limit, flags + 1);  // flags[x]: z[x] < z[x - 1] - limit
       int done = 0;  // samples up to here have been tested
       forEachFlag(flags + 1, std::max(width - 2, 0), [&](int offset) {
         int x = offset + 1;
@@ -64,10 +66,11 @@ void closeCracks(std::vector<double>& inverseDepth, int width, int height, doubl
     uint8_t* flags = flagsBuffer->data();
     const double limit = tolerance;
     const size_t stride = size_t(width);
+    const RowKernels& kernels = rowKernels();
     for (int y = 1; y + 1 < height; ++y) {
       const double* z = zbuffer + size_t(y) * stride;
       const double* above = z - stride;
-      for (int x = x0; x < x1; ++x) flags[x - x0] = uint8_t(z[x] < above[x] - limit);
+      kernels.behindFlags(above + x0, z + x0, x1 - x0, limit, flags);  // flags[x - x0]: z[x] < above[x] - limit
       forEachFlag(flags, x1 - x0, [&](int offset) {
         const size_t i = size_t(y) * stride + size_t(x0 + offset), up = i - stride, down = i + stride;
         if (!close(up, i, i, down, false) && y + 2 < height) close(up, i, down, down + stride, true);

@@ -9,6 +9,7 @@
 #include "Common/Error.h"
 #include "Common/Geometry.h"
 #include "Synth/Flags.h"
+#include "Synth/Kernels/Rows.h"
 #include "Synth/ScratchPool.h"
 #include "Synth/Parallel.h"
 
@@ -48,14 +49,11 @@ int mismatch(const EdgeWitness& witness, const Line& line, int i, int level) {
 }
 
 // Flags x in [0, n) where samples a[x] and b[x] form a depth edge (neither missing, levels minStep
-// or more apart). Edges are few: the flags are found in a branch-free pass that vectorises, and the
-// callers then visit the set ones (Flags.h) instead of testing every pair with branches.
+// or more apart). Edges are few: the flags are found in a branch-free pass compiled for the CPU's
+// x86-64 level (Kernels/Rows.h), and the callers then visit the set ones (Flags.h) instead of testing
+// every pair with branches.
 void markDepthEdges(const uint16_t* a, const uint16_t* b, int n, const EdgeAlignOptions& o, uint8_t* flags) {
-  const int missing = o.missingLevel, minStep = o.minStep;
-  for (int x = 0; x < n; ++x) {
-    const int p = a[x], q = b[x];
-    flags[x] = uint8_t((p != missing) & (q != missing) & (std::abs(p - q) >= minStep));
-  }
+  rowKernels().depthEdgePairs(a, b, n, o.missingLevel, o.minStep, flags);
 }
 
 // The depth edge between samples x and x + 1 of `line`: moves it onto the texture edge when the tests

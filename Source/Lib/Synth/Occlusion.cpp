@@ -132,8 +132,9 @@ void rejectMisplacedSamples(const std::vector<WarpedLayer*>& views, const std::v
   std::vector<uint8_t>& candidateRow = scratch.candidateRows;
   candidateRow.assign(size_t(h), 0);
   // 1 while a candidate is still behind the surroundings in every other view looked at so far.
+  // (Written at every sample, and read, with more than two views only.)
   std::vector<uint8_t>& reject = scratch.stillBehind;
-  reject.resize(n);
+  if (views.size() > 2) reject.resize(n);
   std::vector<const double*> depths;
   for (const WarpedLayer* view : views) depths.push_back(view->inverseDepth.data());
   parallelRanges(h, [&](int y0, int y1) {
@@ -176,8 +177,8 @@ void rejectMisplacedSamples(const std::vector<WarpedLayer*>& views, const std::v
   while (firstRow < h && !candidateRow[size_t(firstRow)]) ++firstRow;
   while (lastRow >= firstRow && !candidateRow[size_t(lastRow)]) --lastRow;
   if (firstRow > lastRow) return;
-  std::vector<double>& farthest = scratch.around;  // per candidate: the row's, then with the column's
-  std::vector<double>& above = scratch.above;      // per sample: the column's last valid sample above
+  UntouchedBuffer<double>& farthest = scratch.around;  // per candidate: the row's, then with the column's
+  std::vector<double>& above = scratch.above;          // per sample: the column's last valid sample above
   std::vector<double>& columnLast = scratch.columnLast;
   farthest.resize(n);
   above.resize(n);

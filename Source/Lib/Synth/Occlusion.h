@@ -7,15 +7,19 @@
 #include <vector>
 
 #include "Synth/Layer.h"
+#include "Synth/ScratchPool.h"
 
 namespace vs {
 
 // Working buffers, kept between frames so that a sequence allocates nothing once they have grown.
+// `around` is written and read at the candidates only, which are few: an UntouchedBuffer (not zeroed
+// when it grows, its untouched pages never faulted in: ScratchPool.h). The others are written over
+// every sample before they are read.
 struct OcclusionScratch {
   std::vector<uint8_t> soleView;       // per sample: the one view that covers it, or none
   std::vector<uint8_t> candidateRows;  // per row: whether it holds a candidate
   std::vector<uint8_t> stillBehind;    // per candidate: behind the surroundings of every view so far
-  std::vector<double> around;          // per candidate: the surroundings in the view looked at
+  UntouchedBuffer<double> around;      // per candidate: the surroundings in the view looked at
   std::vector<double> above;           // per sample: the nearest valid sample above it in that view
   std::vector<double> columnLast;      // per column: the last valid sample met by a column scan
 };

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <cstdlib>
 
+#include "Synth/Kernels/Rows.h"
 #include "Synth/Synthesizer.h"
 
 namespace vs {
@@ -16,26 +17,15 @@ void Synthesizer::markReferenceEdges(ViewState& view, const Plane& depth) {
   const int missing = plan_.missingDepthLevel, minStep = plan_.edgeLevelStep;
   // A sample is a step when it is missing, or a neighbour (left, right, above, below) is missing or
   // differs by minStep levels or more. A neighbour beyond the border is read as the sample itself,
-  // which adds nothing (a sample differs from itself only by being missing). Bitwise operators keep
-  // the loop free of branches, so that it vectorises.
-  // (Locals, not the captured variables, inside the loops: a byte store could alias those, which
-  // keeps the compiler from vectorising.)
+  // which adds nothing (a sample differs from itself only by being missing). A row at a time, in the
+  // loop compiled for the CPU's x86-64 level (Kernels/Rows.h).
   parallelRanges(h, [&](int y0, int y1) {
-    const int width = w, height = h, miss = missing, least = minStep;
+    const RowKernels& kernels = rowKernels();
     for (int y = y0; y < y1; ++y) {
       const uint16_t* row = depth.row(y);
       const uint16_t* above = y > 0 ? depth.row(y - 1) : row;
-      const uint16_t* below = y + 1 < height ? depth.row(y + 1) : row;
-      uint8_t* out = step.data() + size_t(y) * width;
-      auto at = [=](int x, int left, int right) {
-        const int level = row[x];
-        auto differs = [=](int other) { return (other == miss) | (std::abs(level - other) >= least); };
-        return uint8_t((level == miss) | differs(row[left]) | differs(row[right]) | differs(above[x]) |
-                       differs(below[x]));
-      };
-      out[0] = at(0, 0, std::min(1, width - 1));
-      for (int x = 1; x + 1 < width; ++x) out[x] = at(x, x - 1, x + 1);
-      if (width > 1) out[width - 1] = at(width - 1, width - 2, width - 1);
+      const uint16_t* below = y + 1 < h ? depth.row(y + 1) : row;
+      kernels.referenceSteps(row, above, below, w, missing, minStep, step.data() + size_t(y) * w);
     }
   });
   // Dilated by one sample: the colours on both sides of an edge are mixed by the camera's optics.

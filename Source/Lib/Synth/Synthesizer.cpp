@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <utility>
 
 #include "Common/Depth.h"
 #include "Common/Error.h"
@@ -39,6 +40,30 @@ Synthesizer::Synthesizer(const Scene& scene, const Plan& plan)
     }
     views_.push_back(std::move(view));
   }
+}
+
+bool Synthesizer::reuseFirstFrameFill(size_t k, const Plane& depth) {
+  FilledDepth& fill = firstFrameFill_[k];
+  if (fill.depth.width != depth.width || fill.depth.height != depth.height ||
+      fill.depth.samples.size() != depth.samples.size() || fill.filled.size() != depth.samples.size())
+    return false;
+  // Made from this map: equal to it where nothing was filled, and the missing level where it was
+  // (the fill and the run test change only those samples). The differences ORed in 16-bit lanes,
+  // with each mark (0 or 1) as a mask: a loop without branches that vectorises.
+  const uint16_t missing = uint16_t(plan_.missingDepthLevel);
+  const uint16_t* source = depth.samples.data();
+  const uint16_t* made = fill.depth.samples.data();
+  const uint8_t* marks = fill.filled.data();
+  uint16_t differ = 0;
+  for (size_t i = 0, n = depth.samples.size(); i < n; ++i) {
+    const uint16_t filled = uint16_t(-uint16_t(marks[i] != 0));
+    differ |= uint16_t(uint16_t((source[i] ^ made[i]) & ~filled) | uint16_t((source[i] ^ missing) & filled));
+  }
+  if (differ != 0) return false;
+  ViewState& view = views_[k];
+  std::swap(view.filledDepth, fill.depth);
+  std::swap(view.filledSamples, fill.filled);
+  return true;
 }
 
 void Synthesizer::virtualDepth(const DepthRange& range, Plane& levels) const {
@@ -93,7 +118,7 @@ void Synthesizer::synthesize(const std::vector<ReferenceFrame>& references, Fram
     ViewState& view = views_[k];
     const Plane* depth = references[k].depth;
     const bool filled = plan_.missingDepthFill;
-    if (filled) {
+    if (filled && !(k < firstFrameFill_.size() && reuseFirstFrameFill(k, *depth))) {
       // Missing runs between valid samples take the farther level; the inverse-depth table has NaN
       // at the missing level, which fillMissingDepthRuns never picks (both ends are valid).
       fillMissingDepthRuns(*depth, plan_.missingDepthLevel, view.levelToInverseDepth, view.filledDepth,
@@ -102,8 +127,8 @@ void Synthesizer::synthesize(const std::vector<ReferenceFrame>& references, Fram
       // as VSRS reads level 0 (Plan/MissingDepth.h).
       if (plan_.missingDepthRunTest)
         testFilledRuns(scene_, k, references, plan_.missingDepthLevel, view.filledDepth, view.filledSamples);
-      depth = &view.filledDepth;
     }
+    if (filled) depth = &view.filledDepth;
     view.alignedSamples = 0;
     depth = &aligner_.align(k, *depth, lumas, view.alignedSamples);
     markReferenceEdges(view, *depth);
@@ -115,6 +140,7 @@ void Synthesizer::synthesize(const std::vector<ReferenceFrame>& references, Fram
     else warpDepth(view, *depth);
   };
   forEachView(depthSteps);
+  firstFrameFill_.clear();
   stats_.alignedDepthSamples = 0;
   for (const ViewState& view : views_) stats_.alignedDepthSamples += view.alignedSamples;
   times.depthWarp += secondsSince(start);

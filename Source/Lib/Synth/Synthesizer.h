@@ -24,6 +24,7 @@
 #include "Common/Frame.h"
 #include "Common/Scene.h"
 #include "Common/Timing.h"
+#include "Plan/MissingDepth.h"
 #include "Plan/Plan.h"
 #include "Synth/EdgeAlign.h"
 #include "Synth/HoleFill.h"
@@ -57,6 +58,11 @@ public:
   // DepthType; samples nothing covered get level 0.
   void virtualDepth(const DepthRange& range, Plane& levels) const;
   const Plan& plan() const { return plan_; }
+  // MissingDepthLevel auto: the first frame's filled maps decideMissingDepth made for its counts (one
+  // per view, or none). The next synthesize(), called with that same frame, takes a view's map instead
+  // of filling and testing its depth again where the view's depth is the one it was made from; then
+  // they are dropped.
+  void takeFirstFrameFill(std::vector<FilledDepth> fills) { firstFrameFill_ = std::move(fills); }
 
 private:
   struct ViewState {
@@ -99,6 +105,7 @@ private:
     std::vector<uint8_t> blockEdge, sourceOk;
   };
 
+  bool reuseFirstFrameFill(size_t k, const Plane& depth);  // view k's fill from firstFrameFill_; false: none fits
   void markReferenceEdges(ViewState& view, const Plane& depth);               // ReferenceEdges.cpp
   void warpDepth(ViewState& view, const Plane& depth);                        // DepthWarp.cpp
   void warpDepthRows(ViewState& view, const Plane& depth);                    // RowPath.cpp
@@ -121,6 +128,7 @@ private:
   SubPixelSampler sampler_;
   DepthEdgeAligner aligner_;
   std::vector<ViewState> views_;
+  std::vector<FilledDepth> firstFrameFill_;  // takeFirstFrameFill, until the next frame has used them
   BlendedLayer blendedLuma_, blendedChroma_;
   // Per-frame working buffers, kept so that a sequence allocates nothing once they have grown.
   HoleFillScratch lumaFill_, chromaFill_;

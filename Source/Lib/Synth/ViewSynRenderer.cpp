@@ -1,7 +1,9 @@
 #include "Synth/ViewSynRenderer.h"
 
 #include <cstdio>
+#include <functional>
 #include <memory>
+#include <utility>
 
 #include "Common/Depth.h"
 #include "Pipeline/FrameLoop.h"
@@ -23,8 +25,14 @@ public:
   // MissingDepthLevel auto: the plan decides on the first frame, then the synthesizer is built.
   std::vector<std::string> prepare(const std::vector<ReferenceFrame>& firstFrame) override {
     if (plan_.copyOf >= 0 || !plan_.missingDepthAuto || synthesizer_) return {};
-    decideMissingDepth(scene_, firstFrame, plan_);
+    std::vector<FilledDepth> firstFrameFill;  // the maps the decision filled: frame 0 need not again
+    // The views' tests side by side on the pool's threads, a view per stripe.
+    const ViewRangeRunner onThreads = [](int count, const std::function<void(int, int)>& body) {
+      parallelStripes(count, count, body);
+    };
+    decideMissingDepth(scene_, firstFrame, plan_, &firstFrameFill, onThreads);
     synthesizer_ = std::make_unique<Synthesizer>(scene_, plan_);
+    synthesizer_->takeFirstFrameFill(std::move(firstFrameFill));
     return plan_.missingDepthEvidence;
   }
   void render(const std::vector<ReferenceFrame>& references, Frame& output, StageTimes& times) override {

@@ -9,6 +9,7 @@
 #include "Synth/Raster.h"  // its code lies in vs::vN here (VS_LEVEL_NS)
 
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
 #include <limits>
 
@@ -247,6 +248,64 @@ void windowStep(uint8_t* sum, const uint8_t* entering, const uint8_t* leaving, u
     for (int x = 0; x < width; ++x) edge[x] |= uint8_t(sum[x] > most);
 }
 
+// One sample's step as referenceSteps states it, in int arithmetic (the row's ends, and any
+// `missing` or minStep the 16-bit loop below cannot hold).
+inline uint8_t stepAt(int level, int left, int right, int up, int down, int missing, int minStep) {
+  auto differs = [=](int other) { return (other == missing) | ((level > other ? level - other : other - level) >= minStep); };
+  return uint8_t((level == missing) | differs(left) | differs(right) | differs(up) | differs(down));
+}
+
+void referenceSteps(const uint16_t* row, const uint16_t* above, const uint16_t* below, int width, int missing,
+                    int minStep, uint8_t* step) {
+  if (width <= 0) return;
+  step[0] = stepAt(row[0], row[0], row[width > 1 ? 1 : 0], above[0], below[0], missing, minStep);
+  if (width == 1) return;
+  step[width - 1] = stepAt(row[width - 1], row[width - 2], row[width - 1], above[width - 1], below[width - 1], missing,
+                           minStep);
+  if (missing >= -1 && missing <= 0xffff && minStep >= 1 && minStep <= 0xffff) {
+    // In 16-bit lanes: the distance of two levels as the larger less the smaller (exact), a missing
+    // level of -1 as a mask that is never set.
+    const uint16_t miss = uint16_t(missing < 0 ? 0 : missing), any = uint16_t(missing < 0 ? 0 : 0xffff);
+    const uint16_t least = uint16_t(minStep);
+    for (int x = 1; x + 1 < width; ++x) {
+      const uint16_t level = row[x];
+      auto differs = [=](uint16_t other) {
+        const uint16_t distance = uint16_t(level > other ? level - other : other - level);
+        return uint16_t((uint16_t(-uint16_t(other == miss)) & any) | uint16_t(-uint16_t(distance >= least)));
+      };
+      const uint16_t hit = uint16_t((uint16_t(-uint16_t(level == miss)) & any) | differs(row[x - 1]) |
+                                    differs(row[x + 1]) | differs(above[x]) | differs(below[x]));
+      step[x] = uint8_t(hit & 1);
+    }
+    return;
+  }
+  for (int x = 1; x + 1 < width; ++x)
+    step[x] = stepAt(row[x], row[x - 1], row[x + 1], above[x], below[x], missing, minStep);
+}
+
+void depthEdgePairs(const uint16_t* a, const uint16_t* b, int n, int missing, int minStep, uint8_t* flags) {
+  if (missing >= -1 && missing <= 0xffff && minStep >= 1 && minStep <= 0xffff) {
+    // In 16-bit lanes, as referenceSteps.
+    const uint16_t miss = uint16_t(missing < 0 ? 0 : missing), any = uint16_t(missing < 0 ? 0 : 0xffff);
+    const uint16_t least = uint16_t(minStep);
+    for (int x = 0; x < n; ++x) {
+      const uint16_t p = a[x], q = b[x];
+      const uint16_t distance = uint16_t(p > q ? p - q : q - p);
+      const uint16_t missingOne = uint16_t((uint16_t(-uint16_t(p == miss)) | uint16_t(-uint16_t(q == miss))) & any);
+      flags[x] = uint8_t(uint16_t(~missingOne & uint16_t(-uint16_t(distance >= least))) & 1);
+    }
+    return;
+  }
+  for (int x = 0; x < n; ++x) {
+    const int p = a[x], q = b[x];
+    flags[x] = uint8_t((p != missing) & (q != missing) & ((p > q ? p - q : q - p) >= minStep));
+  }
+}
+
+void behindFlags(const double* front, const double* behind, int n, double limit, uint8_t* flags) {
+  for (int i = 0; i < n; ++i) flags[i] = uint8_t(behind[i] < front[i] - limit);
+}
+
 template <int TAPS>
 void sampleRowPhase(const uint16_t* taps, const float* kernel, long long count, float* out) {
   float k[TAPS];
@@ -416,6 +475,9 @@ const RowKernels rowKernelsOfLevel = {forwardRow,
                                       sampleRowPhase<6>,
                                       holeCounts,
                                       windowStep,
+                                      referenceSteps,
+                                      depthEdgePairs,
+                                      behindFlags,
                                       {{blendTwoViews<1, false>, blendTwoViews<1, true>},
                                        {blendTwoViews<2, false>, blendTwoViews<2, true>},
                                        {blendTwoViews<3, false>, blendTwoViews<3, true>}},

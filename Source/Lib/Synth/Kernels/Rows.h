@@ -96,6 +96,18 @@ struct RowKernels {
   // edge is null, edge[x] |= sum[x] > most.
   void (*holeCounts)(const double* depth, int width, uint8_t* padded, uint8_t* count);
   void (*windowStep)(uint8_t* sum, const uint8_t* entering, const uint8_t* leaving, uint8_t* edge, int width, int most);
+  // The reference depth steps of a row (Synth/ReferenceEdges.cpp): step[x] = 1 where level row[x] is
+  // `missing`, or a neighbour (row[x - 1], row[x + 1], above[x], below[x]; the sample itself beyond
+  // the row's ends) is `missing` or differs from it by minStep levels or more; else 0. `missing` -1:
+  // no level is missing.
+  void (*referenceSteps)(const uint16_t* row, const uint16_t* above, const uint16_t* below, int width, int missing,
+                         int minStep, uint8_t* step);
+  // Depth edge alignment's edges (Synth/EdgeAlign.cpp): flags[x] = 1 where levels a[x] and b[x] are
+  // neither `missing` (-1: none is) and differ by minStep or more; else 0, for x in [0, n).
+  void (*depthEdgePairs)(const uint16_t* a, const uint16_t* b, int n, int missing, int minStep, uint8_t* flags);
+  // Crack closing's candidates (Synth/Cracks.cpp): flags[i] = 1 where behind[i] < front[i] - limit (a
+  // sample more than the tolerance behind its neighbour; NaN compares false), else 0, for i in [0, n).
+  void (*behindFlags)(const double* front, const double* behind, int n, double limit, uint8_t* flags);
   // The two-view blend of samples [begin, end), for 1, 2 or 3 channels, each with and without
   // NearestViewOnly ([channels - 1][nearestViewOnly]); true where the general blend finds no bestView.
   bool (*blendTwoViews[3][2])(const TwoViewBlendRows& blend, size_t begin, size_t end);
