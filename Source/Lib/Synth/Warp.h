@@ -23,6 +23,7 @@
 
 #include "Common/Camera.h"
 #include "Common/Geometry.h"
+#include "Synth/Interpolation.h"
 #include "Synth/Kernels/Rows.h"
 
 namespace vs {
@@ -51,6 +52,15 @@ public:
   // The reference camera is equirectangular with a full circle: its last column's quads close up
   // with its first column's.
   bool referenceWraps() const { return referenceWraps_; }
+  // The virtual camera is equirectangular with a full circle (wrapWidth() > 0): the row coordinate of
+  // its north (top) or south pole, -0.5 or height - 0.5 where the picture reaches it (beyond the
+  // picture otherwise), and the inverse depth at which the plane through three warped points (x[i],
+  // y[i], wv[i]) meets that pole's ray (the mean of the three where the plane does not meet it in front).
+  double poleRow(bool north) const;
+  double poleInverseDepth(const double* x, const double* y, const double* wv, bool north) const;
+  // How the reference's texture continues beyond its edges (Synth/Interpolation.h): round the wrap for a
+  // full circle, and across a pole the picture reaches; nothing (clamped) for a pinhole reference.
+  const SphereEdges& referenceSphere() const { return referenceSphere_; }
   // The parallel forms, inline for the 1D path's row loops: the same values forward() and backward()
   // give when parallel(). rowTarget's inverseDepth is the inverse camera depth (DepthType 0).
   double rowTarget(double u, double inverseDepth) const {
@@ -113,6 +123,7 @@ private:
   bool spherical_ = false;
   int wrapWidth_ = 0;
   bool referenceWraps_ = false;
+  SphereEdges referenceSphere_;
   Camera referenceCamera_, targetCamera_;  // spherical only: their pixel <-> ray mappings
   RelativePose pose_;                      // spherical only
   Mat3 poseRotationInverse_;
