@@ -163,6 +163,49 @@ TEST(EquirectangularSynth, ErpReferenceOntoItselfIsExactThroughTheWarp) {
   }
 }
 
+// A full-circle ERP picture turned by whole columns is the same picture shifted round: the columns of
+// `picture` moved `columns` to the right, round the wrap (luma and chroma; chroma by half as many).
+Plane shiftedRound(const Plane& picture, int columns) {
+  Plane out(picture.width, picture.height);
+  for (int y = 0; y < picture.height; ++y)
+    for (int x = 0; x < picture.width; ++x)
+      out.at((x + columns % picture.width + picture.width) % picture.width, y) = picture.at(x, y);
+  return out;
+}
+
+// Where a reference's wrap lies is a matter of how its picture is stored: the references turned a
+// quarter turn (their columns shifted 64 round, so that their wrap now lies in the middle of what they
+// showed) must give the same output. Every stage that reads a reference across its wrap takes part:
+// the depth grid (the quad closing the rows), the texture and chroma look-ups and the reference's
+// depth-edge flags, and the plan's blend weights (an ERP camera's rotation says nothing of what it
+// sees). Weights from the angle between the optical axes changed 13030 samples (3376 by more than 1);
+// reading the edge sample beyond the wrap 43; not flagging a depth step across the wrap 1.
+TEST(EquirectangularSynth, OutputDoesNotDependOnWhereTheReferencesWrapLies) {
+  const test::GeneratedScene& scene = room();
+  const int width = 256, height = 128;
+  const Camera left = erpCamera("ring0", width, height, Vec3(-0.15, 0, 0));
+  const Camera right = erpCamera("ring1", width, height, Vec3(0.15, 0, 0));
+  const Camera target = erpCamera("centre", width, height, Vec3(0.05, 0.02, 0.04));
+  const DepthRange range = scene.cameraRange({left, right, target}, 16);
+  Scene s = test::makeScene({left, right}, target, scene.textureFormat(), range);
+  s.settings.boundaryNoiseRemoval = true;  // reads the depth-edge flags too
+  const test::SynthesisInputs inputs = test::renderInputs(scene, s);
+  // A quarter turn to the left (MPEG's yaw): longitudes in the camera drop by 90 degrees, and longitude
+  // decreases to the right, so every column moves 64 to the right.
+  Scene turned = s;
+  test::SynthesisInputs shifted = inputs;
+  for (size_t k = 0; k < 2; ++k) {
+    Camera& camera = turned.settings.references[k].camera;
+    camera.R = rotationFromYawPitchRoll(90, 0, 0);
+    shifted.depths[k] = shiftedRound(inputs.depths[k], width / 4);
+    for (int p = 0; p < 3; ++p)
+      shifted.textures[k].planes[p] = shiftedRound(inputs.textures[k].planes[p], (p == 0 ? width : width / 2) / 4);
+  }
+  const Frame a = test::synthesize(s, inputs).output, b = test::synthesize(turned, shifted).output;
+  const test::FrameDifference difference = test::compareFrames(a, b);
+  EXPECT_EQ(difference.differing, 0u) << difference.beyondOne << " by more than 1, at most " << difference.maxAbs;
+}
+
 // PSNR of the columns within 4 of the wrap (both edges) of an ERP picture's luma.
 double seamPsnr(const Frame& truth, const Frame& output) {
   double sum = 0;
