@@ -1,7 +1,9 @@
 // Equirectangular (ERP) cameras in the general path: the warp's mapping against formulas written out
 // here, an ERP reference warped onto itself, and the room scene (cfg/scenes/room.scene) synthesized from
 // two ERP references into an ERP and a perspective virtual camera against SceneGen's exact render,
-// compared with perspective references of the same pixel count.
+// compared with perspective references of the same pixel count (and why the 144-degree viewport is
+// not: by the angle off its axis); the same output whichever way the references are stored turned;
+// and the caps round the virtual camera's poles (cfg/scenes/room_poles.scene).
 #include <gtest/gtest.h>
 
 #include <cmath>

@@ -8,7 +8,8 @@
 //   Filter 2  MPEG-4 AVC         half pel (1, -5, 20, 20, -5, 1) / 32; quarter pel the mean of the
 //                                nearest integer and half-pel kernels, as in H.264's luma rule
 // Every kernel is exactly (0, ..., 1, ..., 0) at phase 0, so integer positions return the sample
-// itself. Positions outside the plane read the nearest edge sample (never outside the buffer).
+// itself. Positions outside the plane read the nearest edge sample (never outside the buffer), or for
+// an equirectangular reference the samples round its wrap and across its poles (SphereEdges).
 #include <algorithm>
 #include <array>
 #include <cmath>
