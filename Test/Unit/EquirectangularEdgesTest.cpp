@@ -115,7 +115,8 @@ TEST(EquirectangularEdges, ReferenceTextureIsReadRoundTheWrapAndAcrossThePoles) 
     const auto worldDirection = [&](double u, double v) {
       const Vec3 ray = pixelDirection(u, v, width, height);
       const Mat3& r = turned.R;
-      return Vec3(r[0][0] * ray.x + r[1][0] * ray.y + r[2][0] * ray.z, r[0][1] * ray.x + r[1][1] * ray.y + r[2][1] * ray.z,
+      return Vec3(r[0][0] * ray.x + r[1][0] * ray.y + r[2][0] * ray.z,
+                  r[0][1] * ray.x + r[1][1] * ray.y + r[2][1] * ray.z,
                   r[0][2] * ray.x + r[1][2] * ray.y + r[2][2] * ray.z);
     };
     double wrapWorst = 0, poleWorst = 0, chromaWorst = 0;
@@ -128,7 +129,8 @@ TEST(EquirectangularEdges, ReferenceTextureIsReadRoundTheWrapAndAcrossThePoles) 
     for (int y = 0; y < height / 2; ++y)
       for (int x = 0; x < width / 2; ++x)
         if (x == 0 || x == width / 2 - 1 || y == 0 || y == height / 2 - 1)
-          chromaWorst = std::max(chromaWorst, std::fabs(output.planes[1].at(x, y) - chromaU(worldDirection(2 * x + 0.5, 2 * y + 0.5))));
+          chromaWorst = std::max(chromaWorst, std::fabs(output.planes[1].at(x, y) -
+                                                        chromaU(worldDirection(2 * x + 0.5, 2 * y + 0.5))));
     const std::string turn = std::to_string(int(std::lround(pitch / sample * 100)));
     test::recordFigure("wrap_columns_worst_error_pitch" + turn, wrapWorst);
     test::recordFigure("pole_rows_worst_error_pitch" + turn, poleWorst);

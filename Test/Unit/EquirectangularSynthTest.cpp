@@ -256,6 +256,28 @@ double wrongDepthFraction(const test::GeneratedScene& scene, const Scene& s, con
   return double(wrong) / double(truth.size());
 }
 
+// A virtual ERP camera with half a circle of longitudes (Hor_range [-90, 90]): a point behind it maps
+// beyond the picture on the side nearer to it, so a triangle straddling the meridian straight behind
+// has corners on both sides, a whole turn (twice the picture's width) apart. Drawn as it is, it
+// would cross the whole picture; it is drawn as the wrap's triangles are, a turn to either side,
+// where it lies outside the picture.
+TEST(EquirectangularSynth, PartialCircleVirtualCameraGetsNoTriangleFromBehind) {
+  static const test::GeneratedScene scene(std::vector<std::string>{
+      "SceneFile=" + (std::filesystem::path(VS_SOURCE_DIR) / "cfg" / "scenes" / "room.scene").string(),
+      "SourceWidth=128", "SourceHeight=128"});
+  const int width = 128, height = 128;
+  const Camera left = erpCamera("ring0", width, height, Vec3(-0.15, 0, 0));
+  const Camera right = erpCamera("ring1", width, height, Vec3(0.15, 0, 0));
+  Camera front = erpCamera("front", width, height, Vec3(0.05, 0.02, 0.04));
+  front.erp.lonMin = -90;
+  front.erp.lonMax = 90;
+  const DepthRange range = scene.cameraRange({left, right, front}, 16);
+  const Scene s = test::makeScene({left, right}, front, scene.textureFormat(), range);
+  const double wrong = wrongDepthFraction(scene, s, test::renderInputs(scene, s), range);
+  test::recordFigure("wrong_depth_fraction", wrong);
+  EXPECT_LE(wrong, 0.02);
+}
+
 // A pinhole camera of the room's picture size, horizontal field of view `degrees`, turned `yaw`
 // degrees to the left (MPEG's yaw), at `centre`.
 Camera pinholeCamera(const std::string& name, double degrees, double yaw, const Vec3& centre, int width, int height) {
@@ -358,7 +380,8 @@ TEST(EquirectangularSynth, TwoErpReferencesScoreAtLeastAsWellAsPerspectiveOnesOf
   // The sampling, not the warp: one ERP reference at the viewport's own centre (no parallax, no holes:
   // resampling alone) scores no better than the two on the ring.
   const double resampledOnly = psnrY(wideTruth, [&] {
-    const Scene s = test::makeScene({erpCamera("at_viewport", width, height, middle)}, wide, scene.textureFormat(), range);
+    const Camera atViewport = erpCamera("at_viewport", width, height, middle);
+    const Scene s = test::makeScene({atViewport}, wide, scene.textureFormat(), range);
     return test::synthesize(s, test::renderInputs(scene, s)).output;
   }());
   test::recordFigure("wide_viewport_psnr_y_from_one_erp_at_its_centre", resampledOnly);

@@ -18,9 +18,10 @@ namespace {
 
 // Equirectangular cameras (Synth/Warp.h): the quads between two projected rows, drawn so that none
 // spans the virtual ERP picture across its longitude wrap. The row is rasterised in runs that stop
-// at a quad whose warped corners land on both sides of the wrap (more than half the picture apart);
-// such a quad is drawn twice, once with its left-side corners a whole turn to the right and once
-// with its right-side corners a turn to the left, each clipped by the picture. With a full-circle
+// at a quad whose warped corners land on both sides of the wrap (more than half a turn apart; for a
+// partial circle the "wrap" is the meridian straight behind, outside the picture); such a quad is
+// drawn twice, once with its corners left of the picture's middle a whole turn to the right and once
+// with those right of it a turn to the left, each clipped by the picture. With a full-circle
 // reference, the quad closing its rows (last column to first) is drawn the same way.
 //
 // A triangle of such a quad that goes round a pole of the virtual picture (its corners' longitudes,
@@ -29,11 +30,12 @@ namespace {
 // triangle's plane's there: ViewProjection::poleInverseDepth), shifted a turn either way as needed.
 // rasteriseRow(n, discontinuity, top row, bottom row) rasterises n - 1 quads.
 template <class Rasterise>
-void rasteriseSphericalRow(const Rasterise& rasteriseRow, const ViewProjection& projection, int width, int outHeight,
-                           double discontinuity, bool closeReference, const double* xTop, const double* yTop,
-                           const double* wTop, const double* xBottom, const double* yBottom, const double* wBottom) {
-  const int wrapWidth = projection.wrapWidth();
-  const double half = 0.5 * wrapWidth;
+void rasteriseSphericalRow(const Rasterise& rasteriseRow, const ViewProjection& projection, int width, int outWidth,
+                           int outHeight, double discontinuity, bool closeReference, const double* xTop,
+                           const double* yTop, const double* wTop, const double* xBottom, const double* yBottom,
+                           const double* wBottom) {
+  const double wrapWidth = projection.wrapWidth();
+  const double half = 0.5 * wrapWidth, middle = 0.5 * outWidth;
   const auto crosses = [&](int c0, int c1) {
     if (wrapWidth == 0) return false;
     double lo = HUGE_VAL, hi = -HUGE_VAL;
@@ -60,7 +62,7 @@ void rasteriseSphericalRow(const Rasterise& rasteriseRow, const ViewProjection& 
     for (int i = 0; i < 3; ++i) {
       const int j = (i + 1) % 3;
       const double to = tx[i] + step(tx[i], tx[j]);
-      for (const double shift : {-double(wrapWidth), 0.0, double(wrapWidth)}) {
+      for (const double shift : {-wrapWidth, 0.0, wrapWidth}) {
         const double qx[4] = {tx[i] + shift, to + shift, tx[i] + shift, to + shift};
         const double qy[4] = {poleY, poleY, ty[i], ty[j]};
         const double qw[4] = {poleW, poleW, tw[i], tw[j]};
@@ -93,16 +95,17 @@ void rasteriseSphericalRow(const Rasterise& rasteriseRow, const ViewProjection& 
     if (cap[1]) rest[2] = -1.0;
     if (cap[0] && cap[1]) return;
     double shifted[4];
-    for (int i = 0; i < 4; ++i) shifted[i] = x[i] < half ? x[i] + wrapWidth : x[i];
+    for (int i = 0; i < 4; ++i) shifted[i] = x[i] < middle ? x[i] + wrapWidth : x[i];
     rasteriseRow(2, discontinuity, shifted, y, rest, shifted + 2, y + 2, rest + 2);
-    for (int i = 0; i < 4; ++i) shifted[i] = x[i] >= half ? x[i] - wrapWidth : x[i];
+    for (int i = 0; i < 4; ++i) shifted[i] = x[i] >= middle ? x[i] - wrapWidth : x[i];
     rasteriseRow(2, discontinuity, shifted, y, rest, shifted + 2, y + 2, rest + 2);
   };
   int start = 0;
   for (int c = 0; c + 1 < width && wrapWidth > 0; ++c)
     if (crosses(c, c + 1)) {
-      if (c > start) rasteriseRow(c + 1 - start, discontinuity, xTop + start, yTop + start, wTop + start, xBottom + start,
-                                  yBottom + start, wBottom + start);
+      if (c > start)
+        rasteriseRow(c + 1 - start, discontinuity, xTop + start, yTop + start, wTop + start, xBottom + start,
+                     yBottom + start, wBottom + start);
       drawQuad(c, c + 1);
       start = c + 1;
     }
@@ -170,8 +173,8 @@ void Synthesizer::warpDepth(ViewState& view, const Plane& depth) {
         else if (y > first)
           rasteriseSphericalRow(
               [&](int n, double jump, auto... rows) { rasteriseRow(n, outWidth, outHeight, jump, rows...); },
-              projection, width, outHeight, discontinuity, projection.referenceWraps(), xAbove, yAbove, wAbove, xs,
-              ys, ws);
+              projection, width, outWidth, outHeight, discontinuity, projection.referenceWraps(), xAbove, yAbove,
+              wAbove, xs, ys, ws);
         std::swap(xAbove, xs);
         std::swap(yAbove, ys);
         std::swap(wAbove, ws);

@@ -43,7 +43,9 @@ ViewProjection::ViewProjection(const Camera& reference, const Camera& target, in
     targetCamera_ = target;
     pose_ = pose;
     poseRotationInverse_ = rotationInverse;
-    if (target.isEquirectangular() && target.erp.wraps()) wrapWidth_ = target.erp.width;
+    if (target.isEquirectangular())
+      wrapWidth_ = target.erp.wraps() ? double(target.erp.width)
+                                      : target.erp.width * 360.0 / (target.erp.lonMax - target.erp.lonMin);
     referenceWraps_ = reference.isEquirectangular() && reference.erp.wraps();
     // Across a pole lies the same picture half a turn round: only with a full circle of longitudes.
     referenceSphere_.wrap = referenceWraps_;

@@ -46,13 +46,15 @@ public:
   bool parallel() const { return parallel_; }
   // An equirectangular camera on either side.
   bool spherical() const { return spherical_; }
-  // The virtual camera is equirectangular with a full 360-degree circle of columns of this width
-  // (0 otherwise): a triangle whose corners land on both sides of the wrap must be drawn split.
-  int wrapWidth() const { return wrapWidth_; }
+  // The virtual camera is equirectangular: the width in its pixels of a whole turn of longitude (its
+  // picture's width for a full circle; 0 for a pinhole camera). A point maps within half a turn of the
+  // picture's middle, so a triangle whose corners land more than half a turn apart straddles the wrap
+  // (or, for a partial circle, the meridian straight behind) and must be drawn a turn to either side.
+  double wrapWidth() const { return wrapWidth_; }
   // The reference camera is equirectangular with a full circle: its last column's quads close up
   // with its first column's.
   bool referenceWraps() const { return referenceWraps_; }
-  // The virtual camera is equirectangular with a full circle (wrapWidth() > 0): the row coordinate of
+  // The virtual camera is equirectangular (wrapWidth() > 0): the row coordinate of
   // its north (top) or south pole, -0.5 or height - 0.5 where the picture reaches it (beyond the
   // picture otherwise), and the inverse depth at which the plane through three warped points (x[i],
   // y[i], wv[i]) meets that pole's ray (the mean of the three where the plane does not meet it in front).
@@ -121,7 +123,7 @@ private:
   int depthType_;
   bool parallel_;
   bool spherical_ = false;
-  int wrapWidth_ = 0;
+  double wrapWidth_ = 0;
   bool referenceWraps_ = false;
   SphereEdges referenceSphere_;
   Camera referenceCamera_, targetCamera_;  // spherical only: their pixel <-> ray mappings
