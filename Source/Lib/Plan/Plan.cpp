@@ -53,9 +53,12 @@ void decideDepthAndWeights(const Scene& scene, Plan& plan) {
     inverseRange += std::fabs(1.0 / reference.depthRange.znear - farInverse);
     distances.push_back(norm(reference.camera.centre() - scene.virtualCamera.centre()));
     // Angle between the optical axes (rows 2 of R are the viewing directions in world coordinates).
+    // An equirectangular camera sees every direction (its rotation only says where its picture
+    // starts): with one on either side the views are as alike as their positions.
     const double cosine = dot(reference.camera.R.row(2), scene.virtualCamera.R.row(2)) /
                           (norm(reference.camera.R.row(2)) * norm(scene.virtualCamera.R.row(2)));
-    angles.push_back(std::acos(std::clamp(cosine, -1.0, 1.0)));
+    const bool spherical = reference.camera.isEquirectangular() || scene.virtualCamera.isEquirectangular();
+    angles.push_back(spherical ? 0.0 : std::acos(std::clamp(cosine, -1.0, 1.0)));
   }
   inverseRange /= double(s.references.size());
   // Thresholds sit half a level past the whole number of 8-bit levels they name: inverse depths of

@@ -8,7 +8,8 @@
 //   Filter 2  MPEG-4 AVC         half pel (1, -5, 20, 20, -5, 1) / 32; quarter pel the mean of the
 //                                nearest integer and half-pel kernels, as in H.264's luma rule
 // Every kernel is exactly (0, ..., 1, ..., 0) at phase 0, so integer positions return the sample
-// itself. Positions outside the plane read the nearest edge sample (never outside the buffer).
+// itself. Positions outside the plane read the nearest edge sample (never outside the buffer), or for
+// an equirectangular reference the samples round its wrap and across its poles (SphereEdges).
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -19,6 +20,17 @@
 #include "Synth/Kernels/Rows.h"
 
 namespace vs {
+
+// How a plane continues beyond its edges for an equirectangular reference (Synth/Warp.h). A look-up
+// normally reads the nearest edge sample there. A full circle of longitudes continues round the wrap
+// (column -1 is column width - 1: `wrap`), and where the picture reaches a pole (latitude +-90 with a
+// full circle: `north`, `south`) the row beyond it is the one as far on the other side of the pole,
+// half a turn round: row -1 - r at column x + width / 2 at the top, row 2 height - 1 - r likewise at the
+// bottom (in the plane's own sample coordinates, so for a chroma plane too).
+struct SphereEdges {
+  bool wrap = false, north = false, south = false;
+  bool any() const { return wrap || north || south; }
+};
 
 class SubPixelSampler {
 public:
@@ -33,6 +45,16 @@ public:
   // bit for bit, without the vertical pass. Rows outside the plane read the nearest edge row.
   float sampleRow(const Plane& plane, double x, long long y) const {
     return taps_ == 4 ? sampleRowTaps<4>(plane, x, y) : taps_ == 6 ? sampleRowTaps<6>(plane, x, y) : sampleRowTaps<2>(plane, x, y);
+  }
+
+  // sampleTaps<TAPS> for a plane that continues beyond its edges as `edges` says: the same value, bit
+  // for bit, where the kernel reads inside the plane (the same arithmetic in the same order).
+  template <int TAPS>
+  float sampleSphereTaps(const Plane& plane, double x, double y, const SphereEdges& edges) const;
+  // Whether a kernel at (x, y) may read beyond a width x height plane (conservatively: within four
+  // samples of an edge), where sampleSphereTaps and sampleTaps may differ.
+  static bool nearEdge(double x, double y, int width, int height) {
+    return !(x >= 4.0 && y >= 4.0 && x <= width - 5.0 && y <= height - 5.0);
   }
 
   int precision() const { return precision_; }
@@ -165,6 +187,42 @@ inline float SubPixelSampler::sampleTaps(const Plane& plane, double x, double y)
     for (int tx = 0; tx < TAPS; ++tx) {
       if (kx[tx] == 0.0f) continue;
       const long long sx = std::clamp(ix + first_ + tx, 0LL, maxX);
+      rowSum += kx[tx] * float(row[sx]);
+    }
+    sum += ky[ty] * rowSum;
+  }
+  return sum;
+}
+
+template <int TAPS>
+inline float SubPixelSampler::sampleSphereTaps(const Plane& plane, double x, double y, const SphereEdges& edges) const {
+  long long ix, iy, turnedX;
+  int px, py, turnedPhase;
+  gridPosition(x, ix, px);
+  gridPosition(y, iy, py);
+  gridPosition(x + 0.5 * plane.width, turnedX, turnedPhase);  // half a turn round, for rows across a pole
+  const float* ky = kernel(py);
+  const long long width = plane.width, maxY = plane.height - 1;
+  float sum = 0.0f;
+  for (int ty = 0; ty < TAPS; ++ty) {
+    if (ky[ty] == 0.0f) continue;
+    long long sy = iy + first_ + ty;
+    bool turned = false;
+    if (sy < 0 && edges.north) {
+      sy = -1 - sy;
+      turned = true;
+    } else if (sy > maxY && edges.south) {
+      sy = 2 * maxY + 1 - sy;
+      turned = true;
+    }
+    const uint16_t* row = plane.row(int(std::clamp(sy, 0LL, maxY)));
+    const long long cx = turned ? turnedX : ix;
+    const float* kx = kernel(turned ? turnedPhase : px);
+    float rowSum = 0.0f;
+    for (int tx = 0; tx < TAPS; ++tx) {
+      if (kx[tx] == 0.0f) continue;
+      const long long column = cx + first_ + tx;
+      const long long sx = edges.wrap ? (column % width + width) % width : std::clamp(column, 0LL, width - 1);
       rowSum += kx[tx] * float(row[sx]);
     }
     sum += ky[ty] * rowSum;

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cstdint>
 #include <cstdlib>
+#include <vector>
 
 #include "Synth/Kernels/Rows.h"
 #include "Synth/Synthesizer.h"
@@ -19,13 +20,37 @@ void Synthesizer::markReferenceEdges(ViewState& view, const Plane& depth) {
   // differs by minStep levels or more. A neighbour beyond the border is read as the sample itself,
   // which adds nothing (a sample differs from itself only by being missing). A row at a time, in the
   // loop compiled for the CPU's x86-64 level (Kernels/Rows.h).
+  // An ERP reference (Synth/Interpolation.h's SphereEdges): round its wrap the neighbour of the last
+  // column is the first (the two edge columns redone after the kernel), and beyond a pole its first
+  // (last) row half a turn round.
+  const SphereEdges sphere = view.projection.referenceSphere();
+  std::vector<uint16_t> turnedFirst, turnedLast;  // the first and last rows half a turn round
+  if (sphere.north || sphere.south) {
+    turnedFirst.resize(size_t(w));
+    turnedLast.resize(size_t(w));
+    for (int x = 0; x < w; ++x) {
+      turnedFirst[size_t(x)] = depth.at((x + w / 2) % w, 0);
+      turnedLast[size_t(x)] = depth.at((x + w / 2) % w, h - 1);
+    }
+  }
   parallelRanges(h, [&](int y0, int y1) {
     const RowKernels& kernels = rowKernels();
     for (int y = y0; y < y1; ++y) {
       const uint16_t* row = depth.row(y);
-      const uint16_t* above = y > 0 ? depth.row(y - 1) : row;
-      const uint16_t* below = y + 1 < h ? depth.row(y + 1) : row;
-      kernels.referenceSteps(row, above, below, w, missing, minStep, step.data() + size_t(y) * w);
+      const uint16_t* above = y > 0 ? depth.row(y - 1) : sphere.north ? turnedFirst.data() : row;
+      const uint16_t* below = y + 1 < h ? depth.row(y + 1) : sphere.south ? turnedLast.data() : row;
+      uint8_t* out = step.data() + size_t(y) * w;
+      kernels.referenceSteps(row, above, below, w, missing, minStep, out);
+      if (sphere.wrap && w > 1) {
+        auto at = [&](int x, int left, int right) {
+          const int level = row[x];
+          auto differs = [&](int other) { return (other == missing) | (std::abs(level - other) >= minStep); };
+          return uint8_t((level == missing) | differs(row[left]) | differs(row[right]) | differs(above[x]) |
+                         differs(below[x]));
+        };
+        out[0] = at(0, w - 1, 1);
+        out[w - 1] = at(w - 1, w - 2, 0);
+      }
     }
   });
   // Dilated by one sample: the colours on both sides of an edge are mixed by the camera's optics.
@@ -41,21 +66,31 @@ void Synthesizer::markReferenceEdges(ViewState& view, const Plane& depth) {
   rows.resize(size_t(w) * h);
   parallelRanges(h, [&](int y0, int y1) {
     const int width = w;
+    const int wrapLeft = sphere.wrap ? width - 1 : 0, wrapRight = sphere.wrap ? 0 : width - 1;
     for (int y = y0; y < y1; ++y) {
       const uint8_t* in = step.data() + size_t(y) * width;
       uint8_t* out = rows.data() + size_t(y) * width;
-      // Border samples read themselves for the missing neighbour; the rest run without branches.
-      out[0] = in[0] | in[std::min(1, width - 1)];
+      // Border samples read themselves for the missing neighbour (round the wrap for an ERP reference);
+      // the rest run without branches.
+      out[0] = in[wrapLeft] | in[0] | in[std::min(1, width - 1)];
       for (int x = 1; x + 1 < width; ++x) out[x] = in[x - 1] | in[x] | in[x + 1];
-      if (width > 1) out[width - 1] = in[width - 2] | in[width - 1];
+      if (width > 1) out[width - 1] = in[width - 2] | in[width - 1] | in[wrapRight];
     }
   });
+  std::vector<uint8_t> turnedRows;  // beyond a pole: the first and the last dilated row half a turn round
+  if (sphere.north || sphere.south) {
+    turnedRows.resize(2 * size_t(w));
+    for (int x = 0; x < w; ++x) {
+      turnedRows[size_t(x)] = rows[size_t((x + w / 2) % w)];
+      turnedRows[size_t(w + x)] = rows[size_t(h - 1) * w + size_t((x + w / 2) % w)];
+    }
+  }
   parallelRanges(h, [&](int y0, int y1) {
     const int width = w, height = h;
     for (int y = y0; y < y1; ++y) {
       const uint8_t* mid = rows.data() + size_t(y) * width;
-      const uint8_t* up = y > 0 ? mid - width : mid;
-      const uint8_t* down = y + 1 < height ? mid + width : mid;
+      const uint8_t* up = y > 0 ? mid - width : sphere.north ? turnedRows.data() : mid;
+      const uint8_t* down = y + 1 < height ? mid + width : sphere.south ? turnedRows.data() + width : mid;
       uint8_t* out = edge.data() + size_t(y) * width;
       for (int x = 0; x < width; ++x) out[x] = mid[x] | up[x] | down[x];
     }

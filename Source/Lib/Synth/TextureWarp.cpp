@@ -57,6 +57,10 @@ void Synthesizer::warpTexture(ViewState& view, const std::vector<const Plane*>& 
       double* gridV = gridU + width;
       double* nearest = gridV + width;
       const double precision = sampler.precision();
+      // An ERP reference's texture continues round the wrap and across its poles: a look-up near its
+      // edges reads there (sampleSphereTaps); every other one is read as from a pinhole reference.
+      const SphereEdges sphere = projection.referenceSphere();
+      const bool sphereEdges = sphere.any();
       const RowKernels& kernels = rowKernels();
       for (int y = y0; y < y1; ++y) {
         projection.backwardRow(depth + size_t(y) * width, width, y, us, vs, ok);
@@ -72,7 +76,10 @@ void Synthesizer::warpTexture(ViewState& view, const std::vector<const Plane*>& 
             depth[i] = kNoDepth;
             continue;
           }
-          if (gridV[x] == rowGrid) {
+          if (sphereEdges && SubPixelSampler::nearEdge(u, v, referenceWidth, referenceHeight)) {
+            for (int c = 0; c < channels; ++c)
+              colour[c][i] = sampler.sampleSphereTaps<kTaps>(*planes[size_t(c)], u, v, sphere);
+          } else if (gridV[x] == rowGrid) {
             if (tableRow != y) {
               for (int c = 0; c < channels; ++c) sampledRows[c].build<kTaps>(sampler, *planes[size_t(c)], y, -1, referenceWidth);
               tableRow = y;

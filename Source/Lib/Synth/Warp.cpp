@@ -43,8 +43,14 @@ ViewProjection::ViewProjection(const Camera& reference, const Camera& target, in
     targetCamera_ = target;
     pose_ = pose;
     poseRotationInverse_ = rotationInverse;
-    if (target.isEquirectangular() && target.erp.wraps()) wrapWidth_ = target.erp.width;
+    if (target.isEquirectangular())
+      wrapWidth_ = target.erp.wraps() ? double(target.erp.width)
+                                      : target.erp.width * 360.0 / (target.erp.lonMax - target.erp.lonMin);
     referenceWraps_ = reference.isEquirectangular() && reference.erp.wraps();
+    // Across a pole lies the same picture half a turn round: only with a full circle of longitudes.
+    referenceSphere_.wrap = referenceWraps_;
+    referenceSphere_.north = referenceSphere_.wrap && reference.erp.latMax >= 90.0;
+    referenceSphere_.south = referenceSphere_.wrap && reference.erp.latMin <= -90.0;
   }
 }
 
@@ -75,6 +81,23 @@ bool ViewProjection::backwardSpherical(double x, double y, double wv, double& u,
   u = snapPosition(qu);
   v = snapPosition(qv);
   return true;
+}
+
+double ViewProjection::poleRow(bool north) const {
+  const EquirectangularRange& e = targetCamera_.erp;
+  const double pole = north ? 90.0 : -90.0;
+  return (e.latMax - pole) * e.height / (e.latMax - e.latMin) - 0.5;
+}
+
+double ViewProjection::poleInverseDepth(const double* x, const double* y, const double* wv, bool north) const {
+  const double mean = (wv[0] + wv[1] + wv[2]) / 3.0;
+  if (!(wv[0] > 0.0 && wv[1] > 0.0 && wv[2] > 0.0)) return mean;  // a corner infinitely far
+  Vec3 corner[3];
+  for (int i = 0; i < 3; ++i) corner[i] = targetCamera_.rayCamera(x[i], y[i]) * (1.0 / wv[i]);
+  const Vec3 normal = cross(corner[1] - corner[0], corner[2] - corner[0]);
+  const Vec3 pole(0.0, north ? -1.0 : 1.0, 0.0);  // our camera axes: y points down
+  const double along = dot(normal, corner[0]) / dot(normal, pole);  // the distance where the ray meets the plane
+  return along > 0.0 && std::isfinite(along) ? 1.0 / along : mean;
 }
 
 }  // namespace vs

@@ -23,6 +23,7 @@
 
 #include "Common/Camera.h"
 #include "Common/Geometry.h"
+#include "Synth/Interpolation.h"
 #include "Synth/Kernels/Rows.h"
 
 namespace vs {
@@ -45,12 +46,23 @@ public:
   bool parallel() const { return parallel_; }
   // An equirectangular camera on either side.
   bool spherical() const { return spherical_; }
-  // The virtual camera is equirectangular with a full 360-degree circle of columns of this width
-  // (0 otherwise): a triangle whose corners land on both sides of the wrap must be drawn split.
-  int wrapWidth() const { return wrapWidth_; }
+  // The virtual camera is equirectangular: the width in its pixels of a whole turn of longitude (its
+  // picture's width for a full circle; 0 for a pinhole camera). A point maps within half a turn of the
+  // picture's middle, so a triangle whose corners land more than half a turn apart straddles the wrap
+  // (or, for a partial circle, the meridian straight behind) and must be drawn a turn to either side.
+  double wrapWidth() const { return wrapWidth_; }
   // The reference camera is equirectangular with a full circle: its last column's quads close up
   // with its first column's.
   bool referenceWraps() const { return referenceWraps_; }
+  // The virtual camera is equirectangular (wrapWidth() > 0): the row coordinate of
+  // its north (top) or south pole, -0.5 or height - 0.5 where the picture reaches it (beyond the
+  // picture otherwise), and the inverse depth at which the plane through three warped points (x[i],
+  // y[i], wv[i]) meets that pole's ray (the mean of the three where the plane does not meet it in front).
+  double poleRow(bool north) const;
+  double poleInverseDepth(const double* x, const double* y, const double* wv, bool north) const;
+  // How the reference's texture continues beyond its edges (Synth/Interpolation.h): round the wrap for a
+  // full circle, and across a pole the picture reaches; nothing (clamped) for a pinhole reference.
+  const SphereEdges& referenceSphere() const { return referenceSphere_; }
   // The parallel forms, inline for the 1D path's row loops: the same values forward() and backward()
   // give when parallel(). rowTarget's inverseDepth is the inverse camera depth (DepthType 0).
   double rowTarget(double u, double inverseDepth) const {
@@ -111,8 +123,9 @@ private:
   int depthType_;
   bool parallel_;
   bool spherical_ = false;
-  int wrapWidth_ = 0;
+  double wrapWidth_ = 0;
   bool referenceWraps_ = false;
+  SphereEdges referenceSphere_;
   Camera referenceCamera_, targetCamera_;  // spherical only: their pixel <-> ray mappings
   RelativePose pose_;                      // spherical only
   Mat3 poseRotationInverse_;
