@@ -229,15 +229,23 @@ TEST_F(RvsFixture, WhatWeCannotHonourIsRefusedNamingFileLineAndKey) {
   EXPECT_NE(errorOf({"Precision=3"}).find("Precision = '3'"), std::string::npos);
 }
 
-TEST_F(RvsFixture, AVirtualCameraOfAnotherSizeIsRefused) {
+TEST_F(RvsFixture, AVirtualCameraOfAnotherSizeGivesTheVirtualViewItsResolution) {
   writeCameras(dir / "cams" / "cameras.json", "[128, 64]");
   write(baseConfig());
-  const std::string error = errorOf();
-  EXPECT_NE(error.find("virtual camera 'vv' has Resolution 128 x 64 but the input cameras 64 x 32"), std::string::npos)
-      << error;
-  // VirtualOverrides bring it back to the inputs' size (and v0, the second virtual camera, is fine).
-  write(baseConfig(",\n  \"VirtualOverrides\": {\"Resolution\": [64, 32]}"));
   EXPECT_EQ(errorOf(), "");
+  WorkingFolder folder(dir);
+  std::vector<Config> configs = Config::loadAll(viewSynOptionTable(), config.string(), {});
+  ASSERT_EQ(configs.size(), 2u);
+  // RVS writes each virtual view at its camera's Resolution: 'vv' at 128x64, v0 at the inputs' 64x32.
+  EXPECT_EQ(configs[0].getInt("VirtualWidth"), 128);
+  EXPECT_EQ(configs[0].getInt("VirtualHeight"), 64);
+  EXPECT_EQ(configs[0].origin("VirtualWidth"), config.string() + ":5");  // VirtualCameraParameterFile's line
+  EXPECT_EQ(configs[1].getInt("VirtualWidth"), 0);
+  EXPECT_EQ(loadScene(configs[0]).settings.virtualFormat().width, 128);
+  // VirtualOverrides bring it back to the inputs' size.
+  write(baseConfig(",\n  \"VirtualOverrides\": {\"Resolution\": [64, 32]}"));
+  configs = Config::loadAll(viewSynOptionTable(), config.string(), {});
+  EXPECT_EQ(configs[0].getInt("VirtualWidth"), 0);
 }
 
 TEST(RvsPoseTrace, ReadsRvsCsvAndRefusesMalformedRows) {

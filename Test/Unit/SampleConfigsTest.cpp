@@ -151,9 +151,9 @@ TEST(SampleConfigs, CheckNamesTheCamerasAMissingNameCouldBe) {
 }
 
 // RVS 4.0's configs (rvs/config_files): what each must give is read from the config itself, by the
-// test: a key we do not write (masks) or a virtual camera of another size than the inputs is refused
-// naming the key; every other config, equirectangular cameras included, passes --check up to its
-// absent sequences.
+// test: a key we do not write (masks) is refused naming the key; every other config, equirectangular
+// cameras included, passes --check up to its absent sequences, and a virtual camera of another size
+// than the inputs shows its size in the configuration printed.
 std::vector<fs::path> rvsConfigs() {
   std::vector<fs::path> configs;
   const fs::path folder = test::samplesDir() / "rvs" / "config_files";
@@ -207,6 +207,10 @@ TEST(SampleConfigs, EveryRvsConfigPassesViewSynCheckFromTheRvsFolder) {
                   field(c, "VirtualOverrides", "Resolution")->items[1].number !=
                       field(first, "InputOverrides", "Resolution")->items[1].number;
     }
+    // A key as --print-config and --check print it: padded to 33 characters, then its value.
+    auto printed = [](const std::string& key, const std::string& value) {
+      return key + std::string(key.size() < 33 ? 33 - key.size() : 1, ' ') + value + "\n";
+    };
     std::string refusedKey;
     for (const char* key : {"OutputMasks", "MaskedOutputFiles", "MaskedDepthOutputFiles"})
       if (config.find(key)) refusedKey = std::string("\"") + key + "\": masks and masked outputs are not written";
@@ -217,25 +221,34 @@ TEST(SampleConfigs, EveryRvsConfigPassesViewSynCheckFromTheRvsFolder) {
       EXPECT_NE(result.err.find(relative + ": invalid RVS config:"), std::string::npos) << relative << "\n" << result.err;
       EXPECT_NE(result.err.find(refusedKey), std::string::npos) << relative << "\n" << result.err;
       outcome = "refused: mask outputs";
-    } else if (otherSize) {
-      EXPECT_NE(result.err.find("but the input cameras"), std::string::npos) << relative << "\n" << result.err;
-      outcome = "refused: virtual camera of another size";
     } else {
       // Passes up to the absent sequences (the samples hold configs and camera files only).
       outcome = equirectangular ? "passes (equirectangular cameras)" : "passes (perspective cameras)";
       if (result.exitCode != 0) expectOnlyMissingSequences(result.err, relative);
       // Every virtual camera's configuration is printed: its camera and its output.
-      for (const JsonValue& name : config.find("VirtualCameraNames")->items)
-        EXPECT_NE(result.out.find("VirtualCameraName                " + name.text + "\n"), std::string::npos) << relative;
+      const auto& names = config.find("VirtualCameraNames")->items;
+      for (const JsonValue& name : names)
+        EXPECT_NE(result.out.find(printed("VirtualCameraName", name.text)), std::string::npos) << relative;
+      if (otherSize) {
+        // The virtual view at the virtual camera's Resolution (RVS's rule), not the inputs' size.
+        const auto& resolution = field(camera(names[0].text), "VirtualOverrides", "Resolution")->items;
+        EXPECT_NE(result.out.find(printed("VirtualWidth", std::to_string(int(resolution[0].number)))),
+                  std::string::npos)
+            << relative << "\n" << result.out;
+        EXPECT_NE(result.out.find(printed("VirtualHeight", std::to_string(int(resolution[1].number)))),
+                  std::string::npos)
+            << relative;
+        ++outcomes["with a virtual camera of another size"];
+      }
     }
     ++outcomes[outcome];
   }
   for (const auto& [outcome, count] : outcomes) std::printf("RVS configs, %s: %d\n", outcome.c_str(), count);
   // Counted from the configs themselves above; written out here so that a change shows.
   EXPECT_EQ(outcomes["passes (perspective cameras)"], 5);
-  EXPECT_EQ(outcomes["passes (equirectangular cameras)"], 336);
+  EXPECT_EQ(outcomes["passes (equirectangular cameras)"], 337);
+  EXPECT_EQ(outcomes["with a virtual camera of another size"], 1);
   EXPECT_EQ(outcomes["refused: mask outputs"], 3);
-  EXPECT_EQ(outcomes["refused: virtual camera of another size"], 1);
 }
 
 TEST(SampleConfigs, EveryRvsCameraFileListsItsCamerasThroughCheck) {

@@ -41,7 +41,7 @@ std::vector<SequenceInput> sequenceInputs(const SynthesisSettings& s) {
   }
   if (!s.referenceViewPath.empty())
     inputs.push_back({"ReferenceVirtualViewImageName", "ground truth of the virtual view", s.referenceViewPath,
-                      s.textureFormat, "ChromaFormat", "TextureBitDepth", false});
+                      s.virtualFormat(), "ChromaFormat", "TextureBitDepth", false});
   return inputs;
 }
 
@@ -65,7 +65,9 @@ std::vector<std::string> checkInputs(const Scene& scene) {
         if (!reader.y4m()) {
           const std::string sizes = wholeFrameSizes(reader.fileBytes(), input.format);
           message += sizes.empty() ? "; no nearby size divides the file" : "; sizes that divide the file: " + sizes;
-          message += "; check SourceWidth, SourceHeight, " + std::string(input.chromaKey) + " and " + input.bitDepthKey;
+          const bool virtualSize = input.key == "ReferenceVirtualViewImageName" && s.virtualResized();
+          message += std::string("; check ") + (virtualSize ? "VirtualWidth, VirtualHeight, " : "SourceWidth, SourceHeight, ") +
+                     input.chromaKey + " and " + input.bitDepthKey;
           if (reader.frameCount() > 0)
             message += " (to use the first frames of a file with extra bytes at its end, copy them: head -c " +
                        std::to_string(uint64_t(reader.frameCount()) * frameBytes) + " FILE > FIRST.yuv)";

@@ -87,8 +87,13 @@ void addSynthesisOptions(OptionTable& table) {
              intOption("DepthType", 0, 0, 1, "0",
                        "0: depth values are the z coordinate in each camera's own frame; 1: depth values are "
                        "the world z coordinate of the point"),
-             intOption("SourceWidth", 1280, 1, kMaxSize, "1280", "Width of every input and output frame in luma samples"),
-             intOption("SourceHeight", 960, 1, kMaxSize, "960", "Height of every input and output frame in luma samples"),
+             intOption("SourceWidth", 1280, 1, kMaxSize, "1280", "Width of every input frame in luma samples (and of the output, unless VirtualWidth is set)"),
+             intOption("SourceHeight", 960, 1, kMaxSize, "960", "Height of every input frame in luma samples (and of the output, unless VirtualHeight is set)"),
+             intOption("VirtualWidth", 0, 0, kMaxSize, "-",
+                       "Width of the virtual view (the output, its ground truth and its depth) in luma samples; "
+                       "0: SourceWidth. Another size than the inputs' needs the general path (RVS: the virtual "
+                       "camera's Resolution)"),
+             intOption("VirtualHeight", 0, 0, kMaxSize, "-", "Height of the virtual view in luma samples; 0: SourceHeight"),
              intOption("StartFrame", 0, 0, kMaxFrames, "0", "First frame of the input sequences to synthesize (0-based)"),
              intOption("TotalNumberOfFrames", 300, 1, kMaxFrames, "300",
                        "Number of frames to synthesize from StartFrame on"),

@@ -553,8 +553,8 @@ private:
     if (anyInvalid) set("MissingDepthLevel", "0", *inputFileValue_);
   }
 
-  // The settings of virtual camera v: the shared ones, its name, outputs and depth output range; its
-  // size and texture bit depth must be the inputs'.
+  // The settings of virtual camera v: the shared ones, its name, outputs and depth output range, and
+  // its size when its Resolution is not the inputs'; its texture bit depth must be the inputs'.
   std::vector<TranslatedSetting> virtualCameraSettings(size_t v) {
     std::vector<TranslatedSetting> settings = shared_;
     const std::string& name = virtualNames_[v];
@@ -569,12 +569,11 @@ private:
     const CameraFacts f = virtualFacts_->facts(name, problems_);
     const CameraFacts& in = inputs_[0];
     const std::string where = rvs_.where(*virtualFileValue_);
-    if (f.width != in.width || f.height != in.height)
-      problems_.add(where + ": virtual camera '" + name + "' has Resolution " + std::to_string(f.width) + " x " +
-                    std::to_string(f.height) + " but the input cameras " + std::to_string(in.width) + " x " +
-                    std::to_string(in.height) + "; " + table_.toolName() +
-                    " writes the virtual view at the input size (change the virtual camera's Resolution and "
-                    "focal length, or VirtualOverrides)");
+    // RVS writes each virtual view at its camera's Resolution.
+    if (f.width != in.width || f.height != in.height) {
+      settings.push_back({"VirtualWidth", std::to_string(f.width), where, baseDir_});
+      settings.push_back({"VirtualHeight", std::to_string(f.height), where, baseDir_});
+    }
     if (f.bitDepthColor > 0 && in.bitDepthColor > 0 && f.bitDepthColor != in.bitDepthColor)
       problems_.add(where + ": virtual camera '" + name + "' has BitDepthColor " + std::to_string(f.bitDepthColor) +
                     " but the input cameras " + std::to_string(in.bitDepthColor) +

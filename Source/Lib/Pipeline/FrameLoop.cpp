@@ -19,7 +19,7 @@ void checkBeforeOpening(const Scene& scene, FrameRenderer& renderer, RunReport& 
   const SynthesisSettings& s = scene.settings;
   // Room on huge pages for what the frames will allocate: about 200 bytes per output sample with two
   // views (measured on Middlebury), about 60 more per further view; half as much again to spare.
-  const size_t samples = size_t(s.textureFormat.width) * size_t(s.textureFormat.height);
+  const size_t samples = size_t(s.virtualFormat().width) * size_t(s.virtualFormat().height);
   reserveHugePageHeap(samples * (144 + 96 * s.references.size()));
   report.recordDecisions(renderer.decisions());
   report.begin(scene, renderer.plan(), log);
@@ -54,7 +54,7 @@ struct LeastCovered {
 
   // A virtual camera that sees (almost) nothing gives plain hole-filled frames: say so.
   void warnIfAlmostNothing(const SynthesisSettings& s, RunReport& report, std::FILE* log) const {
-    const size_t frameSamples = size_t(s.textureFormat.width) * size_t(s.textureFormat.height);
+    const size_t frameSamples = size_t(s.virtualFormat().width) * size_t(s.virtualFormat().height);
     if (samples < 0 || frameSamples == 0) return;
     const double share = double(samples) / double(frameSamples);
     if (share >= 0.01) return;
@@ -93,8 +93,7 @@ struct FrameSteps {
     leastCovered.add(s.startFrame + f, output, renderer.uncoveredSamples());
     const auto start = std::chrono::steady_clock::now();
     outputs.append(
-        output, [&](Plane& levels) { return renderer.virtualDepth(frame.references, s.virtualDepthRange, levels); },
-        toolName);
+        output, [&](Plane& levels) { return renderer.virtualDepth(frame.references, s.virtualDepthRange, levels); }, toolName);
     times.write = secondsSince(start);
     FrameRecord record{s.startFrame + f, frame.truth != nullptr, {}, times, {}};
     if (frame.truth) record.psnr = framePsnr(*frame.truth, output);

@@ -1,6 +1,7 @@
 #pragma once
 // The output sequences of a run: the virtual view (OutputVirtualViewImageName) and, when configured,
-// its depth (OutputVirtualDepthMapName). Both are checked before either is created; each is written to
+// its depth (OutputVirtualDepthMapName), both at the virtual view's size (VirtualWidth, VirtualHeight).
+// Both are checked before either is created; each is written to
 // a temporary file and renamed into place by commit() when the run ends well, so that a refused or
 // failed run leaves the previous files as they were (Common/SafeOutput.h).
 #include <cstdint>

@@ -47,7 +47,13 @@ std::vector<std::string> viewSynLines(const Plan& plan) {
     return lines;
   }
   const bool oneD = plan.mode == SynthesisMode::Parallel1D;
-  if (plan.requestedMode == SynthesisMode::Auto)
+  if (plan.resized)
+    lines.push_back("size: the virtual view is " + std::to_string(plan.virtualWidth) + "x" +
+                    std::to_string(plan.virtualHeight) +
+                    " (VirtualWidth, VirtualHeight), not the inputs' size: general path, no copy of a reference view");
+  if (plan.requestedMode == SynthesisMode::Auto && plan.resized && plan.rectified)
+    lines.push_back("mode: general 3D warping (auto: the rig is rectified, but the 1D path needs one size for every picture)");
+  else if (plan.requestedMode == SynthesisMode::Auto)
     lines.push_back(oneD ? "mode: 1D parallel (auto: the rig is rectified: equal rotations, centres on the x axis, "
                            "equal fy and cy, no skew)"
                          : "mode: general 3D warping (auto: the rig is not rectified:" + plan.rigDeviations + ")");
@@ -143,6 +149,7 @@ std::vector<std::pair<std::string, std::string>> Plan::fields() const {
   f.emplace_back("temporal_fill", flag(temporalFill));
   f.emplace_back("boundary_noise_removal", flag(boundaryNoiseRemoval));
   f.emplace_back("virtual_depth_output", flag(virtualDepthOutput));
+  f.emplace_back("virtual_size", std::to_string(virtualWidth) + "x" + std::to_string(virtualHeight));
   std::string notes;
   for (const std::string& note : notApplied) notes += (notes.empty() ? "" : "; ") + note;
   f.emplace_back("not_applied", notes);

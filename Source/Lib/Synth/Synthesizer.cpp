@@ -16,7 +16,7 @@ Synthesizer::Synthesizer(const Scene& scene, const Plan& plan)
     : scene_(scene),
       plan_(plan),
       rowPath_(plan.mode == SynthesisMode::Parallel1D),
-      outputFormat_(scene.settings.textureFormat),
+      outputFormat_(scene.settings.virtualFormat()),
       sampler_(plan.precision, plan.filter),
       aligner_(scene.settings, plan.missingDepthLevel) {
   VS_CHECK(plan_.tool == Tool::ViewSyn && plan_.mode != SynthesisMode::Auto);
