@@ -1,5 +1,5 @@
 // A virtual view of another size than the reference views (VirtualWidth, VirtualHeight; RVS: the
-// virtual camera's Resolution), on the general path:
+// virtual camera's Resolution), on the general path, and the virtual view's mask (OutputVirtualMaskName):
 //   - the room scene (cfg/scenes/room.scene) from two references into virtual cameras larger, smaller
 //     and of another aspect than the references, scored against SceneGen's exact render of each camera
 //     at its own size: as good as the same camera at the references' size, within a margin
@@ -7,6 +7,8 @@
 //     at every even sample, exactly the reference's own sample; with K scaled by 1/2, every sample is
 //     the reference's sample at twice its coordinates
 //   - the plan: the 1D path and MeshRender refuse another size, auto takes the general path, no copy
+//   - the mask against the disocclusions ray casting finds: a virtual sample whose surface the reference
+//     camera does not see must be masked, one it sees clearly must not
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -101,6 +103,22 @@ Scene sizedScene(const std::vector<Camera>& references, const Camera& target, in
   s.settings.virtualWidth = width;
   s.settings.virtualHeight = height;
   return s;
+}
+
+struct Synthesized {
+  Frame output;
+  Plane mask;
+};
+
+Synthesized synthesizeWithMask(const Scene& s, const test::SynthesisInputs& inputs) {
+  Plan plan = test::planOnPath(s);
+  plan.virtualMaskOutput = true;
+  Synthesizer synthesizer(s, plan);
+  Synthesized result;
+  StageTimes times;
+  synthesizer.synthesize(inputs.frames(), result.output, times);
+  synthesizer.virtualMask(result.mask);
+  return result;
 }
 
 double psnrY(const Frame& truth, const Frame& output) { return framePsnr(truth, output).y; }
@@ -287,6 +305,73 @@ TEST(VirtualSize, PlanTakesTheGeneralPathAndRefusesWhatNeedsOneSize) {
   erp.settings.virtualWidth = 96;
   erp.settings.virtualHeight = 48;
   EXPECT_NO_THROW(makePlan(erp));
+  // MeshRender cannot write a mask.
+  Scene masked = test::makeScene({a, b}, pinhole("v", 40, 64, 32, 0, Vec3()), format, range);
+  masked.settings.virtualMaskPath = "mask.yuv";
+  EXPECT_THROW(makePlan(masked, Tool::MeshRender), InputError);
+  EXPECT_TRUE(makePlan(masked).virtualMaskOutput);
+}
+
+// The mask against ray casting: one reference (the left camera) into a virtual camera 0.3 to its right,
+// at another size than the reference (384x192). For every virtual sample, the surface point SceneGen
+// finds on its ray is projected into the reference camera; the reference sees it when the reference's
+// own surface at the 2x2 samples around that position is at the point's depth (within 3 %), and does
+// not when all four are nearer by more than 3 % (occluded) or the point falls outside the picture.
+TEST(VirtualMask, MarksTheSamplesTheReferenceDoesNotSee) {
+  const test::GeneratedScene& scene = room();
+  const int width = 256, height = 128, vw = 384, vh = 192;
+  const Camera left = pinhole("left", focalFor(100, width), width, height, 30, Vec3(-0.15, 0, 0));
+  const Camera target = pinhole("v", focalFor(90, vw), vw, vh, 30, Vec3(0.15, 0.02, 0.0));
+  const DepthRange range = scene.cameraRange({left, pinhole("v", focalFor(90, width), width, height, 30, target.t)}, 16);
+  const Scene s = sizedScene({left}, target, vw, vh, range);
+  const Synthesized result = synthesizeWithMask(s, test::renderInputs(scene, s));
+  ASSERT_EQ(result.mask.width, vw);
+  ASSERT_EQ(result.mask.height, vh);
+  const std::vector<double> virtualDepth = scene.depth(target, vw, vh), referenceDepth = scene.depth(left);
+  size_t seen = 0, seenMasked = 0, hidden = 0, hiddenMasked = 0;
+  for (int y = 0; y < vh; ++y)
+    for (int x = 0; x < vw; ++x) {
+      const uint16_t m = result.mask.at(x, y);
+      ASSERT_TRUE(m == 0 || m == 255);
+      const double z = virtualDepth[size_t(y) * vw + x];
+      if (!std::isfinite(z)) continue;
+      const Vec3 point = target.backProject(x, y, z);
+      double u, v, zRef;
+      if (!left.project(point, u, v, zRef)) continue;
+      const int u0 = int(std::floor(u)), v0 = int(std::floor(v));
+      if (u < -0.5 || v < -0.5 || u > width - 0.5 || v > height - 0.5) {
+        // Outside the reference's picture: nothing can give this sample (a margin of two samples).
+        if (u < -2.5 || v < -2.5 || u > width + 1.5 || v > height + 1.5) {
+          ++hidden;
+          hiddenMasked += m == 255;
+        }
+        continue;
+      }
+      if (u0 < 0 || v0 < 0 || u0 + 1 >= width || v0 + 1 >= height) continue;
+      int same = 0, nearer = 0;
+      for (int dv = 0; dv < 2; ++dv)
+        for (int du = 0; du < 2; ++du) {
+          const double d = referenceDepth[size_t(v0 + dv) * width + u0 + du];
+          same += std::fabs(d - zRef) <= 0.03 * zRef;
+          nearer += d < zRef * (1 - 0.03);
+        }
+      if (same == 4) {
+        ++seen;
+        seenMasked += m == 255;
+      } else if (nearer == 4) {
+        ++hidden;
+        hiddenMasked += m == 255;
+      }
+    }
+  test::recordFigure("clearly_seen_samples", double(seen));
+  test::recordFigure("clearly_hidden_samples", double(hidden));
+  test::recordFigure("seen_masked_fraction", double(seenMasked) / double(seen));
+  test::recordFigure("hidden_masked_fraction", double(hiddenMasked) / double(hidden));
+  // The scene has both in numbers: the test can fail either way.
+  ASSERT_GT(seen, size_t(vw) * vh / 2);
+  ASSERT_GT(hidden, size_t(vw) * vh / 200);
+  EXPECT_LE(double(seenMasked) / double(seen), 0.01);
+  EXPECT_GE(double(hiddenMasked) / double(hidden), 0.95);
 }
 
 }  // namespace

@@ -113,6 +113,9 @@ void checkOutputs(const Scene& scene, const std::vector<NamedOutput>& extra) {
   std::vector<NamedOutput> outputs;
   if (!s.outputPath.empty()) outputs.push_back({"OutputVirtualViewImageName", s.outputPath});
   if (!s.virtualDepthPath.empty()) outputs.push_back({"OutputVirtualDepthMapName", s.virtualDepthPath});
+  if (!s.virtualMaskPath.empty()) outputs.push_back({"OutputVirtualMaskName", s.virtualMaskPath});
+  if (!s.maskedVirtualDepthPath.empty())
+    outputs.push_back({"OutputMaskedVirtualDepthMapName", s.maskedVirtualDepthPath});
   if (!s.reportPath.empty()) outputs.push_back({"ReportFile", s.reportPath});
   if (!s.summaryPath.empty()) outputs.push_back({"SummaryFile", s.summaryPath});
   outputs.insert(outputs.end(), extra.begin(), extra.end());

@@ -422,9 +422,9 @@ private:
     if (depthsValue) set("ReferenceDepthMapNames", join(depths), *depthsValue);
   }
 
-  // One output (and depth output) per virtual camera; masks are refused.
+  // One output (and depth output, mask, masked depth) per virtual camera; masked textures are refused.
   void readOutputs() {
-    for (const char* key : {"OutputFiles", "DepthOutputFiles"}) {
+    for (const char* key : {"OutputFiles", "DepthOutputFiles", "OutputMasks", "MaskedDepthOutputFiles"}) {
       const JsonValue* value = rvs_.find(key);
       if (!value) continue;
       std::vector<std::string> files;
@@ -437,10 +437,10 @@ private:
     if (!rvs_.find("OutputFiles"))
       problems_.add(path_ + ": missing RVS key \"OutputFiles\" (one output sequence per virtual camera; RVS would "
                             "write nothing)");
-    for (const char* key : {"OutputMasks", "MaskedOutputFiles", "MaskedDepthOutputFiles"})
-      if (const JsonValue* value = rvs_.find(key))
-        rvs_.problem(*value, std::string("\"") + key + "\": masks and masked outputs are not written by " +
-                                 table_.toolName() + " (doc/manual.md, \"RVS synthesis configs\"); remove the key");
+    if (const JsonValue* value = rvs_.find("MaskedOutputFiles"))
+      rvs_.problem(*value, std::string("\"MaskedOutputFiles\": masked textures are not written by ") + table_.toolName() +
+                               " (doc/manual.md, \"RVS synthesis configs\"); write OutputMasks and mask the texture "
+                               "with it, or remove the key");
   }
 
   // Frames, precision, colour space, method, blending, pose trace.
@@ -561,7 +561,9 @@ private:
     settings.push_back({"VirtualCameraName", name, rvs_.where(*virtualNamesValue_), baseDir_});
     using KeyPair = std::pair<const char*, const char*>;
     for (const auto& [key, ours] : {KeyPair{"OutputFiles", "OutputVirtualViewImageName"},
-                                    KeyPair{"DepthOutputFiles", "OutputVirtualDepthMapName"}})
+                                    KeyPair{"DepthOutputFiles", "OutputVirtualDepthMapName"},
+                                    KeyPair{"OutputMasks", "OutputVirtualMaskName"},
+                                    KeyPair{"MaskedDepthOutputFiles", "OutputMaskedVirtualDepthMapName"}})
       if (outputs_.count(key)) settings.push_back({ours, outputs_[key][v], rvs_.where(*rvs_.find(key)), baseDir_});
     if (!virtualFacts_)
       virtualFacts_ = std::make_unique<CameraFactsFile>(resolvePath(virtualCameraFile_, baseDir_), virtualOverrides_);
@@ -578,7 +580,7 @@ private:
       problems_.add(where + ": virtual camera '" + name + "' has BitDepthColor " + std::to_string(f.bitDepthColor) +
                     " but the input cameras " + std::to_string(in.bitDepthColor) +
                     "; the output has the inputs' texture bit depth");
-    if (f.hasDepthRange && outputs_.count("DepthOutputFiles")) {
+    if (f.hasDepthRange && (outputs_.count("DepthOutputFiles") || outputs_.count("MaskedDepthOutputFiles"))) {
       settings.push_back({"VirtualNearestDepthValue", number(f.znear), where, baseDir_});
       settings.push_back({"VirtualFarthestDepthValue", f.zfar >= 1000 ? "inf" : number(f.zfar), where, baseDir_});
     }

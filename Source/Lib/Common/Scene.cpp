@@ -219,6 +219,8 @@ SynthesisSettings readSynthesisSettings(const Config& config) {
   else if (!QualityReport(s.qualityMetrics, true).empty() && s.referenceViewPath.empty())
     problems.add(where + ": QualityMetrics scores against ReferenceVirtualViewImageName, which is not set");
   s.virtualDepthPath = config.getPath("OutputVirtualDepthMapName");
+  s.virtualMaskPath = config.getPath("OutputVirtualMaskName");
+  s.maskedVirtualDepthPath = config.getPath("OutputMaskedVirtualDepthMapName");
   s.virtualDepthRange.bitDepth = s.depthFormat.bitDepth;
   if (config.isSet("VirtualNearestDepthValue") != config.isSet("VirtualFarthestDepthValue"))
     problems.add(where + ": give both VirtualNearestDepthValue and VirtualFarthestDepthValue, or neither");

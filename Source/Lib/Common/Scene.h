@@ -63,6 +63,8 @@ struct SynthesisSettings {
   std::string virtualDepthPath;              // output of the virtual depth; empty: none
   DepthRange virtualDepthRange;              // levels of that output
   bool virtualDepthRangeSet = false;         // given by the Virtual*DepthValue keys
+  std::string virtualMaskPath;               // OutputVirtualMaskName (RVS's OutputMasks); empty: none
+  std::string maskedVirtualDepthPath;        // OutputMaskedVirtualDepthMapName (RVS's MaskedDepthOutputFiles)
   int colorSpace = 0;                        // 0 YUV, 1 RGB
   int precision = 2;                         // 1, 2, 4
   int filter = 1;                            // 0 bilinear, 1 bicubic, 2 AVC 6-tap
@@ -94,6 +96,8 @@ struct SynthesisSettings {
     if (virtualHeight > 0) format.height = virtualHeight;
     return format;
   }
+  // A mask of the virtual view is written (OutputVirtualMaskName or OutputMaskedVirtualDepthMapName).
+  bool wantsMask() const { return !virtualMaskPath.empty() || !maskedVirtualDepthPath.empty(); }
 };
 
 // Reads and checks the settings; throws InputError listing every problem (missing keys, values that

@@ -93,7 +93,8 @@ struct FrameSteps {
     leastCovered.add(s.startFrame + f, output, renderer.uncoveredSamples());
     const auto start = std::chrono::steady_clock::now();
     outputs.append(
-        output, [&](Plane& levels) { return renderer.virtualDepth(frame.references, s.virtualDepthRange, levels); }, toolName);
+        output, [&](Plane& levels) { return renderer.virtualDepth(frame.references, s.virtualDepthRange, levels); },
+        [&](Plane& mask) { return renderer.virtualMask(frame.references, mask); }, toolName);
     times.write = secondsSince(start);
     FrameRecord record{s.startFrame + f, frame.truth != nullptr, {}, times, {}};
     if (frame.truth) record.psnr = framePsnr(*frame.truth, output);

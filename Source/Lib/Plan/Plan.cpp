@@ -148,12 +148,16 @@ Plan makePlan(const Scene& scene, Tool tool) {
   if (tool == Tool::MeshRender && !s.virtualDepthPath.empty())
     throw InputError("OutputVirtualDepthMapName '" + s.virtualDepthPath +
                      "': MeshRender cannot write the virtual view's depth (ViewSyn can); remove the key or set it to -");
+  if (tool == Tool::MeshRender && s.wantsMask())
+    throw InputError(std::string(s.virtualMaskPath.empty() ? "OutputMaskedVirtualDepthMapName" : "OutputVirtualMaskName") +
+                     ": MeshRender cannot write the virtual view's mask (ViewSyn can); remove the key or set it to -");
   if (tool == Tool::MeshRender && s.virtualResized())
     throw InputError("VirtualWidth x VirtualHeight " + std::to_string(s.virtualFormat().width) + "x" +
                      std::to_string(s.virtualFormat().height) + " differs from the inputs' " +
                      std::to_string(s.textureFormat.width) + "x" + std::to_string(s.textureFormat.height) +
                      ": MeshRender renders the virtual view at the inputs' size; use ViewSyn, or leave the keys at 0");
   plan.virtualDepthOutput = !s.virtualDepthPath.empty();
+  plan.virtualMaskOutput = s.wantsMask();
   plan.virtualWidth = s.virtualFormat().width;
   plan.virtualHeight = s.virtualFormat().height;
   plan.resized = s.virtualResized();

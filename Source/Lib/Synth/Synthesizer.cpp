@@ -56,6 +56,13 @@ void Synthesizer::virtualDepth(const DepthRange& range, Plane& levels) const {
   });
 }
 
+void Synthesizer::virtualMask(Plane& mask) const {
+  const int w = outputFormat_.width, h = outputFormat_.height;
+  VS_CHECK(plan_.virtualMaskOutput && uncovered_.size() == size_t(w) * size_t(h));
+  mask.resize(w, h);
+  for (size_t i = 0; i < uncovered_.size(); ++i) mask.samples[i] = uncovered_[i] ? 255 : 0;
+}
+
 bool Synthesizer::viewsSideBySide() const {
   const size_t count = views_.size();
   const int threads = workerThreads();
@@ -148,6 +155,7 @@ void Synthesizer::synthesize(const std::vector<ReferenceFrame>& references, Fram
   blendLayers(lumaLayers, plan_.blending, blendedLuma_);
   if (yuvChroma) blendLayers(chromaLayers, plan_.blending, blendedChroma_);
   stats_.holesAfterBlend = blendedLuma_.holeCount();
+  if (plan_.virtualMaskOutput) uncovered_ = blendedLuma_.hole;  // hole filling clears the flags
   times.blend += secondsSince(start);
 
   start = std::chrono::steady_clock::now();
