@@ -64,6 +64,16 @@ public:
     return renderDepth(primitives_, camera, width(), height(), 0, options_);
   }
 
+  // The same for a picture of another size (a virtual camera of its own resolution).
+  std::vector<double> depth(const Camera& camera, int width, int height) const {
+    return renderDepth(primitives_, camera, width, height, 0, options_);
+  }
+  Frame texture(const Camera& camera, int width, int height) const {
+    Frame texture;
+    colourToYuv420(renderView(primitives_, camera, width, height, 0, options_), texture);
+    return texture;
+  }
+
   // The scene at frame 0, for casting single rays.
   PlacedScene placed() const { return PlacedScene(primitives_, 0.0, 0.0); }
 

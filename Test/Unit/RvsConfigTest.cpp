@@ -13,6 +13,7 @@
 #include "Common/Options.h"
 #include "Common/RvsConfig.h"
 #include "Common/Scene.h"
+#include "Plan/Plan.h"
 #include "TestPaths.h"
 
 namespace vs {
@@ -188,8 +189,8 @@ TEST_F(RvsFixture, WhatWeCannotHonourIsRefusedNamingFileLineAndKey) {
   };
   const std::vector<Case> cases = {
       {",\n  \"BlendingFactr\": 1.0", "rvs.json:19: unknown RVS key \"BlendingFactr\" (did you mean \"BlendingFactor\"?)"},
-      {",\n  \"OutputMasks\": [\"m0.yuv\", \"m1.yuv\"]", "rvs.json:19: \"OutputMasks\": masks and masked outputs are not written"},
-      {",\n  \"MaskedDepthOutputFiles\": [\"m0.yuv\", \"m1.yuv\"]", "\"MaskedDepthOutputFiles\": masks"},
+      {",\n  \"MaskedOutputFiles\": [\"m0.yuv\", \"m1.yuv\"]", "rvs.json:19: \"MaskedOutputFiles\": masked textures are not written"},
+      {",\n  \"OutputMasks\": [\"m0.yuv\"]", "\"OutputMasks\" lists 1 files for 2 VirtualCameraNames"},
       {",\n  \"DepthOutputFiles\": [\"d.yuv\"]", "\"DepthOutputFiles\" lists 1 files for 2 VirtualCameraNames"},
       {",\n  \"VirtualPoseTraceName\": 3", "\"VirtualPoseTraceName\" must be a non-empty string"},
   };
@@ -220,24 +221,54 @@ TEST_F(RvsFixture, WhatWeCannotHonourIsRefusedNamingFileLineAndKey) {
     EXPECT_NE(error.find(c.expected), std::string::npos) << c.extra << "\n" << error;
   }
   // Every problem at once: two bad keys give two lines.
-  write(baseConfig(",\n  \"Foo\": 1,\n  \"OutputMasks\": [\"a\", \"b\"]"));
+  write(baseConfig(",\n  \"Foo\": 1,\n  \"MaskedOutputFiles\": [\"a\", \"b\"]"));
   const std::string both = errorOf();
   EXPECT_NE(both.find("\"Foo\""), std::string::npos) << both;
-  EXPECT_NE(both.find("\"OutputMasks\""), std::string::npos) << both;
+  EXPECT_NE(both.find("\"MaskedOutputFiles\""), std::string::npos) << both;
   // Our own keys given as overrides are checked as ever.
   write(baseConfig());
   EXPECT_NE(errorOf({"Precision=3"}).find("Precision = '3'"), std::string::npos);
 }
 
-TEST_F(RvsFixture, AVirtualCameraOfAnotherSizeIsRefused) {
+TEST_F(RvsFixture, AVirtualCameraOfAnotherSizeGivesTheVirtualViewItsResolution) {
   writeCameras(dir / "cams" / "cameras.json", "[128, 64]");
   write(baseConfig());
-  const std::string error = errorOf();
-  EXPECT_NE(error.find("virtual camera 'vv' has Resolution 128 x 64 but the input cameras 64 x 32"), std::string::npos)
-      << error;
-  // VirtualOverrides bring it back to the inputs' size (and v0, the second virtual camera, is fine).
-  write(baseConfig(",\n  \"VirtualOverrides\": {\"Resolution\": [64, 32]}"));
   EXPECT_EQ(errorOf(), "");
+  WorkingFolder folder(dir);
+  std::vector<Config> configs = Config::loadAll(viewSynOptionTable(), config.string(), {});
+  ASSERT_EQ(configs.size(), 2u);
+  // RVS writes each virtual view at its camera's Resolution: 'vv' at 128x64, v0 at the inputs' 64x32.
+  EXPECT_EQ(configs[0].getInt("VirtualWidth"), 128);
+  EXPECT_EQ(configs[0].getInt("VirtualHeight"), 64);
+  EXPECT_EQ(configs[0].origin("VirtualWidth"), config.string() + ":5");  // VirtualCameraParameterFile's line
+  EXPECT_EQ(configs[1].getInt("VirtualWidth"), 0);
+  EXPECT_EQ(loadScene(configs[0]).settings.virtualFormat().width, 128);
+  // VirtualOverrides bring it back to the inputs' size.
+  write(baseConfig(",\n  \"VirtualOverrides\": {\"Resolution\": [64, 32]}"));
+  configs = Config::loadAll(viewSynOptionTable(), config.string(), {});
+  EXPECT_EQ(configs[0].getInt("VirtualWidth"), 0);
+}
+
+TEST_F(RvsFixture, MasksBecomeOurMaskOutputs) {
+  write(baseConfig(R"(,
+  "OutputMasks": ["out/vv_mask.yuv", "out/v0_mask.yuv"],
+  "MaskedDepthOutputFiles": ["out/vv_masked.yuv", "out/v0_masked.yuv"])"));
+  WorkingFolder folder(dir);
+  const std::vector<Config> configs = Config::loadAll(viewSynOptionTable(), config.string(), {});
+  ASSERT_EQ(configs.size(), 2u);
+  const std::string working = fs::current_path().string();
+  EXPECT_EQ(configs[0].getPath("OutputVirtualMaskName"), working + "/out/vv_mask.yuv");
+  EXPECT_EQ(configs[1].getPath("OutputMaskedVirtualDepthMapName"), working + "/out/v0_masked.yuv");
+  EXPECT_EQ(configs[0].origin("OutputVirtualMaskName"), config.string() + ":19");
+  // The masked depth is written in the virtual camera's depth range, as DepthOutputFiles would be.
+  EXPECT_EQ(configs[0].getDouble("VirtualNearestDepthValue"), 0.5);
+  EXPECT_EQ(configs[0].getDouble("VirtualFarthestDepthValue"), 20);
+  const Scene scene = loadScene(configs[0]);
+  EXPECT_TRUE(scene.settings.wantsMask());
+  EXPECT_TRUE(makePlan(scene).virtualMaskOutput);
+  // MeshRender reads the keys, and its plan refuses them.
+  const Config mesh = Config::loadAll(meshRenderOptionTable(), config.string(), {})[0];
+  EXPECT_THROW(makePlan(loadScene(mesh), Tool::MeshRender), InputError);
 }
 
 TEST(RvsPoseTrace, ReadsRvsCsvAndRefusesMalformedRows) {

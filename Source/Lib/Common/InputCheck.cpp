@@ -41,7 +41,7 @@ std::vector<SequenceInput> sequenceInputs(const SynthesisSettings& s) {
   }
   if (!s.referenceViewPath.empty())
     inputs.push_back({"ReferenceVirtualViewImageName", "ground truth of the virtual view", s.referenceViewPath,
-                      s.textureFormat, "ChromaFormat", "TextureBitDepth", false});
+                      s.virtualFormat(), "ChromaFormat", "TextureBitDepth", false});
   return inputs;
 }
 
@@ -65,7 +65,9 @@ std::vector<std::string> checkInputs(const Scene& scene) {
         if (!reader.y4m()) {
           const std::string sizes = wholeFrameSizes(reader.fileBytes(), input.format);
           message += sizes.empty() ? "; no nearby size divides the file" : "; sizes that divide the file: " + sizes;
-          message += "; check SourceWidth, SourceHeight, " + std::string(input.chromaKey) + " and " + input.bitDepthKey;
+          const bool virtualSize = input.key == "ReferenceVirtualViewImageName" && s.virtualResized();
+          message += std::string("; check ") + (virtualSize ? "VirtualWidth, VirtualHeight, " : "SourceWidth, SourceHeight, ") +
+                     input.chromaKey + " and " + input.bitDepthKey;
           if (reader.frameCount() > 0)
             message += " (to use the first frames of a file with extra bytes at its end, copy them: head -c " +
                        std::to_string(uint64_t(reader.frameCount()) * frameBytes) + " FILE > FIRST.yuv)";
@@ -111,6 +113,9 @@ void checkOutputs(const Scene& scene, const std::vector<NamedOutput>& extra) {
   std::vector<NamedOutput> outputs;
   if (!s.outputPath.empty()) outputs.push_back({"OutputVirtualViewImageName", s.outputPath});
   if (!s.virtualDepthPath.empty()) outputs.push_back({"OutputVirtualDepthMapName", s.virtualDepthPath});
+  if (!s.virtualMaskPath.empty()) outputs.push_back({"OutputVirtualMaskName", s.virtualMaskPath});
+  if (!s.maskedVirtualDepthPath.empty())
+    outputs.push_back({"OutputMaskedVirtualDepthMapName", s.maskedVirtualDepthPath});
   if (!s.reportPath.empty()) outputs.push_back({"ReportFile", s.reportPath});
   if (!s.summaryPath.empty()) outputs.push_back({"SummaryFile", s.summaryPath});
   outputs.insert(outputs.end(), extra.begin(), extra.end());

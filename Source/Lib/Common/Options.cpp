@@ -87,8 +87,13 @@ void addSynthesisOptions(OptionTable& table) {
              intOption("DepthType", 0, 0, 1, "0",
                        "0: depth values are the z coordinate in each camera's own frame; 1: depth values are "
                        "the world z coordinate of the point"),
-             intOption("SourceWidth", 1280, 1, kMaxSize, "1280", "Width of every input and output frame in luma samples"),
-             intOption("SourceHeight", 960, 1, kMaxSize, "960", "Height of every input and output frame in luma samples"),
+             intOption("SourceWidth", 1280, 1, kMaxSize, "1280", "Width of every input frame in luma samples (and of the output, unless VirtualWidth is set)"),
+             intOption("SourceHeight", 960, 1, kMaxSize, "960", "Height of every input frame in luma samples (and of the output, unless VirtualHeight is set)"),
+             intOption("VirtualWidth", 0, 0, kMaxSize, "-",
+                       "Width of the virtual view (the output, its ground truth, depth and masks) in luma samples; "
+                       "0: SourceWidth. Another size than the inputs' needs the general path (RVS: the virtual "
+                       "camera's Resolution)"),
+             intOption("VirtualHeight", 0, 0, kMaxSize, "-", "Height of the virtual view in luma samples; 0: SourceHeight"),
              intOption("StartFrame", 0, 0, kMaxFrames, "0", "First frame of the input sequences to synthesize (0-based)"),
              intOption("TotalNumberOfFrames", 300, 1, kMaxFrames, "300",
                        "Number of frames to synthesize from StartFrame on"),
@@ -148,6 +153,13 @@ void addSynthesisOptions(OptionTable& table) {
                         "Their Zfar values, inf allowed (from a JSON camera file when absent)"),
              textOption("OutputVirtualDepthMapName", OptionType::Path, false, "-",
                         "Optional output of the virtual view's depth, as levels of the virtual camera's depth range"),
+             textOption("OutputVirtualMaskName", OptionType::Path, false, "-",
+                        "Optional output: a mask of the virtual view (8-bit YUV, the output's chroma format, chroma "
+                        "128): luma 255 where no reference view gave the sample (hole filling made it up), 0 "
+                        "elsewhere (RVS's OutputMasks)"),
+             textOption("OutputMaskedVirtualDepthMapName", OptionType::Path, false, "-",
+                        "Optional output: the virtual view's depth as OutputVirtualDepthMapName writes it, with level 0 "
+                        "where the mask is 255 (RVS's MaskedDepthOutputFiles)"),
              depthValueOption("VirtualNearestDepthValue", false, "Znear of the virtual depth output (default: the first reference's)", false),
              depthValueOption("VirtualFarthestDepthValue", true, "Zfar of the virtual depth output (default: the first reference's)", false),
          });

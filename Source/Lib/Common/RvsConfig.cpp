@@ -422,9 +422,9 @@ private:
     if (depthsValue) set("ReferenceDepthMapNames", join(depths), *depthsValue);
   }
 
-  // One output (and depth output) per virtual camera; masks are refused.
+  // One output (and depth output, mask, masked depth) per virtual camera; masked textures are refused.
   void readOutputs() {
-    for (const char* key : {"OutputFiles", "DepthOutputFiles"}) {
+    for (const char* key : {"OutputFiles", "DepthOutputFiles", "OutputMasks", "MaskedDepthOutputFiles"}) {
       const JsonValue* value = rvs_.find(key);
       if (!value) continue;
       std::vector<std::string> files;
@@ -437,10 +437,10 @@ private:
     if (!rvs_.find("OutputFiles"))
       problems_.add(path_ + ": missing RVS key \"OutputFiles\" (one output sequence per virtual camera; RVS would "
                             "write nothing)");
-    for (const char* key : {"OutputMasks", "MaskedOutputFiles", "MaskedDepthOutputFiles"})
-      if (const JsonValue* value = rvs_.find(key))
-        rvs_.problem(*value, std::string("\"") + key + "\": masks and masked outputs are not written by " +
-                                 table_.toolName() + " (doc/manual.md, \"RVS synthesis configs\"); remove the key");
+    if (const JsonValue* value = rvs_.find("MaskedOutputFiles"))
+      rvs_.problem(*value, std::string("\"MaskedOutputFiles\": masked textures are not written by ") + table_.toolName() +
+                               " (doc/manual.md, \"RVS synthesis configs\"); write OutputMasks and mask the texture "
+                               "with it, or remove the key");
   }
 
   // Frames, precision, colour space, method, blending, pose trace.
@@ -553,15 +553,17 @@ private:
     if (anyInvalid) set("MissingDepthLevel", "0", *inputFileValue_);
   }
 
-  // The settings of virtual camera v: the shared ones, its name, outputs and depth output range; its
-  // size and texture bit depth must be the inputs'.
+  // The settings of virtual camera v: the shared ones, its name, outputs and depth output range, and
+  // its size when its Resolution is not the inputs'; its texture bit depth must be the inputs'.
   std::vector<TranslatedSetting> virtualCameraSettings(size_t v) {
     std::vector<TranslatedSetting> settings = shared_;
     const std::string& name = virtualNames_[v];
     settings.push_back({"VirtualCameraName", name, rvs_.where(*virtualNamesValue_), baseDir_});
     using KeyPair = std::pair<const char*, const char*>;
     for (const auto& [key, ours] : {KeyPair{"OutputFiles", "OutputVirtualViewImageName"},
-                                    KeyPair{"DepthOutputFiles", "OutputVirtualDepthMapName"}})
+                                    KeyPair{"DepthOutputFiles", "OutputVirtualDepthMapName"},
+                                    KeyPair{"OutputMasks", "OutputVirtualMaskName"},
+                                    KeyPair{"MaskedDepthOutputFiles", "OutputMaskedVirtualDepthMapName"}})
       if (outputs_.count(key)) settings.push_back({ours, outputs_[key][v], rvs_.where(*rvs_.find(key)), baseDir_});
     if (!virtualFacts_)
       virtualFacts_ = std::make_unique<CameraFactsFile>(resolvePath(virtualCameraFile_, baseDir_), virtualOverrides_);
@@ -569,17 +571,16 @@ private:
     const CameraFacts f = virtualFacts_->facts(name, problems_);
     const CameraFacts& in = inputs_[0];
     const std::string where = rvs_.where(*virtualFileValue_);
-    if (f.width != in.width || f.height != in.height)
-      problems_.add(where + ": virtual camera '" + name + "' has Resolution " + std::to_string(f.width) + " x " +
-                    std::to_string(f.height) + " but the input cameras " + std::to_string(in.width) + " x " +
-                    std::to_string(in.height) + "; " + table_.toolName() +
-                    " writes the virtual view at the input size (change the virtual camera's Resolution and "
-                    "focal length, or VirtualOverrides)");
+    // RVS writes each virtual view at its camera's Resolution.
+    if (f.width != in.width || f.height != in.height) {
+      settings.push_back({"VirtualWidth", std::to_string(f.width), where, baseDir_});
+      settings.push_back({"VirtualHeight", std::to_string(f.height), where, baseDir_});
+    }
     if (f.bitDepthColor > 0 && in.bitDepthColor > 0 && f.bitDepthColor != in.bitDepthColor)
       problems_.add(where + ": virtual camera '" + name + "' has BitDepthColor " + std::to_string(f.bitDepthColor) +
                     " but the input cameras " + std::to_string(in.bitDepthColor) +
                     "; the output has the inputs' texture bit depth");
-    if (f.hasDepthRange && outputs_.count("DepthOutputFiles")) {
+    if (f.hasDepthRange && (outputs_.count("DepthOutputFiles") || outputs_.count("MaskedDepthOutputFiles"))) {
       settings.push_back({"VirtualNearestDepthValue", number(f.znear), where, baseDir_});
       settings.push_back({"VirtualFarthestDepthValue", f.zfar >= 1000 ? "inf" : number(f.zfar), where, baseDir_});
     }

@@ -185,6 +185,19 @@ SynthesisSettings readSynthesisSettings(const Config& config) {
                    " needs an even SourceWidth and SourceHeight, got " + std::to_string(width) + " x " +
                    std::to_string(height));
     }
+  // The virtual view's own size (0: the inputs'); its format is the texture's otherwise.
+  s.virtualWidth = int(config.getInt("VirtualWidth"));
+  s.virtualHeight = int(config.getInt("VirtualHeight"));
+  if (s.virtualResized()) {
+    const int vw = s.virtualFormat().width, vh = s.virtualFormat().height;
+    if (int64_t(vw) * vh > kMaxPixels)
+      problems.add(where + ": VirtualWidth x VirtualHeight = " + std::to_string(vw) + " x " + std::to_string(vh) +
+                   " is more than " + std::to_string(kMaxPixels) + " pixels; refused before allocating memory");
+    if ((s.textureFormat.chroma == ChromaFormat::Yuv420 || s.depthFormat.chroma == ChromaFormat::Yuv420) &&
+        (vw % 2 || vh % 2))
+      problems.add(where + ": 4:2:0 output needs an even VirtualWidth and VirtualHeight, got " + std::to_string(vw) +
+                   " x " + std::to_string(vh));
+  }
 
   s.startFrame = config.getInt("StartFrame");
   s.frameCount = config.getInt("TotalNumberOfFrames");
@@ -206,6 +219,8 @@ SynthesisSettings readSynthesisSettings(const Config& config) {
   else if (!QualityReport(s.qualityMetrics, true).empty() && s.referenceViewPath.empty())
     problems.add(where + ": QualityMetrics scores against ReferenceVirtualViewImageName, which is not set");
   s.virtualDepthPath = config.getPath("OutputVirtualDepthMapName");
+  s.virtualMaskPath = config.getPath("OutputVirtualMaskName");
+  s.maskedVirtualDepthPath = config.getPath("OutputMaskedVirtualDepthMapName");
   s.virtualDepthRange.bitDepth = s.depthFormat.bitDepth;
   if (config.isSet("VirtualNearestDepthValue") != config.isSet("VirtualFarthestDepthValue"))
     problems.add(where + ": give both VirtualNearestDepthValue and VirtualFarthestDepthValue, or neither");

@@ -43,7 +43,8 @@ struct ReferenceView {
 
 struct SynthesisSettings {
   int depthType = 0;                         // 0 camera z, 1 world z
-  FrameFormat textureFormat;                 // inputs and output
+  FrameFormat textureFormat;                 // inputs (and the output unless VirtualWidth/VirtualHeight say otherwise)
+  int virtualWidth = 0, virtualHeight = 0;   // VirtualWidth, VirtualHeight; 0: the inputs' size
   FrameFormat depthFormat;                   // depth files (luma only is used)
   int64_t startFrame = 0;
   int64_t frameCount = 1;
@@ -62,6 +63,8 @@ struct SynthesisSettings {
   std::string virtualDepthPath;              // output of the virtual depth; empty: none
   DepthRange virtualDepthRange;              // levels of that output
   bool virtualDepthRangeSet = false;         // given by the Virtual*DepthValue keys
+  std::string virtualMaskPath;               // OutputVirtualMaskName (RVS's OutputMasks); empty: none
+  std::string maskedVirtualDepthPath;        // OutputMaskedVirtualDepthMapName (RVS's MaskedDepthOutputFiles)
   int colorSpace = 0;                        // 0 YUV, 1 RGB
   int precision = 2;                         // 1, 2, 4
   int filter = 1;                            // 0 bilinear, 1 bicubic, 2 AVC 6-tap
@@ -82,6 +85,19 @@ struct SynthesisSettings {
 
   // Every file the run reads; the output must be none of them.
   std::vector<std::string> inputPaths() const;
+  // The virtual view has another size than the reference views (VirtualWidth, VirtualHeight).
+  bool virtualResized() const {
+    return virtualFormat().width != textureFormat.width || virtualFormat().height != textureFormat.height;
+  }
+  // The format of the output, its ground truth, depth and masks: the texture format at the virtual size.
+  FrameFormat virtualFormat() const {
+    FrameFormat format = textureFormat;
+    if (virtualWidth > 0) format.width = virtualWidth;
+    if (virtualHeight > 0) format.height = virtualHeight;
+    return format;
+  }
+  // A mask of the virtual view is written (OutputVirtualMaskName or OutputMaskedVirtualDepthMapName).
+  bool wantsMask() const { return !virtualMaskPath.empty() || !maskedVirtualDepthPath.empty(); }
 };
 
 // Reads and checks the settings; throws InputError listing every problem (missing keys, values that

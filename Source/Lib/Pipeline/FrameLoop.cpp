@@ -19,7 +19,7 @@ void checkBeforeOpening(const Scene& scene, FrameRenderer& renderer, RunReport& 
   const SynthesisSettings& s = scene.settings;
   // Room on huge pages for what the frames will allocate: about 200 bytes per output sample with two
   // views (measured on Middlebury), about 60 more per further view; half as much again to spare.
-  const size_t samples = size_t(s.textureFormat.width) * size_t(s.textureFormat.height);
+  const size_t samples = size_t(s.virtualFormat().width) * size_t(s.virtualFormat().height);
   reserveHugePageHeap(samples * (144 + 96 * s.references.size()));
   // Sparse buffers on 4 KiB pages from 1 MiB for pictures of a megapixel or more (1920x1080: 23 MiB
   // less resident than from 4 MiB), from 4 MiB below (Art, 688x554: 5 ms more CPU of 60 in page faults
@@ -58,7 +58,7 @@ struct LeastCovered {
 
   // A virtual camera that sees (almost) nothing gives plain hole-filled frames: say so.
   void warnIfAlmostNothing(const SynthesisSettings& s, RunReport& report, std::FILE* log) const {
-    const size_t frameSamples = size_t(s.textureFormat.width) * size_t(s.textureFormat.height);
+    const size_t frameSamples = size_t(s.virtualFormat().width) * size_t(s.virtualFormat().height);
     if (samples < 0 || frameSamples == 0) return;
     const double share = double(samples) / double(frameSamples);
     if (share >= 0.01) return;
@@ -98,7 +98,7 @@ struct FrameSteps {
     const auto start = std::chrono::steady_clock::now();
     outputs.append(
         output, [&](Plane& levels) { return renderer.virtualDepth(frame.references, s.virtualDepthRange, levels); },
-        toolName);
+        [&](Plane& mask) { return renderer.virtualMask(frame.references, mask); }, toolName);
     times.write = secondsSince(start);
     FrameRecord record{s.startFrame + f, frame.truth != nullptr, {}, times, {}};
     if (frame.truth) record.psnr = framePsnr(*frame.truth, output);

@@ -33,6 +33,9 @@ public:
                             Plane& /*levels*/) {
     return false;
   }
+  // The last rendered frame's mask (OutputVirtualMaskName): 255 where no reference view gave the luma
+  // sample, 0 elsewhere; false when the renderer cannot provide it.
+  virtual bool virtualMask(const std::vector<ReferenceFrame>& /*references*/, Plane& /*mask*/) { return false; }
   // Luma samples of the last rendered frame that no reference view covered (filled as holes); -1:
   // unknown. The loop warns when a frame has less than 1 % covered.
   virtual int64_t uncoveredSamples() const { return -1; }

@@ -318,6 +318,7 @@ std::string configJson(const std::string& toolName, const Config& config, const 
   out << "{\n  \"tool\": " << jsonString(toolName) << ",\n  \"version\": " << jsonString(VS_VERSION)
       << ",\n  \"config_file\": " << path(config.configPath()) << ",\n  \"config\": " << configMembers(config, "  ")
       << ",\n  \"scene\": {\n    \"width\": " << s.textureFormat.width << ",\n    \"height\": " << s.textureFormat.height
+      << ",\n    \"virtual_width\": " << s.virtualFormat().width << ",\n    \"virtual_height\": " << s.virtualFormat().height
       << ",\n    \"chroma\": " << jsonString(chromaFormatName(s.textureFormat.chroma))
       << ",\n    \"bit_depth\": " << s.textureFormat.bitDepth << ",\n    \"frames\": " << s.frameCount
       << ",\n    \"start_frame\": " << s.startFrame << ",\n    \"output\": " << path(s.outputPath)

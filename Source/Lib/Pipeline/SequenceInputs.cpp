@@ -18,7 +18,7 @@ SequenceInputs::SequenceInputs(const SynthesisSettings& settings) : settings_(se
     textures_.push_back(std::make_unique<YuvReader>(view.texturePath, s.textureFormat));
     depths_.push_back(std::make_unique<YuvReader>(view.depthPath, view.depthFormat));
   }
-  if (!s.referenceViewPath.empty()) truth_ = std::make_unique<YuvReader>(s.referenceViewPath, s.textureFormat);
+  if (!s.referenceViewPath.empty()) truth_ = std::make_unique<YuvReader>(s.referenceViewPath, s.virtualFormat());
   available_ = s.frameCount;
   auto limit = [&](const YuvReader& reader) {
     const int64_t count = reader.frameCount();

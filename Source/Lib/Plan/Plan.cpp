@@ -29,15 +29,19 @@ void refuseEquirectangular(const Scene& scene) {
     if (view.camera.isEquirectangular()) erp.push_back(&view.camera);
   if (scene.virtualCamera.isEquirectangular()) erp.push_back(&scene.virtualCamera);
   if (erp.empty()) return;
-  // Every picture has the texture format's size (one size for inputs and output); an ERP camera's
-  // angles per pixel come from its Resolution, so the two must agree.
-  const FrameFormat& format = scene.settings.textureFormat;
-  for (const Camera* camera : erp)
+  // The reference pictures have the texture format's size, the virtual one the virtual format's
+  // (VirtualWidth, VirtualHeight); an ERP camera's angles per pixel come from its Resolution, so the
+  // picture's size and it must agree.
+  for (const Camera* camera : erp) {
+    const bool virtualCamera = camera == &scene.virtualCamera;
+    const FrameFormat format = virtualCamera ? scene.settings.virtualFormat() : scene.settings.textureFormat;
     if (camera->erp.width != format.width || camera->erp.height != format.height)
       throw InputError("camera '" + camera->name + "' is equirectangular with Resolution " +
-                       std::to_string(camera->erp.width) + "x" + std::to_string(camera->erp.height) +
-                       ", but the pictures are " + std::to_string(format.width) + "x" + std::to_string(format.height) +
-                       "; an ERP picture must have its camera's resolution");
+                       std::to_string(camera->erp.width) + "x" + std::to_string(camera->erp.height) + ", but the " +
+                       (virtualCamera ? "virtual picture is " : "pictures are ") + std::to_string(format.width) + "x" +
+                       std::to_string(format.height) + " (" + (virtualCamera ? "VirtualWidth x VirtualHeight" : "SourceWidth x SourceHeight") +
+                       "); an ERP picture must have its camera's resolution");
+  }
   if (scene.settings.depthType == 1)
     throw InputError("DepthType 1 (depth values are world z coordinates) with the equirectangular camera '" +
                      erp[0]->name + "': an ERP depth map holds distances along the rays (MPEG-I); use DepthType 0");
@@ -143,10 +147,23 @@ Plan makePlan(const Scene& scene, Tool tool) {
   if (tool == Tool::MeshRender && !s.virtualDepthPath.empty())
     throw InputError("OutputVirtualDepthMapName '" + s.virtualDepthPath +
                      "': MeshRender cannot write the virtual view's depth (ViewSyn can); remove the key or set it to -");
+  if (tool == Tool::MeshRender && s.wantsMask())
+    throw InputError(std::string(s.virtualMaskPath.empty() ? "OutputMaskedVirtualDepthMapName" : "OutputVirtualMaskName") +
+                     ": MeshRender cannot write the virtual view's mask (ViewSyn can); remove the key or set it to -");
+  if (tool == Tool::MeshRender && s.virtualResized())
+    throw InputError("VirtualWidth x VirtualHeight " + std::to_string(s.virtualFormat().width) + "x" +
+                     std::to_string(s.virtualFormat().height) + " differs from the inputs' " +
+                     std::to_string(s.textureFormat.width) + "x" + std::to_string(s.textureFormat.height) +
+                     ": MeshRender renders the virtual view at the inputs' size; use ViewSyn, or leave the keys at 0");
   plan.virtualDepthOutput = !s.virtualDepthPath.empty();
+  plan.virtualMaskOutput = s.wantsMask();
+  plan.virtualWidth = s.virtualFormat().width;
+  plan.virtualHeight = s.virtualFormat().height;
+  plan.resized = s.virtualResized();
   refuseEquirectangular(scene);
 
-  for (size_t k = 0; k < s.references.size() && tool == Tool::ViewSyn; ++k)
+  // A reference view is copied only when the virtual picture also has its size.
+  for (size_t k = 0; k < s.references.size() && tool == Tool::ViewSyn && !plan.resized; ++k)
     if (sameCamera(s.references[k].camera, scene.virtualCamera)) {
       plan.copyOf = int(k);
       break;
@@ -162,7 +179,14 @@ Plan makePlan(const Scene& scene, Tool tool) {
     if (s.mode == SynthesisMode::Parallel1D && !plan.rectified && plan.copyOf < 0)
       throw InputError("SynthesisMode 1 (1D parallel) needs a rectified rig, and this one is not:" + plan.rigDeviations +
                        "\n  use SynthesisMode 0 (general) or auto");
-    if (s.mode == SynthesisMode::Auto) plan.mode = plan.rectified ? SynthesisMode::Parallel1D : SynthesisMode::General;
+    // The 1D path warps each reference row into the same virtual row: one size for every picture.
+    if (s.mode == SynthesisMode::Parallel1D && plan.resized)
+      throw InputError("SynthesisMode 1 (1D parallel) warps rows into rows of the same length, but the virtual view is " +
+                       std::to_string(s.virtualFormat().width) + "x" + std::to_string(s.virtualFormat().height) +
+                       " (VirtualWidth x VirtualHeight) and the inputs " + std::to_string(s.textureFormat.width) + "x" +
+                       std::to_string(s.textureFormat.height) + "; use SynthesisMode 0 (general) or auto");
+    if (s.mode == SynthesisMode::Auto)
+      plan.mode = plan.rectified && !plan.resized ? SynthesisMode::Parallel1D : SynthesisMode::General;
     else plan.mode = plan.copyOf >= 0 && !plan.rectified ? SynthesisMode::General : s.mode;
   }
   const bool oneD = plan.mode == SynthesisMode::Parallel1D;

@@ -64,6 +64,10 @@ struct Plan {
   bool temporalFill = false;          // 1D TemporalImprovementOption: static holes keep the previous fill
   bool boundaryNoiseRemoval = false;  // BoundaryNoiseRemoval (ViewSyn only)
   bool virtualDepthOutput = false;    // OutputVirtualDepthMapName is written
+  bool virtualMaskOutput = false;     // OutputVirtualMaskName or OutputMaskedVirtualDepthMapName is written
+  // The virtual picture's size (VirtualWidth, VirtualHeight); resized: not the inputs' (general path only).
+  int virtualWidth = 0, virtualHeight = 0;
+  bool resized = false;
   std::vector<std::string> notApplied;  // keys set that this tool leaves aside, each with why
 
   BlendOptions blending;              // weights, depth tolerance (1D: by MergingOption), ViewBlending

@@ -44,10 +44,18 @@ std::vector<std::string> viewSynLines(const Plan& plan) {
   if (plan.copyOf >= 0) {
     lines.push_back("copy: the virtual camera '" + plan.virtualCameraName + "' is the " + plan.viewLabels[size_t(plan.copyOf)] +
                     " camera; its view is the output, nothing is warped");
+    if (plan.virtualMaskOutput)
+      lines.push_back("mask: the copied view's samples without depth (MissingDepthLevel) are written as 255");
     return lines;
   }
   const bool oneD = plan.mode == SynthesisMode::Parallel1D;
-  if (plan.requestedMode == SynthesisMode::Auto)
+  if (plan.resized)
+    lines.push_back("size: the virtual view is " + std::to_string(plan.virtualWidth) + "x" +
+                    std::to_string(plan.virtualHeight) +
+                    " (VirtualWidth, VirtualHeight), not the inputs' size: general path, no copy of a reference view");
+  if (plan.requestedMode == SynthesisMode::Auto && plan.resized && plan.rectified)
+    lines.push_back("mode: general 3D warping (auto: the rig is rectified, but the 1D path needs one size for every picture)");
+  else if (plan.requestedMode == SynthesisMode::Auto)
     lines.push_back(oneD ? "mode: 1D parallel (auto: the rig is rectified: equal rotations, centres on the x axis, "
                            "equal fy and cy, no skew)"
                          : "mode: general 3D warping (auto: the rig is not rectified:" + plan.rigDeviations + ")");
@@ -77,6 +85,8 @@ std::vector<std::string> viewSynLines(const Plan& plan) {
                                                 : "moved onto texture edges up to " + std::to_string(plan.depthEdgeAlignment) +
                                                     " samples away where the nearest other reference view agrees"));
   if (plan.boundaryNoiseRemoval) lines.push_back("boundary noise removal: on");
+  if (plan.virtualMaskOutput)
+    lines.push_back("mask: the samples no reference view gave (hole filling made them up) are written as 255");
   lines.push_back("blend weights:" + weightList(plan, "%s %s %.4f", "") +
                   (plan.blending.nearestViewOnly ? " (ViewBlending 1: the heavier view where views agree)" : ""));
   lines.push_back("texture: Precision " + std::to_string(plan.precision) + ", Filter " + std::to_string(plan.filter) +
@@ -143,6 +153,8 @@ std::vector<std::pair<std::string, std::string>> Plan::fields() const {
   f.emplace_back("temporal_fill", flag(temporalFill));
   f.emplace_back("boundary_noise_removal", flag(boundaryNoiseRemoval));
   f.emplace_back("virtual_depth_output", flag(virtualDepthOutput));
+  f.emplace_back("virtual_mask_output", flag(virtualMaskOutput));
+  f.emplace_back("virtual_size", std::to_string(virtualWidth) + "x" + std::to_string(virtualHeight));
   std::string notes;
   for (const std::string& note : notApplied) notes += (notes.empty() ? "" : "; ") + note;
   f.emplace_back("not_applied", notes);

@@ -27,7 +27,10 @@ void Synthesizer::warpChroma(ViewState& view, const Frame& texture) {
       // Locals, as in warpTexture: the byte and double stores below could alias what the loop reads.
       const ViewProjection projection = view.projection;
       const SubPixelSampler sampler = sampler_;
-      const int lumaWidth = luma.width, lumaHeight = luma.height, chromaW = cw, chromaH = ch;
+      const int lumaWidth = luma.width, lumaHeight = luma.height, chromaW = cw;
+      // The reference's chroma size: the general path's look-ups may land anywhere in it (the virtual
+      // picture may have another size, VirtualWidth); the 1D path has one size for both.
+      const int sourceW = texture.planes[1].width, sourceH = texture.planes[1].height;
       const double surface = tolerance;
       const double* lumaDepth = luma.inverseDepth.data();
       const uint8_t* lumaEdge = luma.edge.data();
@@ -132,7 +135,7 @@ void Synthesizer::warpChroma(ViewState& view, const Frame& texture) {
           }
           if (!sourceOk[i]) continue;  // backward() refuses it
           const double cu = sources[i], cv = sourcesV[i];
-          if (cu < -1.0 || cv < -1.0 || cu > chromaW || cv > chromaH) continue;
+          if (cu < -1.0 || cv < -1.0 || cu > sourceW || cv > sourceH) continue;
           depthOut[c] = inverseDepth;
           edgeOut[c] = blockEdge[i];
           if (sphereEdges && SubPixelSampler::nearEdge(cu, cv, referenceChromaW, referenceChromaH)) {
@@ -144,8 +147,8 @@ void Synthesizer::warpChroma(ViewState& view, const Frame& texture) {
           // (sampler.wholeRow(cv, row) && row == j: cv's grid index is j's).
           if (gridV[i] == rowGrid) {
             if (tableRow != j) {
-              sampledU.build<kTaps>(sampler, texture.planes[1], j, -1, chromaW);
-              sampledV.build<kTaps>(sampler, texture.planes[2], j, -1, chromaW);
+              sampledU.build<kTaps>(sampler, texture.planes[1], j, -1, sourceW);
+              sampledV.build<kTaps>(sampler, texture.planes[2], j, -1, sourceW);
               tableRow = j;
             }
             uOut[c] = sampledU.atGrid<kTaps>(cu, grid[i]);

@@ -17,7 +17,7 @@ Synthesizer::Synthesizer(const Scene& scene, const Plan& plan)
     : scene_(scene),
       plan_(plan),
       rowPath_(plan.mode == SynthesisMode::Parallel1D),
-      outputFormat_(scene.settings.textureFormat),
+      outputFormat_(scene.settings.virtualFormat()),
       sampler_(plan.precision, plan.filter),
       aligner_(scene.settings, plan.missingDepthLevel) {
   VS_CHECK(plan_.tool == Tool::ViewSyn && plan_.mode != SynthesisMode::Auto);
@@ -79,6 +79,13 @@ void Synthesizer::virtualDepth(const DepthRange& range, Plane& levels) const {
         levels.at(x, y) = inverse < 0 ? 0 : uint16_t(zToLevelRounded(z, range));
       }
   });
+}
+
+void Synthesizer::virtualMask(Plane& mask) const {
+  const int w = outputFormat_.width, h = outputFormat_.height;
+  VS_CHECK(plan_.virtualMaskOutput && uncovered_.size() == size_t(w) * size_t(h));
+  mask.resize(w, h);
+  for (size_t i = 0; i < uncovered_.size(); ++i) mask.samples[i] = uncovered_[i] ? 255 : 0;
 }
 
 bool Synthesizer::viewsSideBySide() const {
@@ -174,6 +181,7 @@ void Synthesizer::synthesize(const std::vector<ReferenceFrame>& references, Fram
   blendLayers(lumaLayers, plan_.blending, blendedLuma_);
   if (yuvChroma) blendLayers(chromaLayers, plan_.blending, blendedChroma_);
   stats_.holesAfterBlend = blendedLuma_.holeCount();
+  if (plan_.virtualMaskOutput) uncovered_ = blendedLuma_.hole;  // hole filling clears the flags
   times.blend += secondsSince(start);
 
   start = std::chrono::steady_clock::now();

@@ -57,6 +57,9 @@ public:
   // The last frame's virtual depth (after hole filling) as levels of `range`, with the scene's
   // DepthType; samples nothing covered get level 0.
   void virtualDepth(const DepthRange& range, Plane& levels) const;
+  // The last frame's mask (plan.virtualMaskOutput): 255 where no reference view gave the luma sample
+  // (the holes after blending, which hole filling made up), 0 elsewhere.
+  void virtualMask(Plane& mask) const;
   const Plan& plan() const { return plan_; }
   // MissingDepthLevel auto: the first frame's filled maps decideMissingDepth made for its counts (one
   // per view, or none). The next synthesize(), called with that same frame, takes a view's map instead
@@ -142,6 +145,7 @@ private:
   ScratchPool<ChromaRows> chromaRows_;
   TemporalFill temporalFill_;
   FrameStats stats_;
+  std::vector<uint8_t> uncovered_;  // the last frame's holes after blending (plan_.virtualMaskOutput)
 };
 
 }  // namespace vs

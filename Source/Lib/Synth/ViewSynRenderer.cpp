@@ -55,6 +55,18 @@ public:
       levels.samples[i] = uint16_t(zToLevelRounded(levelToZ(depth.samples[i], view.depthRange), range));
     return true;
   }
+  bool virtualMask(const std::vector<ReferenceFrame>& references, Plane& mask) override {
+    if (synthesizer_) {
+      synthesizer_->virtualMask(mask);
+      return true;
+    }
+    // A copy: every sample is the reference's own, except those without depth (MissingDepthLevel).
+    const Plane& depth = *references[size_t(plan_.copyOf)].depth;
+    mask.resize(depth.width, depth.height);
+    for (size_t i = 0; i < depth.samples.size(); ++i)
+      mask.samples[i] = plan_.missingDepthLevel >= 0 && depth.samples[i] == plan_.missingDepthLevel ? 255 : 0;
+    return true;
+  }
   int64_t uncoveredSamples() const override {
     return synthesizer_ ? int64_t(synthesizer_->lastStats().holesAfterBlend) : -1;
   }
