@@ -42,7 +42,6 @@ void Synthesizer::warpChroma(ViewState& view, const Frame& texture) {
       // As in warpTexture: an ERP reference's chroma continues round the wrap and across its poles.
       const SphereEdges sphere = projection.referenceSphere();
       const bool sphereEdges = sphere.any();
-      const int referenceChromaW = texture.planes[1].width, referenceChromaH = texture.planes[1].height;
       // Chroma sample centres sit in the middle of their luma block (doc/formats-yuv.md).
       const double offset = 0.5 * (kBlock - 1);
       // 1D: each reference chroma row sampled once at every grid position (SampledRow, as in
@@ -138,7 +137,7 @@ void Synthesizer::warpChroma(ViewState& view, const Frame& texture) {
           if (cu < -1.0 || cv < -1.0 || cu > sourceW || cv > sourceH) continue;
           depthOut[c] = inverseDepth;
           edgeOut[c] = blockEdge[i];
-          if (sphereEdges && SubPixelSampler::nearEdge(cu, cv, referenceChromaW, referenceChromaH)) {
+          if (sphereEdges && SubPixelSampler::nearEdge(cu, cv, sourceW, sourceH)) {
             uOut[c] = sampler.sampleSphereTaps<kTaps>(texture.planes[1], cu, cv, sphere);
             vOut[c] = sampler.sampleSphereTaps<kTaps>(texture.planes[2], cu, cv, sphere);
             continue;
