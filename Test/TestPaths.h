@@ -4,6 +4,7 @@
 // VS_REQUIRE_DIR and are skipped with a clear message when the folder is absent.
 #include <cstdlib>
 #include <filesystem>
+#include <functional>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -22,10 +23,14 @@ inline std::filesystem::path samplesDir() {
 
 inline std::filesystem::path binDir() { return std::filesystem::path(VS_BIN_DIR); }
 
-// A fresh, empty scratch folder for one test, removed and recreated on every call.
+// A fresh, empty scratch folder for one test, removed and recreated on every call. Its name carries a
+// hash of the build's Bin folder, so two builds' test runs at once (a sanitizer build beside a release
+// build, two checkouts on one machine) never empty each other's folders.
 inline std::filesystem::path scratchDir(const std::string& name) {
   const char* tmp = std::getenv("TMPDIR");
-  std::filesystem::path dir = std::filesystem::path(tmp && *tmp ? tmp : "/tmp") / ("vs_test_" + name);
+  const std::string build = std::to_string(std::hash<std::string>{}(std::string(VS_BIN_DIR)) % 1000000007u);
+  std::filesystem::path dir =
+      std::filesystem::path(tmp && *tmp ? tmp : "/tmp") / ("vs_test_" + build + "_" + name);
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
   return dir;
