@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "Common/CameraJson.h"
+#include "ErpTestCameras.h"
 #include "Plan/Plan.h"
 #include "StabilityScene.h"
 #include "Synth/Interpolation.h"
@@ -14,12 +15,10 @@
 namespace vs {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
+using test::sphereDirection;
 
-// Our camera axes of MPEG's longitude and latitude (radians).
-Vec3 sphereDirection(double lon, double lat) {
-  return {-std::cos(lat) * std::sin(lon), -std::sin(lat), std::cos(lat) * std::cos(lon)};
-}
+using test::kPi;
+
 
 // The direction of ERP sample position (u, v) of a full-sphere width x height picture (integers are
 // sample centres, column 0 starts at longitude 180, row 0 at latitude 90).

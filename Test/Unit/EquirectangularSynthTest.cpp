@@ -18,28 +18,18 @@
 #include "Plan/Plan.h"
 #include "StabilityScene.h"
 #include "Synth/Warp.h"
+#include "ErpTestCameras.h"
 #include "TestPaths.h"
 
 namespace vs {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
+using test::erpCamera;
+using test::sphereDirection;
 
-Camera erpCamera(const std::string& name, int width, int height, const Vec3& centre) {
-  Camera c;
-  c.name = name;
-  c.projection = Projection::Equirectangular;
-  c.erp.width = width;
-  c.erp.height = height;
-  c.t = centre;
-  return c;
-}
+using test::kPi;
 
-// Our camera axes of MPEG's longitude and latitude (degrees to radians done by the caller), written
-// independently of Camera.cpp.
-Vec3 sphereDirection(double lon, double lat) {
-  return {-std::cos(lat) * std::sin(lon), -std::sin(lat), std::cos(lat) * std::cos(lon)};
-}
+
 
 TEST(EquirectangularWarp, ErpOntoItselfLandsOnEveryPixelCentreExactly) {
   const Camera c = erpCamera("e", 96, 48, Vec3(0.5, -1.0, 2.0));

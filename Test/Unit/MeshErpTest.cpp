@@ -18,27 +18,18 @@
 #include "Mesh/MeshSynthesizer.h"
 #include "Plan/Plan.h"
 #include "StabilityScene.h"
+#include "ErpTestCameras.h"
 #include "TestPaths.h"
 
 namespace vs {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
+using test::erpCamera;
+using test::sphereDirection;
 
-Camera erpCamera(const std::string& name, int width, int height, const Vec3& centre) {
-  Camera c;
-  c.name = name;
-  c.projection = Projection::Equirectangular;
-  c.erp.width = width;
-  c.erp.height = height;
-  c.t = centre;
-  return c;
-}
+using test::kPi;
 
-// Our camera axes of MPEG's longitude and latitude (radians), written independently of Camera.cpp.
-Vec3 sphereDirection(double lon, double lat) {
-  return {-std::cos(lat) * std::sin(lon), -std::sin(lat), std::cos(lat) * std::cos(lon)};
-}
+
 
 // The camera-frame point of mesh vertex i (ERP: (ray, 1 / distance)).
 Vec3 vertexPoint(const DepthMesh& mesh, size_t i) {

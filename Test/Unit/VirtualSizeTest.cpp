@@ -21,13 +21,16 @@
 #include "Common/IvPsnr.h"
 #include "Common/Metrics.h"
 #include "Plan/Plan.h"
+#include "ErpTestCameras.h"
 #include "StabilityScene.h"
 #include "TestPaths.h"
 
 namespace vs {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
+using test::erpCamera;
+
+using test::kPi;
 
 // The room scene rendered in process at 256x128 (the references' size).
 const test::GeneratedScene& room() {
@@ -84,15 +87,6 @@ Camera pinhole(const std::string& name, double focal, int width, int height, dou
   return c;
 }
 
-Camera erpCamera(const std::string& name, int width, int height, const Vec3& centre) {
-  Camera c;
-  c.name = name;
-  c.projection = Projection::Equirectangular;
-  c.erp.width = width;
-  c.erp.height = height;
-  c.t = centre;
-  return c;
-}
 
 // Focal length of a horizontal field of view of `degrees` across `width` samples.
 double focalFor(double degrees, int width) { return (width / 2.0) / std::tan(degrees / 2 * kPi / 180); }
