@@ -7,6 +7,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <limits>
 #include <memory>
 #include <random>
@@ -498,7 +499,37 @@ TEST(MeshRenderApp, NoEglFailsWithAClearMessage) {
   const ToolResult run = runMeshRender("'" + (dir / "scene.cfg").string() + "'", dir,
                                        "__EGL_VENDOR_LIBRARY_FILENAMES=/nonexistent/egl_vendor.json");
   EXPECT_EQ(run.exitCode, 1);
-  EXPECT_FALSE(fs::exists(dir / "virtual.yuv"));  // fails before any output is created
+  EXPECT_FALSE(fs::exists(dir / "virtual.yuv"));  // no output is left behind
+}
+
+// The context is created on a thread of its own while the first frame is read and its meshes built, so
+// without EGL the run fails after its outputs were opened as temporaries: the error still names EGL,
+// an output that was already there keeps its content, and no temporary or PLY file is left behind.
+TEST(MeshRenderApp, NoEglRunLeavesEveryOutputAsItWas) {
+  if (!haveExecutable()) GTEST_SKIP() << "Bin/MeshRender is not built";
+  const PlaneScene s = makePlaneScene(0);
+  const fs::path dir = writeSceneFiles(s, "meshrender_noegl_outputs");
+  const std::string previous = "an earlier run's output\n";
+  std::ofstream(dir / "virtual.yuv", std::ios::binary) << previous;
+  auto listing = [&] {
+    std::vector<std::string> names;
+    for (const auto& entry : fs::directory_iterator(dir)) {
+      const std::string name = entry.path().filename().string();
+      if (name.rfind("MeshRender_std", 0) != 0) names.push_back(name);  // runTool's capture of the streams
+    }
+    std::sort(names.begin(), names.end());
+    return names;
+  };
+  const std::vector<std::string> before = listing();
+  const ToolResult run = runMeshRender("'" + (dir / "scene.cfg").string() + "' MeshPlyOutput=mesh.ply", dir,
+                                       "__EGL_VENDOR_LIBRARY_FILENAMES=/nonexistent/egl_vendor.json");
+  if (run.exitCode == 0) GTEST_SKIP() << "this libEGL ignores __EGL_VENDOR_LIBRARY_FILENAMES (not libglvnd)";
+  EXPECT_EQ(run.exitCode, 1) << run.err;
+  EXPECT_NE(run.err.find("MeshRender needs an OpenGL 3.3 core context through EGL"), std::string::npos) << run.err;
+  EXPECT_EQ(listing(), before);  // no temporary ".NAME.vs-XXXX", no mesh_left.ply or mesh_right.ply
+  std::ifstream kept(dir / "virtual.yuv", std::ios::binary);
+  const std::string content((std::istreambuf_iterator<char>(kept)), std::istreambuf_iterator<char>());
+  EXPECT_EQ(content, previous);
 }
 
 }  // namespace

@@ -129,6 +129,7 @@ double meshIdentityPsnr(const MeshSettings& settings, bool everyPrecisionAndFilt
         std::unique_ptr<MeshSynthesizer> mesh;
         try {
           mesh = std::make_unique<MeshSynthesizer>(identity, makePlan(identity, Tool::MeshRender), settings);
+          mesh->rendererDescription();  // waits for the context (made on its own thread): throws without one
         } catch (const InputError& e) {
           why = e.what();
           return std::nan("");

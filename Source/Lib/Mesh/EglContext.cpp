@@ -186,6 +186,12 @@ EglContext::~EglContext() {
   if (eglGetCurrentContext() == EGL_NO_CONTEXT) eglReleaseThread();
 }
 
+void EglContext::releaseCurrentContext() {
+  const EGLDisplay display = eglGetCurrentDisplay();
+  if (display != EGL_NO_DISPLAY) eglMakeCurrent(display, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
+  eglReleaseThread();
+}
+
 void EglContext::makeCurrent() const {
   if (eglGetCurrentContext() == context_) return;
   if (!eglMakeCurrent(display_, EGL_NO_SURFACE, EGL_NO_SURFACE, context_))

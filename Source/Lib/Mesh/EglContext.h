@@ -91,8 +91,14 @@ public:
   EglContext(const EglContext&) = delete;
   EglContext& operator=(const EglContext&) = delete;
 
-  // Makes this context current on the calling thread (a no-op when it already is).
+  // Makes this context current on the calling thread (a no-op when it already is). EGL lets a context
+  // be current on one thread at a time: a context created on another thread can be made current here
+  // only after that thread released it (releaseCurrentContext).
   void makeCurrent() const;
+  // Releases whatever context is current on the calling thread and frees the thread's EGL state, so
+  // that another thread can make it current: called by a thread that created a context for another
+  // (MeshSynthesizer creates its renderer on a thread of its own) before it ends.
+  static void releaseCurrentContext();
   const GlFunctions& gl() const { return gl_; }
   // "NVIDIA Corporation, NVIDIA H100 ..., 4.6.0 NVIDIA ..." or "Mesa, llvmpipe (LLVM 15 ...), 4.5 (Core Profile) Mesa ...",
   // followed by the EGL platform it came from.

@@ -27,6 +27,9 @@ public:
     std::vector<std::string> lines = synthesizer_.decideMissingDepth(firstFrame);
     // The first frame's meshes are built here (and used for it) so that their size is in the plan.
     synthesizer_.buildMeshes(firstFrame);
+    // The context was created meanwhile on its own thread: the renderer is named (or its error thrown,
+    // the outputs still temporaries) once it is there.
+    lines.push_back("renderer: OpenGL: " + synthesizer_.rendererDescription());
     lines.push_back(synthesizer_.meshSizeLine());
     return lines;
   }
@@ -77,8 +80,24 @@ MeshSynthesizer::MeshSynthesizer(const Scene& scene, const Plan& plan, const Mes
     VS_CHECK(outputFormat_.chroma == ChromaFormat::Yuv420 || outputFormat_.chroma == ChromaFormat::Yuv444);
   }
   const SubPixelSampler sampler(plan.precision, plan.filter);
-  renderer_.setSampling(&sampler);
+  pendingRenderer_ = std::async(std::launch::async, [sampler] {
+    std::unique_ptr<GlMeshRenderer> renderer;
+    try {
+      renderer = std::make_unique<GlMeshRenderer>();  // the context, current on this thread, and its programs
+    } catch (...) {
+      EglContext::releaseCurrentContext();
+      throw;
+    }
+    renderer->setSampling(&sampler);
+    EglContext::releaseCurrentContext();  // so that the rendering thread can make it current
+    return renderer;
+  });
   buildViews();
+}
+
+GlMeshRenderer& MeshSynthesizer::renderer() const {
+  if (!renderer_) renderer_ = pendingRenderer_.get();  // a second call after an error: std::future_error
+  return *renderer_;
 }
 
 std::vector<std::string> MeshSynthesizer::decideMissingDepth(const std::vector<ReferenceFrame>& firstFrame) {
@@ -140,7 +159,7 @@ void MeshSynthesizer::buildViews() {
 std::vector<std::string> MeshSynthesizer::plan() const {
   const SynthesisSettings& s = scene_.settings;
   std::vector<std::string> lines;
-  lines.push_back("mode: mesh rendering with OpenGL: " + renderer_.description());
+  lines.push_back("mode: mesh rendering with OpenGL (the renderer is named with the first frame)");
   char line[512];
   std::snprintf(line, sizeof line,
                 "mesh: a vertex every %d pixel(s), triangles dropped where camera depths differ by more than %.4g "
@@ -181,6 +200,7 @@ void MeshSynthesizer::synthesize(const std::vector<ReferenceFrame>& references, 
   VS_CHECK(references.size() == views_.size());
   const SynthesisSettings& s = scene_.settings;
   output.reset(outputFormat_);
+  GlMeshRenderer& renderer = this->renderer();  // waits for the context the first time
   if (meshesPrebuilt_) {
     times.depthWarp += prebuildSeconds_;  // built by buildMeshes() for this frame
     meshesPrebuilt_ = false;
@@ -199,11 +219,11 @@ void MeshSynthesizer::synthesize(const std::vector<ReferenceFrame>& references, 
     InverseDepthRange planes;
     if (projected) {  // ERP: the mesh taken into the virtual camera on the CPU
       if (projectMesh(view.mesh, reference.camera, scene_.virtualCamera, lumaGrid_, projected_))
-        renderer_.uploadProjectedMesh(projected_);
+        renderer.uploadProjectedMesh(projected_);
       else
-        renderer_.uploadProjectedMesh(ProjectedMesh{{}, {}, {}, {}, {}, &view.mesh});  // nothing in front
+        renderer.uploadProjectedMesh(ProjectedMesh{{}, {}, {}, {}, {}, &view.mesh});  // nothing in front
     } else {
-      renderer_.uploadMesh(view.mesh);
+      renderer.uploadMesh(view.mesh);
       planes = view.depthRangeBounded ? view.planes
                                       : clipPlanes(meshInverseDepthRange(view.mesh, reference.camera, scene_.virtualCamera));
     }
@@ -213,22 +233,22 @@ void MeshSynthesizer::synthesize(const std::vector<ReferenceFrame>& references, 
     // One render per view at luma resolution; U and V come from the same render.
     if (rgb_) {
       yuvToRgb(texture, rgbReference_);
-      renderer_.uploadTexture({&rgbReference_.planes[0], &rgbReference_.planes[1], &rgbReference_.planes[2]});
+      renderer.uploadTexture({&rgbReference_.planes[0], &rgbReference_.planes[1], &rgbReference_.planes[2]});
     } else {
-      renderer_.uploadTexture({&texture.planes[0]});
+      renderer.uploadTexture({&texture.planes[0]});
     }
     const bool wraps = reference.camera.isEquirectangular() && reference.camera.erp.wraps();
-    renderer_.setReferenceWrap(wraps ? double(reference.camera.erp.width) : 0.0);
+    renderer.setReferenceWrap(wraps ? double(reference.camera.erp.width) : 0.0);
     if (projected)
-      renderer_.renderProjected(lumaGrid_, TexelMap{}, view.luma);
+      renderer.renderProjected(lumaGrid_, TexelMap{}, view.luma);
     else
-      renderer_.render(meshClipMatrix(reference.camera, scene_.virtualCamera, lumaGrid_, planes), lumaGrid_, TexelMap{},
+      renderer.render(meshClipMatrix(reference.camera, scene_.virtualCamera, lumaGrid_, planes), lumaGrid_, TexelMap{},
                        view.luma);
     if (hasChroma_ && !rgb_) {
       if (outputFormat_.chroma == ChromaFormat::Yuv420)
-        renderer_.sampleChroma420({&texture.planes[1], &texture.planes[2]}, settings_.discontinuityThreshold, view.chroma);
+        renderer.sampleChroma420({&texture.planes[1], &texture.planes[2]}, settings_.discontinuityThreshold, view.chroma);
       else
-        renderer_.sampleRender({texture.planes[1], texture.planes[2]}, TexelMap{}, view.chroma);
+        renderer.sampleRender({texture.planes[1], texture.planes[2]}, TexelMap{}, view.chroma);
     }
     times.textureWarp += secondsSince(start);
 

@@ -10,6 +10,7 @@
 //      options the plan decides for the scene (makePlan(scene, Tool::MeshRender): ViewSyn's general
 //      path's), 5. round into the output frame
 // ColorSpace 1 renders R, G, B at luma resolution instead of Y and U, V, as ViewSyn does.
+#include <future>
 #include <memory>
 #include <string>
 #include <utility>
@@ -44,9 +45,11 @@ MeshSettings readMeshSettings(const Config& config);
 
 class MeshSynthesizer {
 public:
-  // Creates the OpenGL context (throws InputError when there is none) and everything that depends on
-  // the scene only: mesh grids, camera matrices. `plan`: makePlan(scene, Tool::MeshRender), whose
-  // blend and hole-fill options are used as they are.
+  // Starts creating the OpenGL context and renderer on a thread of its own (about 45 ms with llvmpipe,
+  // overlapping the input checks, the first frame's reading and its mesh build) and makes everything
+  // that depends on the scene only: mesh grids, camera matrices. The first call that needs the renderer
+  // (synthesize, rendererDescription) waits for it and throws InputError when there is no context.
+  // `plan`: makePlan(scene, Tool::MeshRender), whose blend and hole-fill options are used as they are.
   MeshSynthesizer(const Scene& scene, const Plan& plan, const MeshSettings& settings);
 
   // Synthesizes the virtual view of one frame into `output` (reset to the texture format). Mesh
@@ -74,10 +77,12 @@ public:
   std::vector<std::pair<std::string, std::string>> meshSizeFields() const;
 
   // Lines for the plan printed before the first frame: the plan's, and what the renderer adds (the
-  // OpenGL renderer, the mesh, each view's depth-buffer planes, PLY files).
+  // mesh, each view's depth-buffer planes, PLY files). The OpenGL renderer is named by
+  // rendererDescription(), known only once the context exists (the first frame's plan lines).
   std::vector<std::string> plan() const;
   const Plan& decisions() const { return plan_; }
-  const std::string& rendererDescription() const { return renderer_.description(); }
+  // Waits for the context; throws InputError when none could be created.
+  const std::string& rendererDescription() const { return renderer().description(); }
   const BlendOptions& blendOptions() const { return plan_.blending; }
   const HoleFillOptions& holeFillOptions() const { return plan_.lumaFill; }
 
@@ -90,6 +95,8 @@ public:
   size_t alignedDepthSamples() const { return alignedDepthSamples_; }
 
 private:
+  // The renderer, once its thread has created it (waits for it the first time; rethrows its error).
+  GlMeshRenderer& renderer() const;
   void buildViews();
   void buildMeshesNow(const std::vector<ReferenceFrame>& references);  // depth maps prepared, meshes built  // the per-view mesh builders and depth-buffer planes, from plan_
 
@@ -110,7 +117,10 @@ private:
   FrameFormat outputFormat_;
   bool rgb_;        // plan_.rgb
   bool hasChroma_;  // plan_.chroma
-  GlMeshRenderer renderer_;
+  // Created on its own thread (EGL binds a context to one thread at a time: that thread releases it,
+  // and each GlMeshRenderer call makes it current on the calling thread); renderer() takes it over.
+  mutable std::future<std::unique_ptr<GlMeshRenderer>> pendingRenderer_;
+  mutable std::unique_ptr<GlMeshRenderer> renderer_;
   RenderGrid lumaGrid_;
   ProjectedMesh projected_;  // ERP cameras: a view's mesh in clip coordinates (Mesh/MeshErp.h)
   Camera builtFor_;  // the virtual camera views_ were built for
