@@ -96,7 +96,15 @@ MeshSynthesizer::MeshSynthesizer(const Scene& scene, const Plan& plan, const Mes
 }
 
 GlMeshRenderer& MeshSynthesizer::renderer() const {
-  if (!renderer_) renderer_ = pendingRenderer_.get();  // a second call after an error: std::future_error
+  if (!renderer_) {
+    if (rendererError_) std::rethrow_exception(rendererError_);  // the error again, for every later call
+    try {
+      renderer_ = pendingRenderer_.get();
+    } catch (...) {
+      rendererError_ = std::current_exception();
+      throw;
+    }
+  }
   return *renderer_;
 }
 

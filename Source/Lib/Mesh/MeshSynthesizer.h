@@ -10,6 +10,7 @@
 //      options the plan decides for the scene (makePlan(scene, Tool::MeshRender): ViewSyn's general
 //      path's), 5. round into the output frame
 // ColorSpace 1 renders R, G, B at luma resolution instead of Y and U, V, as ViewSyn does.
+#include <exception>
 #include <future>
 #include <memory>
 #include <string>
@@ -121,6 +122,7 @@ private:
   // and each GlMeshRenderer call makes it current on the calling thread); renderer() takes it over.
   mutable std::future<std::unique_ptr<GlMeshRenderer>> pendingRenderer_;
   mutable std::unique_ptr<GlMeshRenderer> renderer_;
+  mutable std::exception_ptr rendererError_;  // what creating it threw
   RenderGrid lumaGrid_;
   ProjectedMesh projected_;  // ERP cameras: a view's mesh in clip coordinates (Mesh/MeshErp.h)
   Camera builtFor_;  // the virtual camera views_ were built for
