@@ -217,8 +217,7 @@ void MeshSynthesizer::synthesize(const std::vector<ReferenceFrame>& references, 
     } else {
       renderer_.uploadTexture({&texture.planes[0]});
     }
-    const bool wraps = reference.camera.isEquirectangular() && reference.camera.erp.wraps();
-    renderer_.setReferenceWrap(wraps ? double(reference.camera.erp.width) : 0.0);
+    renderer_.setReferenceSphere(meshReferenceSphere(reference.camera));
     if (projected)
       renderer_.renderProjected(lumaGrid_, TexelMap{}, view.luma);
     else
