@@ -170,6 +170,34 @@ float bilinear(const Plane& plane, double x, double y) {
   return float(top + ay * (bottom - top));
 }
 
+// bilinear() for a plane that continues beyond its edges as `edges` says (SubPixelSampler's
+// sampleSphereTaps rule): columns round the wrap; a row beyond a pole is the one as far on the other
+// side of it, read half a turn round.
+float bilinearSphere(const Plane& plane, double x, double y, const SphereEdges& edges) {
+  const long long width = plane.width, maxY = plane.height - 1;
+  const double fy = std::floor(y), ay = y - fy;
+  auto rowValue = [&](long long py) {
+    double cx = x;
+    if (py < 0 && edges.north) {
+      py = -1 - py;
+      cx += 0.5 * double(width);
+    } else if (py > maxY && edges.south) {
+      py = 2 * maxY + 1 - py;
+      cx += 0.5 * double(width);
+    }
+    const uint16_t* row = plane.row(int(std::clamp(py, 0LL, maxY)));
+    const double fx = std::floor(cx), ax = cx - fx;
+    auto at = [&](long long px) {
+      return double(row[edges.wrap ? (px % width + width) % width : std::clamp(px, 0LL, width - 1)]);
+    };
+    const long long x0 = (long long)fx;
+    return at(x0) + ax * (at(x0 + 1) - at(x0));
+  };
+  const long long y0 = (long long)fy;
+  const double top = rowValue(y0), bottom = rowValue(y0 + 1);
+  return float(top + ay * (bottom - top));
+}
+
 // Compiles and links a vertex and a fragment shader into a program; throws InputError when the driver
 // cannot.
 GLuint linkProgram(const GlFunctions& gl, const char* vertexSource, const char* fragmentSource) {
@@ -231,7 +259,7 @@ struct GlMeshRenderer::Impl {
   const DepthMesh* mesh = nullptr;          // the uploaded mesh (its edge flags)
   int renderedWidth = 0, renderedHeight = 0;
   std::unique_ptr<ProjectedPass> projected;  // ERP cameras (uploadProjectedMesh)
-  double referenceWrap = 0.0;                // setReferenceWrap: columns in a turn of the reference; 0 none
+  SphereEdges sphere;                        // setReferenceSphere: how the reference continues beyond its edges
 
   Impl() : gl(context.gl()) {
     program = linkProgram(gl, kVertexShader, kFragmentShader);
@@ -367,8 +395,16 @@ struct GlMeshRenderer::Impl {
   // fragment is when the grid triangle under its reference position touches a dropped one.
   bool edgeAt(const float* sample) const { return sample[3] != 1.0f || (mesh && mesh->edgeAt(sample[0], sample[1])); }
 
-  // The colour of plane `k` at texel position (x, y).
+  // The colour of plane `k` at texel position (x, y). An ERP reference's texture is read round its wrap
+  // and across its poles within four samples of its edges (as ViewSyn's warps: Synth/TextureWarp.cpp),
+  // where alone the two rules may differ; everywhere else, and for any other reference, as it was.
   float sample(const Plane& plane, double x, double y) const {
+    if (sphere.any() && SubPixelSampler::nearEdge(x, y, plane.width, plane.height)) {
+      if (!sampler) return bilinearSphere(plane, x, y, sphere);
+      return sampler->withTaps([&](auto taps) {
+        return sampler->sampleSphereTaps<decltype(taps)::value>(plane, x, y, sphere);
+      });
+    }
     return sampler ? sampler->sample(plane, x, y) : bilinear(plane, x, y);
   }
 };
@@ -516,7 +552,7 @@ void GlMeshRenderer::finishRender(const RenderGrid& grid, const TexelMap& texelM
   }
 }
 
-void GlMeshRenderer::setReferenceWrap(double columns) { impl_->referenceWrap = columns; }
+void GlMeshRenderer::setReferenceSphere(const SphereEdges& edges) { impl_->sphere = edges; }
 
 void GlMeshRenderer::uploadProjectedMesh(const ProjectedMesh& mesh) {
   Impl& s = *impl_;
@@ -616,6 +652,8 @@ void GlMeshRenderer::sampleChroma420(const std::vector<const Plane*>& planes, do
   VS_CHECK(width == (lumaWidth + 1) / 2 && height == (lumaHeight + 1) / 2);
   layer.reset(width, height, 2);
   const float* samples = s.readBack.data();
+  // Reference columns in a turn: the uploaded texture's width, for a reference that wraps; 0 none.
+  const double turn = s.sphere.wrap && !s.planes.empty() ? double(s.planes[0].width) : 0.0;
   parallelRanges(height, [&](int j0, int j1) {
     for (int j = j0; j < j1; ++j)
       for (int i = 0; i < width; ++i) {
@@ -635,10 +673,10 @@ void GlMeshRenderer::sampleChroma420(const std::vector<const Plane*>& planes, do
         if (!front) continue;  // a hole
         auto onFront = [&](const float* r) { return r && double(r[2]) >= (1.0 - sameSurface) * double(front[2]); };
         // The column a sample shows, within half a turn of the front sample's for a reference that wraps
-        // (a full-circle ERP one: setReferenceWrap), so samples on both sides of its seam average well.
+        // (a full-circle ERP one: setReferenceSphere), so samples on both sides of its seam average well.
         auto column = [&](const float* r) {
           const double u = r[0];
-          return s.referenceWrap > 0.0 ? u + s.referenceWrap * std::round((front[0] - u) / s.referenceWrap) : u;
+          return turn > 0.0 ? u + turn * std::round((front[0] - u) / turn) : u;
         };
         // Where the front surface shows at the chroma centre: from the front sample, half a luma pixel
         // right or left and down or up, along the reference positions of its neighbours in the block on

@@ -70,9 +70,13 @@ public:
   void uploadProjectedMesh(const ProjectedMesh& mesh);
   void renderProjected(const RenderGrid& grid, const TexelMap& texelMap, WarpedLayer& layer,
                        RenderExtras* extras = nullptr);
-  // A full-circle ERP reference: `columns` (its width) is a whole turn, so sampleChroma420 combines the
-  // reference positions of neighbouring samples across its seam; 0 (the default): no wrap.
-  void setReferenceWrap(double columns);
+  // How the uploaded reference's planes continue beyond their edges (Synth/Interpolation.h's
+  // SphereEdges; meshReferenceSphere for a camera): a full-circle ERP reference is read round its wrap
+  // and, where it reaches a pole, across it, by every colour look-up within four samples of its edges
+  // (luma and chroma alike, as ViewSyn's warps), and sampleChroma420 combines the reference positions
+  // of neighbouring samples across its seam (its first plane's width a whole turn). The default, none:
+  // the edge samples repeat.
+  void setReferenceSphere(const SphereEdges& edges);
   // The last render's samples coloured from other planes (4:4:4 chroma at luma resolution, texel map
   // as given): `layer` gets the render's q and edges and the planes' colours.
   void sampleRender(const std::vector<Plane>& planes, const TexelMap& texelMap, WarpedLayer& layer) const;

@@ -37,6 +37,7 @@
 #include "Common/Camera.h"
 #include "Mesh/DepthMesh.h"
 #include "Mesh/MeshProjection.h"
+#include "Synth/Interpolation.h"
 
 namespace vs {
 
@@ -65,6 +66,17 @@ bool erpEdgeOnPlane(const Camera& reference, const std::vector<double>& gridU, c
 // Whether a reference/virtual pair takes the projected pass (either camera is ERP).
 inline bool projectedPass(const Camera& reference, const Camera& virtualCamera) {
   return reference.isEquirectangular() || virtualCamera.isEquirectangular();
+}
+
+// How a reference's texture continues beyond its edges for the colour look-up
+// (GlMeshRenderer::setReferenceSphere), as ViewSyn's warps read it (Synth/Warp.cpp): a full-circle ERP
+// camera round its wrap, and across a pole its picture reaches; any other camera not at all.
+inline SphereEdges meshReferenceSphere(const Camera& reference) {
+  SphereEdges edges;
+  edges.wrap = reference.isEquirectangular() && reference.erp.wraps();
+  edges.north = edges.wrap && reference.erp.latMax >= 90.0;
+  edges.south = edges.wrap && reference.erp.latMin <= -90.0;
+  return edges;
 }
 
 // A mesh in the virtual camera's clip coordinates, for GlMeshRenderer::renderProjected. Per vertex:

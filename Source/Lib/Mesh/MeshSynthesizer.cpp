@@ -245,8 +245,7 @@ void MeshSynthesizer::synthesize(const std::vector<ReferenceFrame>& references, 
     } else {
       renderer.uploadTexture({&texture.planes[0]});
     }
-    const bool wraps = reference.camera.isEquirectangular() && reference.camera.erp.wraps();
-    renderer.setReferenceWrap(wraps ? double(reference.camera.erp.width) : 0.0);
+    renderer.setReferenceSphere(meshReferenceSphere(reference.camera));
     if (projected)
       renderer.renderProjected(lumaGrid_, TexelMap{}, view.luma);
     else
