@@ -15,16 +15,17 @@
 #include "Common/Metrics.h"
 #include "Common/Options.h"
 #include "Common/Yuv.h"
+#include "ErpTestCameras.h"
 #include "Plan/Plan.h"
 #include "StabilityScene.h"
 #include "Synth/Warp.h"
-#include "ErpTestCameras.h"
 #include "TestPaths.h"
 
 namespace vs {
 namespace {
 
 using test::erpCamera;
+using test::pinholeCamera;
 using test::sphereDirection;
 
 using test::kPi;
@@ -266,18 +267,6 @@ TEST(EquirectangularSynth, PartialCircleVirtualCameraGetsNoTriangleFromBehind) {
   EXPECT_LE(wrong, 0.02);
 }
 
-// A pinhole camera of the room's picture size, horizontal field of view `degrees`, turned `yaw`
-// degrees to the left (MPEG's yaw), at `centre`.
-Camera pinholeCamera(const std::string& name, double degrees, double yaw, const Vec3& centre, int width, int height) {
-  Camera c;
-  c.name = name;
-  c.K[0][0] = c.K[1][1] = (width / 2.0) / std::tan(degrees / 2 * kPi / 180);
-  c.K[0][2] = (width - 1) / 2.0;
-  c.K[1][2] = (height - 1) / 2.0;
-  c.R = rotationFromYawPitchRoll(yaw, 0, 0);
-  c.t = centre;
-  return c;
-}
 
 // PSNR of a pinhole picture's luma over the pixels whose ray is [lo, hi) degrees off the camera's axis.
 double offAxisPsnr(const Frame& truth, const Frame& output, const Camera& camera, double lo, double hi) {

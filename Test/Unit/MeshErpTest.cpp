@@ -13,19 +13,20 @@
 #include "Common/CameraJson.h"
 #include "Common/IvPsnr.h"
 #include "Common/Metrics.h"
+#include "ErpTestCameras.h"
 #include "Mesh/DepthMesh.h"
 #include "Mesh/GlMeshRenderer.h"
 #include "Mesh/MeshErp.h"
 #include "Mesh/MeshSynthesizer.h"
 #include "Plan/Plan.h"
 #include "StabilityScene.h"
-#include "ErpTestCameras.h"
 #include "TestPaths.h"
 
 namespace vs {
 namespace {
 
 using test::erpCamera;
+using test::pinholeCamera;
 using test::sphereDirection;
 
 using test::kPi;
@@ -271,17 +272,6 @@ double wrongDepthShare(const test::GeneratedScene& scene, const Camera& target, 
       wrong += std::fabs(1.0 / q - truth[i]) > 0.05 * truth[i];
     }
   return drawn ? double(wrong) / double(drawn) : 1.0;
-}
-
-Camera pinholeCamera(const std::string& name, double degrees, double yaw, const Vec3& centre, int width, int height) {
-  Camera c;
-  c.name = name;
-  c.K[0][0] = c.K[1][1] = (width / 2.0) / std::tan(degrees / 2 * kPi / 180);
-  c.K[0][2] = (width - 1) / 2.0;
-  c.K[1][2] = (height - 1) / 2.0;
-  c.R = rotationFromYawPitchRoll(yaw, 0, 0);
-  c.t = centre;
-  return c;
 }
 
 // The room's rig (as ViewSyn's EquirectangularSynthTest has it): two ERP references on a ring of radius
