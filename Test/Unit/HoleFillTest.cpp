@@ -1,8 +1,8 @@
 // fillHoles with IvsrsInpaint 1 against a plain reference: the three estimates and the mix written
 // as HoleFill.h describes them, one sample at a time over the whole picture, and OpenCV's
-// inpainting of the whole picture with the background-only mask. fillHoles skips samples without
-// holes eight at a time, reads through local pointers, runs rows in parallel and inpaints group by
-// group in crops; none of that may change a bit of its output.
+// inpainting of the whole picture (of the holes, or of the holes and the nearer surface beside
+// them). fillHoles skips samples without holes eight at a time, reads through local pointers, runs
+// rows in parallel and inpaints group by group in crops; none of that may change a bit of its output.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -120,10 +120,10 @@ BlendedLayer referenceFill(const BlendedLayer& in, const HoleFillOptions& o) {
       }
       x = right;
     }
-  // The inpainting mask: the holes and the nearer valid samples within radius + 1 of a hole with a
-  // directional background.
+  // The inpainting mask: the holes and, with inpaintNearerSurface, the nearer valid samples within
+  // radius + 1 of a hole with a directional background.
   std::vector<uint8_t> mask = hole;
-  const int band = o.inpaintRadius + 1;
+  const int band = o.inpaintNearerSurface ? o.inpaintRadius + 1 : 0;
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) {
       const size_t i = size_t(y) * w + x;
@@ -212,6 +212,7 @@ TEST(HoleFill, BackgroundFirstFillingEqualsAPlainReference) {
     options.depthTolerance = trial % 4 == 0 ? 0.0 : 0.001;
     options.inpaintRadius = 1 + at(5);
     options.maxReach = trial % 3 == 0 ? 3 + at(6) : 256;
+    options.inpaintNearerSurface = trial % 2 == 1;
     const BlendedLayer expected = referenceFill(layer, options);
     for (int threads : {1, 2}) {
       vs::setWorkerThreads(threads);

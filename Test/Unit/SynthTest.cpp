@@ -414,16 +414,24 @@ TEST(HoleFill, HolesTakeTheBackgroundNeverTheForeground) {
         layer.hole[i] = 0;
       }
     }
-  {
+  // Background is 50, foreground 200. The background-side estimates (directional, row runs) take
+  // the background alone, and so does the whole mix where the inpainting fills the nearer surface
+  // too (chroma's setting). Luma's inpainting fills only the holes and sees both sides: its share
+  // of the mix (1 of 2 + 3 + 1) is all the foreground that reaches a hole.
+  for (int setting = 0; setting < 3; ++setting) {
     BlendedLayer filled = layer;
     HoleFillOptions options;
     options.backgroundFirst = true;
     options.depthTolerance = 0.001;
+    if (setting == 0) options.inpaintWeight = 0.0f;
+    options.inpaintNearerSurface = setting == 1;
     EXPECT_EQ(fillHoles(filled, options), size_t(6 * 5));
     EXPECT_EQ(filled.holeCount(), 0u);
+    const float foregroundShare = setting == 2 ? 1.0f / 6.0f : 0.0f;
     for (int y = 0; y < 5; ++y)
-      // Background is 50, foreground 200: within a few levels of the background.
-      for (int x = 3; x < 9; ++x) EXPECT_NEAR(filled.colour[0][size_t(y) * 12 + x], 50.0f, 5.0f) << x << "," << y;
+      for (int x = 3; x < 9; ++x)
+        EXPECT_NEAR(filled.colour[0][size_t(y) * 12 + x], 50.0f, 5.0f + 150.0f * foregroundShare)
+            << x << "," << y << " setting " << setting;
   }
   // IvsrsInpaint 0 is VSRS's plain inpainting: it does not know depth and mixes both sides in.
   {
@@ -750,6 +758,7 @@ TEST(HoleFill, FillingLayersTogetherEqualsFillingEachAlone) {
   HoleFillOptions lumaOptions, chromaOptions;
   lumaOptions.depthTolerance = chromaOptions.depthTolerance = 0.001;
   chromaOptions.emptyValue[0] = chromaOptions.emptyValue[1] = 128;
+  chromaOptions.inpaintNearerSurface = true;  // as the plan sets it for chroma
   const int threadsBefore = vs::workerThreads();
   for (int threads : {1, 2}) {
     vs::setWorkerThreads(threads);

@@ -19,6 +19,9 @@ struct HoleFillOptions {
   int maxReach = 256;           // samples a directional search looks along
   // IvsrsInpaint 1: weights of the directional, row-run and inpainting estimates in the mix.
   float directionalWeight = 2.0f, rowRunWeight = 3.0f, inpaintWeight = 1.0f;
+  // IvsrsInpaint 1: the inpainting also fills the nearer surface beside each hole (chroma), or only
+  // the holes (luma: better on the Middlebury scenes, and less work; doc/algorithms.md).
+  bool inpaintNearerSurface = false;
 };
 
 // Baseline weights for views at distances d_k from the virtual camera: proportional to 1 / d_k

@@ -456,7 +456,10 @@ void fillHoles(const std::vector<HoleFillJob>& jobs) {
     } else {
       directionalFill(layer, options, s.directional, s.background, s.found, s.columnRows);
       rowRunFill(layer, options, s.runs, s.runBackground, s.runFound);
-      backgroundOnlyMask(layer, s.background, options.depthTolerance, options.inpaintRadius + 1, s.mask, s.thresholdRows);
+      if (options.inpaintNearerSurface)
+        backgroundOnlyMask(layer, s.background, options.depthTolerance, options.inpaintRadius + 1, s.mask, s.thresholdRows);
+      else
+        s.mask = layer.hole;
     }
     planInpaint(layer, s.mask, options.inpaintRadius, s.inpainted, s);
     fills.push_back({&layer, &options, &s});

@@ -9,8 +9,10 @@
 //   - row runs (after iVSRS in VSRS 4.x): each run of holes along a row takes the mean colour of the
 //     candidates on the farthest surface among its ends and the first samples along seven rays up
 //     and down from its middle; one colour per run;
-//   - inpainting: Telea's inpainting (Synth/Telea.h: OpenCV's result, bit for bit), with the nearer
-//     surface around each hole masked too so that only background propagates; smooth, but blurs.
+//   - inpainting: Telea's inpainting (Synth/Telea.h: OpenCV's result, bit for bit) of the holes;
+//     with HoleFillOptions::inpaintNearerSurface (the plan's chroma setting) the nearer surface
+//     around each hole is masked and inpainted too, so that only background propagates. Luma
+//     inpaints the holes alone: a higher PSNR on the Middlebury scenes, and less to fill.
 // The mix has a lower error than any one of them on the Middlebury scenes (doc/algorithms.md).
 // IvsrsInpaint 0: Telea inpainting of the holes alone, as VSRS does (VSRS calls OpenCV's). A layer
 // without any valid sample is filled with `emptyValue`.
