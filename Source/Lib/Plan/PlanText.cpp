@@ -69,9 +69,9 @@ std::vector<std::string> viewSynLines(const Plan& plan) {
   lines.push_back(std::string("holes: ") +
                   (!plan.lumaFill.backgroundFirst ? "plain Telea inpainting, as VSRS (identical to OpenCV's)"
                    : plan.rectified ? "background-side fill (directional and along rows: the rig is rectified) and "
-                                      "depth-aware inpainting"
+                                      "inpainting (chroma's depth-aware)"
                                     : "background-side fill (directional; not along rows: the rig is not rectified) "
-                                      "and depth-aware inpainting") +
+                                      "and inpainting (chroma's depth-aware)") +
                   ", on frames that have holes");
   addMissingDepthAutoLines(plan, lines);
   if (plan.missingDepthLevel >= 0)
