@@ -101,8 +101,8 @@ bool referenceVertex(const Camera& reference, int depthType, double u, double v,
 }
 
 DepthMeshBuilder::DepthMeshBuilder(const Camera& reference, const DepthRange& range, int width, int height,
-                                   const MeshOptions& options, DisplacementRate rate)
-    : reference_(reference), rate_(std::move(rate)), options_(options), width_(width), height_(height) {
+                                   const MeshOptions& options, DisplacementRate rate, ReferenceShift shift)
+    : reference_(reference), rate_(std::move(rate)), shift_(std::move(shift)), options_(options), width_(width), height_(height) {
   VS_CHECK(width > 0 && height > 0 && options.gridStep >= 1);
   VS_CHECK(options.depthType == kDepthTypeCamera || options.depthType == kDepthTypeWorld);
   inverseZ_ = inverseZTable(range);
@@ -356,43 +356,43 @@ bool DepthMeshBuilder::merge(DepthMesh& mesh, const std::vector<double>& inverse
   auto vertexIndex = [&](int x, int y) { return size_t(y) * size_t(columns) + size_t(x); };
   for (size_t cell = 0; cell < ok[0].size(); ++cell) ok[0][cell] = (cellCode[cell] & (kKeptFirst | kKeptSecond)) == (kKeptFirst | kKeptSecond);
   const double halfBound = 0.5 * std::max(options_.maxError, 0.0);
-  // Each vertex's allowance in virtual pixels (half of it, as halfBound): MeshMaxError, capped with
-  // MeshMaxColourError by the colour error a displacement causes at its pixel (the largest luma step
-  // to its 8 neighbours, per pixel, times the displacement).
-  std::vector<float> allowance;
-  if (luma && options_.maxColourError > 0.0) {
-    allowance.resize(mesh.vertexCount());
+  // MeshMaxColourError: each vertex's tolerance in q for a block plane above its sample (colourAbove:
+  // plane - q > 0) and below it. Where a block is off by dq at a sample, the virtual pixel that truly
+  // shows the sample shows the reference position dq (du, dv) before it instead (ReferenceShift: the
+  // texture moves by dq (du, dv) there), a colour change of about |dq| |(du, dv)| times the luma step
+  // from the sample to its neighbour one pixel back along dq (du, dv) (interpolated between samples where
+  // the shift is not along a row or column) while that is at most a pixel. Half the bound, as for
+  // MeshMaxError. Only the step on the side the shift goes counts: a sample next to a texture edge may
+  // move away from it by a whole MeshMaxError, not towards it.
+  std::vector<float> colourAbove, colourBelow;
+  if (luma && shift_ && options_.maxColourError > 0.0) {
+    colourAbove.assign(mesh.vertexCount(), std::numeric_limits<float>::infinity());
+    colourBelow.assign(mesh.vertexCount(), std::numeric_limits<float>::infinity());
     const double halfColour = 0.5 * options_.maxColourError;
-    // The allowance of each step up to 1023 (10-bit samples), computed once.
-    std::vector<float> allowanceOfStep(1024);
-    auto allowanceOf = [&](int step) {
-      return float(step > 0 ? std::min(halfBound, halfColour / double(step)) : halfBound);
+    auto sample = [&](double x, double y) {  // bilinear, clamped to the picture
+      x = std::clamp(x, 0.0, double(width_ - 1));
+      y = std::clamp(y, 0.0, double(height_ - 1));
+      const int x0 = std::min(int(x), width_ - 1), y0 = std::min(int(y), height_ - 1);
+      const int x1 = std::min(x0 + 1, width_ - 1), y1 = std::min(y0 + 1, height_ - 1);
+      const double fx = x - x0, fy = y - y0;
+      const double top = (1.0 - fx) * luma->at(x0, y0) + fx * luma->at(x1, y0);
+      const double bottom = (1.0 - fx) * luma->at(x0, y1) + fx * luma->at(x1, y1);
+      return (1.0 - fy) * top + fy * bottom;
     };
-    for (int step = 0; step < int(allowanceOfStep.size()); ++step) allowanceOfStep[size_t(step)] = allowanceOf(step);
-    // The largest step from a pixel to the 3 x 3 around it (clamped at the picture's border) is
-    // max(largest - centre, centre - smallest) over the 3 x 3: the largest and smallest of each column's
-    // three rows first, then of three such columns.
-    std::vector<uint16_t> columnMax(static_cast<size_t>(width_)), columnMin(static_cast<size_t>(width_));
-    for (int r = 0; r < rows; ++r) {
-      const int py = pixelV_[size_t(r)];
-      const uint16_t* above = luma->row(std::max(py - 1, 0));
-      const uint16_t* centreRow = luma->row(py);
-      const uint16_t* below = luma->row(std::min(py + 1, height_ - 1));
-      for (int x = 0; x < width_; ++x) {
-        columnMax[size_t(x)] = std::max({above[x], centreRow[x], below[x]});
-        columnMin[size_t(x)] = std::min({above[x], centreRow[x], below[x]});
-      }
+    for (int r = 0; r < rows; ++r)
       for (int c = 0; c < columns; ++c) {
-        const int px = pixelU_[size_t(c)];
-        const int left = std::max(px - 1, 0), right = std::min(px + 1, width_ - 1);
-        const int largest = std::max({columnMax[size_t(left)], columnMax[size_t(px)], columnMax[size_t(right)]});
-        const int smallest = std::min({columnMin[size_t(left)], columnMin[size_t(px)], columnMin[size_t(right)]});
-        const int centre = centreRow[px];
-        const int step = std::max(largest - centre, centre - smallest);
-        allowance[size_t(r) * size_t(columns) + size_t(c)] =
-            step < int(allowanceOfStep.size()) ? allowanceOfStep[size_t(step)] : allowanceOf(step);
+        const size_t i = vertexIndex(c, r);
+        double du = 0.0, dv = 0.0;
+        if (!mesh.valid[i] || !shift_(mesh.gridU[size_t(c)], mesh.gridV[size_t(r)], inverseCameraZ[i], du, dv)) continue;
+        const double length = std::hypot(du, dv);
+        if (!(length > 0.0) || !std::isfinite(length)) continue;
+        const int px = pixelU_[size_t(c)], py = pixelV_[size_t(r)];
+        const double centre = luma->at(px, py), ex = du / length, ey = dv / length;
+        const double forward = std::fabs(sample(px + ex, py + ey) - centre);
+        const double backward = std::fabs(sample(px - ex, py - ey) - centre);
+        if (backward > 0.0) colourAbove[i] = float(halfColour / (backward * length));
+        if (forward > 0.0) colourBelow[i] = float(halfColour / (forward * length));
       }
-    }
   }
   // Whether every vertex of the block lies within the tolerance of the two triangles through its corners
   // (split along the diagonal from (x0, y0) to (x1, y1)). The tolerance in q is the bound over the
@@ -423,10 +423,14 @@ bool DepthMeshBuilder::merge(DepthMesh& mesh, const std::vector<double>& inverse
       const double dv = (mesh.gridV[size_t(y)] - v0) * sv;
       const double upperRow = dv * upperV, lowerRow = q00 + dv * lowerV;
       const double* q = &inverseCameraZ[vertexIndex(x0, y)];
-      const float* allowed = allowance.empty() ? nullptr : &allowance[vertexIndex(x0, y)];
-      // Within the tolerance: the displacement (q's error times the rate) within the allowance.
+      const float* above = colourAbove.empty() ? nullptr : &colourAbove[vertexIndex(x0, y)];
+      const float* below = colourBelow.empty() ? nullptr : &colourBelow[vertexIndex(x0, y)];
+      // Within the tolerance: the displacement (q's error times the rate) within half MeshMaxError, and
+      // q's error within the colour tolerance on its side.
       auto within = [&](int i, double plane) {
-        return std::fabs(q[i] - plane) * rate <= (allowed ? double(allowed[i]) : halfBound);
+        const double error = plane - q[i];
+        return std::fabs(error) * rate <= halfBound &&
+               (!above || (error > 0.0 ? error <= double(above[i]) : -error <= double(below[i])));
       };
       int i = 0;
       for (; i < n && !(blockDu[size_t(i)] >= dv); ++i)
