@@ -366,9 +366,10 @@ bool DepthMeshBuilder::merge(DepthMesh& mesh, const std::vector<double>& inverse
   // move away from it by a whole MeshMaxError, not towards it.
   std::vector<float> colourAbove, colourBelow;
   if (luma && shift_ && options_.maxColourError > 0.0) {
-    colourAbove.assign(mesh.vertexCount(), std::numeric_limits<float>::infinity());
-    colourBelow.assign(mesh.vertexCount(), std::numeric_limits<float>::infinity());
+    colourAbove.resize(mesh.vertexCount());
+    colourBelow.resize(mesh.vertexCount());
     const double halfColour = 0.5 * options_.maxColourError;
+    constexpr float kNoBound = std::numeric_limits<float>::infinity();
     auto sample = [&](double x, double y) {  // bilinear, clamped to the picture
       x = std::clamp(x, 0.0, double(width_ - 1));
       y = std::clamp(y, 0.0, double(height_ - 1));
@@ -379,20 +380,38 @@ bool DepthMeshBuilder::merge(DepthMesh& mesh, const std::vector<double>& inverse
       const double bottom = (1.0 - fx) * luma->at(x0, y1) + fx * luma->at(x1, y1);
       return (1.0 - fy) * top + fy * bottom;
     };
-    for (int r = 0; r < rows; ++r)
+    for (int r = 0; r < rows; ++r) {
+      const int py = pixelV_[size_t(r)];
+      const uint16_t* row = luma->row(py);
       for (int c = 0; c < columns; ++c) {
         const size_t i = vertexIndex(c, r);
+        colourAbove[i] = colourBelow[i] = kNoBound;
+        // Only the corners of mergeable cells are ever tested.
+        const bool tested = (r > 0 && c > 0 && ok[0][size_t(r - 1) * size_t(cellsX) + size_t(c - 1)]) ||
+                            (r > 0 && c < cellsX && ok[0][size_t(r - 1) * size_t(cellsX) + size_t(c)]) ||
+                            (r < cellsY && c > 0 && ok[0][size_t(r) * size_t(cellsX) + size_t(c - 1)]) ||
+                            (r < cellsY && c < cellsX && ok[0][size_t(r) * size_t(cellsX) + size_t(c)]);
         double du = 0.0, dv = 0.0;
-        if (!mesh.valid[i] || !shift_(mesh.gridU[size_t(c)], mesh.gridV[size_t(r)], inverseCameraZ[i], du, dv)) continue;
+        if (!tested || !shift_(mesh.gridU[size_t(c)], mesh.gridV[size_t(r)], inverseCameraZ[i], du, dv)) continue;
         const double length = std::hypot(du, dv);
         if (!(length > 0.0) || !std::isfinite(length)) continue;
-        const int px = pixelU_[size_t(c)], py = pixelV_[size_t(r)];
-        const double centre = luma->at(px, py), ex = du / length, ey = dv / length;
-        const double forward = std::fabs(sample(px + ex, py + ey) - centre);
-        const double backward = std::fabs(sample(px - ex, py - ey) - centre);
+        const int px = pixelU_[size_t(c)];
+        const double centre = row[px];
+        double forward, backward;
+        if (dv == 0.0) {  // along the row (rectified cameras): the neighbours themselves
+          const int ahead = du > 0.0 ? std::min(px + 1, width_ - 1) : std::max(px - 1, 0);
+          const int behind = du > 0.0 ? std::max(px - 1, 0) : std::min(px + 1, width_ - 1);
+          forward = std::fabs(row[ahead] - centre);
+          backward = std::fabs(row[behind] - centre);
+        } else {
+          const double ex = du / length, ey = dv / length;
+          forward = std::fabs(sample(px + ex, py + ey) - centre);
+          backward = std::fabs(sample(px - ex, py - ey) - centre);
+        }
         if (backward > 0.0) colourAbove[i] = float(halfColour / (backward * length));
         if (forward > 0.0) colourBelow[i] = float(halfColour / (forward * length));
       }
+    }
   }
   // Whether every vertex of the block lies within the tolerance of the two triangles through its corners
   // (split along the diagonal from (x0, y0) to (x1, y1)). The tolerance in q is the bound over the
