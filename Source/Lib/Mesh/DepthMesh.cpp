@@ -418,8 +418,8 @@ bool DepthMeshBuilder::merge(DepthMesh& mesh, const std::vector<double>& inverse
   // largest displacement rate at the corners; half the bound, since the drawn triangles interpolate
   // vertices that are themselves up to the tolerance off.
   std::vector<double> blockDu;  // planarBlock's scratch: each column's du in the block
-  auto planarBlock = [&](int x0, int y0, int size) {
-    const int x1 = x0 + size, y1 = y0 + size;
+  auto planarBlock = [&](int x0, int y0, int width, int height) {
+    const int x1 = x0 + width, y1 = y0 + height;
     const double u0 = mesh.gridU[size_t(x0)], u1 = mesh.gridU[size_t(x1)];
     const double v0 = mesh.gridV[size_t(y0)], v1 = mesh.gridV[size_t(y1)];
     const double q00 = inverseCameraZ[vertexIndex(x0, y0)], q10 = inverseCameraZ[vertexIndex(x1, y0)];
@@ -432,7 +432,7 @@ bool DepthMeshBuilder::merge(DepthMesh& mesh, const std::vector<double>& inverse
       rate = std::max(rate, r);
     }
     const double su = 1.0 / (u1 - u0), sv = 1.0 / (v1 - v0);
-    const int n = size + 1;
+    const int n = width + 1;
     blockDu.resize(size_t(n));
     for (int i = 0; i < n; ++i) blockDu[size_t(i)] = (mesh.gridU[size_t(x0 + i)] - u0) * su;  // increasing
     // The plane at (du, dv): q00 + du (q10 - q00) + dv (q11 - q10) where du >= dv, else
@@ -470,7 +470,7 @@ bool DepthMeshBuilder::merge(DepthMesh& mesh, const std::vector<double>& inverse
       for (int x = 0; x < bx; ++x) {
         const size_t c = size_t(2 * y) * size_t(childX) + size_t(2 * x);
         if (!(child[c] && child[c + 1] && child[c + size_t(childX)] && child[c + size_t(childX) + 1])) continue;
-        const bool merged = planarBlock(x << k, y << k, 1 << k);
+        const bool merged = planarBlock(x << k, y << k, 1 << k, 1 << k);
         level[size_t(y) * size_t(bx) + size_t(x)] = merged;
         any = any || merged;
       }
@@ -479,44 +479,67 @@ bool DepthMeshBuilder::merge(DepthMesh& mesh, const std::vector<double>& inverse
     blocksX.push_back(bx);
     blocksY.push_back(by);
   }
-  const int top = int(ok.size()) - 1;
-  if (top == 0) return false;  // nothing merged
+  // From blocks of 2 x 2 cells up, even where none merged: rectangles of two cells still may.
+  const int top = std::max(int(ok.size()) - 1, 1);
 
-  // The leaves, top-down: a merged block not inside a larger merged one; cells elsewhere. Every leaf's
-  // corners are marked: a merged block's sides pass through the marked vertices of its neighbours.
+  // The leaves, top-down: a merged block not inside a larger merged one, a 2:1 rectangle of two merged
+  // blocks whose parent did not merge, cells elsewhere. Every leaf's corners are marked: a merged
+  // block's or rectangle's sides pass through the marked vertices of its neighbours.
   struct Leaf {
-    int level, x, y;  // x, y: first cell
+    int x, y, width, height;  // x, y: first cell; a single cell (width 0) keeps its grid triangles
   };
   std::vector<Leaf> leaves;
   std::vector<uint8_t> corner(mesh.vertexCount(), 0);
-  auto addLeaf = [&](int level, int x, int y) {
-    leaves.push_back({level, x, y});
-    const int size = 1 << level;
-    corner[vertexIndex(x, y)] = corner[vertexIndex(x + size, y)] = 1;
-    corner[vertexIndex(x, y + size)] = corner[vertexIndex(x + size, y + size)] = 1;
+  auto addLeaf = [&](int x, int y, int width, int height) {
+    const int w = std::max(width, 1), h = std::max(height, 1);
+    leaves.push_back({x, y, width, height});
+    corner[vertexIndex(x, y)] = corner[vertexIndex(x + w, y)] = 1;
+    corner[vertexIndex(x, y + h)] = corner[vertexIndex(x + w, y + h)] = 1;
+  };
+  auto merged = [&](int level, int bx, int by) {
+    return level < int(ok.size()) && bx < blocksX[size_t(level)] && by < blocksY[size_t(level)] &&
+           ok[size_t(level)][size_t(by) * size_t(blocksX[size_t(level)]) + size_t(bx)];
   };
   std::function<void(int, int, int)> collect = [&](int level, int bx, int by) {
     const int x = bx << level, y = by << level;
     if (x >= cellsX || y >= cellsY) return;
-    if (level == 0) return addLeaf(0, x, y);
-    if (bx < blocksX[size_t(level)] && by < blocksY[size_t(level)] &&
-        ok[size_t(level)][size_t(by) * size_t(blocksX[size_t(level)]) + size_t(bx)])
-      return addLeaf(level, x, y);
+    if (level == 0) return addLeaf(x, y, 0, 0);
+    if (merged(level, bx, by)) return addLeaf(x, y, 1 << level, 1 << level);
+    // The block did not merge: a pair of its merged halves (two children side by side, or one above the
+    // other) still may, as a 2:1 rectangle tested like a block.
+    bool done[2][2] = {{false, false}, {false, false}};  // [j][i]
+    {
+      const int half = 1 << (level - 1);
+      auto child = [&](int i, int j) { return merged(level - 1, 2 * bx + i, 2 * by + j); };
+      for (int j = 0; j < 2; ++j)
+        if (child(0, j) && child(1, j) && planarBlock(x, y + j * half, 2 * half, half)) {
+          addLeaf(x, y + j * half, 2 * half, half);
+          done[j][0] = done[j][1] = true;
+        }
+      if (!done[0][0] && !done[1][0])
+        for (int i = 0; i < 2; ++i)
+          if (child(i, 0) && child(i, 1) && planarBlock(x + i * half, y, half, 2 * half)) {
+            addLeaf(x + i * half, y, half, 2 * half);
+            done[0][i] = done[1][i] = true;
+          }
+    }
     for (int j = 0; j < 2; ++j)
-      for (int i = 0; i < 2; ++i) collect(level - 1, 2 * bx + i, 2 * by + j);
+      for (int i = 0; i < 2; ++i)
+        if (!done[j][i]) collect(level - 1, 2 * bx + i, 2 * by + j);
   };
   for (int by = 0; by << top < cellsY; ++by)
     for (int bx = 0; bx << top < cellsX; ++bx) collect(top, bx, by);
+  if (std::all_of(leaves.begin(), leaves.end(), [](const Leaf& leaf) { return leaf.width == 0; })) return false;  // nothing merged
 
   std::vector<uint32_t>& triangles = mesh.triangles;
   std::vector<uint32_t> ring;
   for (const Leaf& leaf : leaves) {
-    if (leaf.level == 0) {
+    if (leaf.width == 0) {
       appendCellTriangles(cellCode[size_t(leaf.y) * size_t(cellsX) + size_t(leaf.x)], uint32_t(vertexIndex(leaf.x, leaf.y)),
                           columns, triangles);
       continue;
     }
-    const int size = 1 << leaf.level, x0 = leaf.x, y0 = leaf.y, x1 = x0 + size, y1 = y0 + size;
+    const int x0 = leaf.x, y0 = leaf.y, x1 = x0 + leaf.width, y1 = y0 + leaf.height;
     // The block's outline, clockwise from (x0, y0), through every marked vertex.
     ring.clear();
     for (int x = x0; x < x1; ++x)

@@ -48,7 +48,9 @@
 // virtual camera per unit of its inverse depth (a DisplacementRate, which depends on the camera model),
 // aligned square blocks of 2^k x 2^k grid cells whose every triangle is kept and whose every vertex lies
 // within the bound of the two triangles through the block's corners are merged (bottom-up, as a
-// region quadtree), at most 128 cells wide. A merged block is drawn as two triangles, or, where smaller
+// region quadtree), at most 128 cells wide; where a block does not merge, two of its four quarters side by
+// side (or one above the other) that did still merge as a 2:1 rectangle if it passes the same test.
+// A merged block or rectangle is drawn as two triangles, or, where smaller
 // neighbours put vertices on its sides, as a triangulation of each of the two tested triangles through
 // those vertices (n - 2 triangles for n vertices on the block's outline, each inside one tested
 // triangle), so the mesh has no T-junctions and no cracks. A cell with a dropped triangle (a depth edge) or an invalid vertex is
