@@ -393,7 +393,7 @@ bool DepthMeshBuilder::merge(DepthMesh& mesh, const std::vector<double>& inverse
                             (r < cellsY && c < cellsX && ok[0][size_t(r) * size_t(cellsX) + size_t(c)]);
         double du = 0.0, dv = 0.0;
         if (!tested || !shift_(mesh.gridU[size_t(c)], mesh.gridV[size_t(r)], inverseCameraZ[i], du, dv)) continue;
-        const double length = std::hypot(du, dv);
+        const double length = std::sqrt(du * du + dv * dv);
         if (!(length > 0.0) || !std::isfinite(length)) continue;
         const int px = pixelU_[size_t(c)];
         const double centre = row[px];
@@ -418,6 +418,8 @@ bool DepthMeshBuilder::merge(DepthMesh& mesh, const std::vector<double>& inverse
   // largest displacement rate at the corners; half the bound, since the drawn triangles interpolate
   // vertices that are themselves up to the tolerance off.
   std::vector<double> blockDu;  // planarBlock's scratch: each column's du in the block
+  // Each vertex's displacement rate, computed when a block first has it as a corner (NaN before).
+  std::vector<double> cornerRate(mesh.vertexCount(), std::numeric_limits<double>::quiet_NaN());
   auto planarBlock = [&](int x0, int y0, int width, int height) {
     const int x1 = x0 + width, y1 = y0 + height;
     const double u0 = mesh.gridU[size_t(x0)], u1 = mesh.gridU[size_t(x1)];
@@ -425,9 +427,12 @@ bool DepthMeshBuilder::merge(DepthMesh& mesh, const std::vector<double>& inverse
     const double q00 = inverseCameraZ[vertexIndex(x0, y0)], q10 = inverseCameraZ[vertexIndex(x1, y0)];
     const double q01 = inverseCameraZ[vertexIndex(x0, y1)], q11 = inverseCameraZ[vertexIndex(x1, y1)];
     double rate = 0.0;
-    const double corners[4][3] = {{u0, v0, q00}, {u1, v0, q10}, {u0, v1, q01}, {u1, v1, q11}};
-    for (const auto& corner : corners) {
-      const double r = rate_(corner[0], corner[1], corner[2]);
+    const int cornerX[4] = {x0, x1, x0, x1}, cornerY[4] = {y0, y0, y1, y1};
+    for (int k = 0; k < 4; ++k) {
+      const size_t i = vertexIndex(cornerX[k], cornerY[k]);
+      if (std::isnan(cornerRate[i]))
+        cornerRate[i] = rate_(mesh.gridU[size_t(cornerX[k])], mesh.gridV[size_t(cornerY[k])], inverseCameraZ[i]);
+      const double r = cornerRate[i];
       if (!(r < std::numeric_limits<double>::infinity())) return false;  // not in front of the virtual camera
       rate = std::max(rate, r);
     }
