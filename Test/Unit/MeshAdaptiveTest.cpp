@@ -1,7 +1,8 @@
 // The adaptive mesh (MeshMaxError, DepthMesh.h) without OpenGL, against the full grid built from the same
 // depth map: it covers exactly the same area, has no T-junction (so no crack), keeps every depth sample
-// within the bound (with a texture, also within the colour bound: displacement times luma step), and
-// merges planes. Truth: the full grid's triangles, the depth samples and the texture.
+// within the bound (with a texture, also within the colour bound: the displacement along the reference
+// shift times the luma step on the side it goes), and merges planes. Truth: the full grid's triangles,
+// the depth samples and the texture.
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -53,6 +54,16 @@ vs::Plane depthMap() {
   return depth;
 }
 
+// Levels constant along the rows and zigzagging by 2 levels from row to row: no aligned block of 2 x 2
+// cells or more is planar within a quarter of a level, but every row of cells is (it is one plane),
+// so at small bounds only 2:1 rectangles of cells side by side merge.
+vs::Plane zigzag() {
+  vs::Plane depth(kWidth, kHeight);
+  for (int y = 0; y < kHeight; ++y)
+    for (int x = 0; x < kWidth; ++x) depth.at(x, y) = uint16_t(100 + 2 * (y % 2));
+  return depth;
+}
+
 // One depth level moves a point by about a quarter of a virtual-camera pixel (as on Middlebury's view 3).
 constexpr double kRate = 0.25 / ((1.0 / 100.0 - 1.0 / 200.0) / 255.0);
 
@@ -80,39 +91,65 @@ vs::Plane stripes() {
   return luma;
 }
 
-// The largest luma step from pixel (x, y) to its 8 neighbours.
-int lumaStep(const vs::Plane& luma, int x, int y) {
-  int step = 0;
-  for (int j = std::max(y - 1, 0); j <= std::min(y + 1, kHeight - 1); ++j)
-    for (int i = std::max(x - 1, 0); i <= std::min(x + 1, kWidth - 1); ++i)
-      step = std::max(step, std::abs(int(luma.at(i, j)) - int(luma.at(x, y))));
-  return step;
+// The texture at (x, y), bilinear between samples, clamped to the picture.
+double lumaAt(const vs::Plane& luma, double x, double y) {
+  x = std::clamp(x, 0.0, double(kWidth - 1));
+  y = std::clamp(y, 0.0, double(kHeight - 1));
+  const int i = std::min(int(std::floor(x)), kWidth - 2), j = std::min(int(std::floor(y)), kHeight - 2);
+  const double fx = x - i, fy = y - j;
+  return (1 - fy) * ((1 - fx) * luma.at(i, j) + fx * luma.at(i + 1, j)) +
+         fy * ((1 - fx) * luma.at(i, j + 1) + fx * luma.at(i + 1, j + 1));
 }
 
-void build(double maxError, bool adaptive, vs::DepthMesh& mesh, double maxColourError = 0.0, const vs::Plane* luma = nullptr) {
+// Reference shifts (ReferenceShift, DepthMesh.h) in reference pixels per unit of q: one depth level
+// moves the texture by a quarter of a pixel, along a row (as between rectified cameras), diagonally, or
+// along the columns (along the stripes, which then never change colour).
+struct Shift {
+  double du, dv;
+};
+constexpr double kLevel = (1.0 / 100.0 - 1.0 / 200.0) / 255.0;
+constexpr Shift kAlongRows{-0.25 / kLevel, 0.0}, kDiagonal{0.15 / kLevel, -0.2 / kLevel}, kAlongColumns{0.0, 0.25 / kLevel};
+
+void build(double maxError, bool adaptive, vs::DepthMesh& mesh, double maxColourError = 0.0, const vs::Plane* luma = nullptr,
+           Shift shift = kAlongRows, const vs::Plane& depth = depthMap()) {
   vs::MeshOptions options;
   options.maxError = maxError;
   options.maxColourError = maxColourError;
   const vs::DisplacementRate rate = [](double, double, double) { return kRate; };
+  const vs::ReferenceShift referenceShift = [shift](double, double, double, double& du, double& dv) {
+    du = shift.du;
+    dv = shift.dv;
+    return true;
+  };
   const vs::DepthMeshBuilder builder(camera(), range8(), kWidth, kHeight, options,
-                                     adaptive ? rate : vs::DisplacementRate{});
-  builder.build(depthMap(), mesh, luma);
+                                     adaptive ? rate : vs::DisplacementRate{}, referenceShift);
+  builder.build(depth, mesh, luma);
 }
 
 TEST(MeshAdaptive, SameAreaNoTJunctionAndEverySampleWithinTheBound) {
-  vs::DepthMesh grid;
-  build(0.1, false, grid);
   const vs::Plane luma = stripes();
+  const vs::Plane scene = depthMap(), rows = zigzag();
   const struct {
     double maxError, maxColourError;
-  } cases[] = {{0.0, 0.0}, {0.1, 0.0}, {0.5, 0.0}, {2.0, 0.0}, {2.0, 4.0}};
+    Shift shift;
+    const vs::Plane* depth;
+  } cases[] = {{0.0, 0.0, kAlongRows, &scene}, {0.1, 0.0, kAlongRows, &scene}, {0.5, 0.0, kAlongRows, &scene},
+               {2.0, 0.0, kAlongRows, &scene}, {2.0, 4.0, kAlongRows, &scene},  {2.0, 2.6, kAlongRows, &scene},
+               {2.0, 4.0, kDiagonal, &scene},  {0.1, 0.0, kAlongRows, &rows}};
   for (const auto& bounds : cases) {
     const double maxError = bounds.maxError, maxColourError = bounds.maxColourError;
-    vs::DepthMesh mesh;
-    build(maxError, true, mesh, maxColourError, maxColourError > 0.0 ? &luma : nullptr);
+    const Shift shift = bounds.shift;
+    vs::DepthMesh grid, mesh;
+    build(0.1, false, grid, 0.0, nullptr, kAlongRows, *bounds.depth);
+    build(maxError, true, mesh, maxColourError, maxColourError > 0.0 ? &luma : nullptr, shift, *bounds.depth);
     EXPECT_EQ(mesh.gridTriangles, grid.triangleCount());
     EXPECT_LT(mesh.triangleCount(), grid.triangleCount() / (maxError >= 0.5 && maxColourError == 0.0 ? 3 : 1))
         << "MeshMaxError " << maxError;
+    // The zigzag merges only as 2:1 rectangles of two cells, stacked in columns two cells wide whose
+    // inner vertices no leaf uses: about half the grid's triangles.
+    if (bounds.depth == &rows) {
+      EXPECT_LT(double(mesh.triangleCount()), 0.55 * double(grid.triangleCount()));
+    }
     // The same points and outline as the full grid.
     EXPECT_EQ(mesh.points, grid.points);
     EXPECT_EQ(mesh.farthestOrphans, grid.farthestOrphans);
@@ -162,9 +199,17 @@ TEST(MeshAdaptive, SameAreaNoTJunctionAndEverySampleWithinTheBound) {
         const double interpolated = (1.0 - beta - gamma) * qOf(mesh, a) + beta * qOf(mesh, b) + gamma * qOf(mesh, c);
         const double error = std::fabs(interpolated - q) * kRate;
         EXPECT_LE(error, maxError + floatSlack) << "vertex " << i << ", MeshMaxError " << maxError;
-        if (maxColourError > 0.0) {  // with the texture: the colour error the displacement causes
+        if (maxColourError > 0.0) {
+          // With the texture: the virtual pixel that truly shows this sample shows the texture
+          // (interpolated - q) (du, dv) before it; its colour changes by the luma step one pixel back
+          // along that shift times the shift's length, which must stay within the colour bound.
           const int x = std::clamp(int(std::lround(u)), 0, kWidth - 1), y = std::clamp(int(std::lround(v)), 0, kHeight - 1);
-          EXPECT_LE(error * lumaStep(luma, x, y), maxColourError + floatSlack * lumaStep(luma, x, y)) << "vertex " << i;
+          const double signedError = interpolated - q, length = std::hypot(shift.du, shift.dv);
+          const double back = signedError > 0.0 ? -1.0 : 1.0;
+          const double step =
+              std::fabs(lumaAt(luma, x + back * shift.du / length, y + back * shift.dv / length) - luma.at(x, y));
+          EXPECT_LE(std::fabs(signedError) * length * step, maxColourError + floatSlack / kRate * length * step)
+              << "vertex " << i << ", MeshMaxColourError " << maxColourError;
         }
         worst = std::max(worst, error);
         found = true;
@@ -173,9 +218,22 @@ TEST(MeshAdaptive, SameAreaNoTJunctionAndEverySampleWithinTheBound) {
       ++checked;
     }
     EXPECT_GT(checked, size_t(kWidth * kHeight / 2));
-    std::printf("MeshMaxError %.2f, MeshMaxColourError %.1f: %zu triangles (grid %zu), largest sample displacement %.4f px\n",
-                maxError, maxColourError, mesh.triangleCount(), grid.triangleCount(), worst);
+    std::printf("%s, MeshMaxError %.2f, MeshMaxColourError %.1f: %zu triangles (grid %zu), largest sample displacement %.4f px\n",
+                bounds.depth == &rows ? "zigzag" : "scene", maxError, maxColourError, mesh.triangleCount(), grid.triangleCount(), worst);
   }
+}
+
+// The colour bound measures the luma change along the reference shift only: stripes along the columns,
+// shifted along the columns, never change colour, so the mesh is the one without a colour bound; shifted
+// along the rows, they keep more triangles.
+TEST(MeshAdaptive, ColourBoundCountsOnlyTheStepAlongTheShift) {
+  const vs::Plane luma = stripes();
+  vs::DepthMesh plain, along, across;
+  build(2.0, true, plain);
+  build(2.0, true, along, 2.6, &luma, kAlongColumns);
+  build(2.0, true, across, 2.6, &luma, kAlongRows);
+  EXPECT_EQ(along.triangles, plain.triangles);
+  EXPECT_GT(across.triangleCount(), plain.triangleCount());
 }
 
 // A larger bound merges more (the flat top of the box merges even at 0).

@@ -311,6 +311,51 @@ TEST(MeshProjection, ClipMatrixPutsVerticesWhereThePinholeModelDoes) {
   }
 }
 
+// pinholeReferenceShift against the geometry itself: the virtual pixel that shows reference pixel
+// (u, v) at depth 1/q meets the surface facing the reference camera at depth 1/(q + dq) (camera z
+// constant) at a reference position found by intersecting that pixel's ray with the plane in world
+// space; (du, dv) is minus its rate of change with dq (central difference).
+TEST(MeshProjection, ReferenceShiftIsWhereTheVirtualPixelMeetsTheMovedSurface) {
+  std::mt19937 random(11);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  const vs::Vec3 farAway(2.5e6, -1.2e6, 7.0e5);
+  for (int trial = 0; trial < 20; ++trial) {
+    const vs::Camera reference = skewedCamera(farAway + vs::Vec3(unit(random), unit(random), unit(random)) * 10.0,
+                                              0.1 * unit(random), 0.1 * unit(random), 0.1 * unit(random));
+    vs::Camera virtualCamera = skewedCamera(farAway + vs::Vec3(unit(random), unit(random), unit(random)) * 10.0,
+                                            0.1 * unit(random), 0.1 * unit(random), 0.1 * unit(random));
+    virtualCamera.K[0][0] = 430.0;  // another focal length: the shift is not the virtual displacement
+    const vs::RenderGrid grid = vs::lumaGrid(virtualCamera, 160, 120);
+    const vs::ReferenceShift shift = vs::pinholeReferenceShift(reference, virtualCamera, grid);
+    for (int k = 0; k < 20; ++k) {
+      const double u = 80 + 70 * unit(random), v = 60 + 55 * unit(random), z = 60 + 40 * unit(random);
+      double x, y, zv;
+      ASSERT_TRUE(virtualCamera.project(reference.backProject(u, v, z), x, y, zv));
+      // The reference position where virtual pixel (x, y)'s ray meets the plane of reference camera depth
+      // zPlane (relative to the virtual centre, so the world offset cancels).
+      auto metAt = [&](double zPlane, double& ur, double& vr) {
+        const vs::Vec3 ray = virtualCamera.rayDirectionWorld(x, y);
+        const vs::Vec3 centreInReference = reference.worldToCamera(virtualCamera.centre());
+        const vs::Vec3 rayInReference = reference.R * ray;
+        const double along = (zPlane - centreInReference.z) / rayInReference.z;
+        const vs::Vec3 point = centreInReference + rayInReference * along;
+        ASSERT_TRUE(reference.cameraToPixel(point, ur, vr));
+      };
+      const double q = 1.0 / z, dq = 1e-4 * q;
+      double ua, va, ub, vb;
+      metAt(1.0 / (q + dq), ua, va);
+      metAt(1.0 / (q - dq), ub, vb);
+      const double expectedU = -(ua - ub) / (2.0 * dq), expectedV = -(va - vb) / (2.0 * dq);
+      double du = 0.0, dv = 0.0;
+      ASSERT_TRUE(shift(u, v, q, du, dv));
+      const double scale = std::hypot(expectedU, expectedV);
+      EXPECT_GT(scale, 0.0);
+      EXPECT_NEAR(du, expectedU, 1e-5 * scale) << "trial " << trial;
+      EXPECT_NEAR(dv, expectedV, 1e-5 * scale) << "trial " << trial;
+    }
+  }
+}
+
 TEST(MeshProjection, PixelCentresAndDepthPlanesMapToTheirNdc) {
   vs::Camera camera = skewedCamera({0, 0, 0}, 0, 0, 0);
   const vs::RenderGrid grid = vs::lumaGrid(camera, 100, 80);

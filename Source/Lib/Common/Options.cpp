@@ -237,10 +237,11 @@ void addMeshOptions(OptionTable& table) {
                           "Adaptive mesh: planar blocks of grid cells are merged into larger triangles where no "
                           "depth sample moves by more than this many virtual-camera pixels; 0 merges only exact "
                           "planes"),
-             doubleOption("MeshMaxColourError", "4", 0.0, 65535.0, "-",
-                          "Adaptive mesh: where the reference luma changes, a sample may move only as far as "
-                          "keeps its colour within this many sample values (luma step to its neighbours times "
-                          "pixels), at most MeshMaxError; 0: MeshMaxError alone"),
+             doubleOption("MeshMaxColourError", "2.6", 0.0, 65535.0, "-",
+                          "Adaptive mesh: where the reference luma changes, a merged block may be off only as far "
+                          "as keeps the colour a virtual pixel shows within this many sample values (luma step "
+                          "to the neighbour along the epipolar line times the shift in pixels), at most "
+                          "MeshMaxError; 0: MeshMaxError alone"),
              textOption("MeshPlyOutput", OptionType::Path, false, "-",
                         "Optional PLY file of the first frame's meshes (vertices with colour)"),
          });

@@ -101,8 +101,8 @@ bool referenceVertex(const Camera& reference, int depthType, double u, double v,
 }
 
 DepthMeshBuilder::DepthMeshBuilder(const Camera& reference, const DepthRange& range, int width, int height,
-                                   const MeshOptions& options, DisplacementRate rate)
-    : reference_(reference), rate_(std::move(rate)), options_(options), width_(width), height_(height) {
+                                   const MeshOptions& options, DisplacementRate rate, ReferenceShift shift)
+    : reference_(reference), rate_(std::move(rate)), shift_(std::move(shift)), options_(options), width_(width), height_(height) {
   VS_CHECK(width > 0 && height > 0 && options.gridStep >= 1);
   VS_CHECK(options.depthType == kDepthTypeCamera || options.depthType == kDepthTypeWorld);
   inverseZ_ = inverseZTable(range);
@@ -356,41 +356,60 @@ bool DepthMeshBuilder::merge(DepthMesh& mesh, const std::vector<double>& inverse
   auto vertexIndex = [&](int x, int y) { return size_t(y) * size_t(columns) + size_t(x); };
   for (size_t cell = 0; cell < ok[0].size(); ++cell) ok[0][cell] = (cellCode[cell] & (kKeptFirst | kKeptSecond)) == (kKeptFirst | kKeptSecond);
   const double halfBound = 0.5 * std::max(options_.maxError, 0.0);
-  // Each vertex's allowance in virtual pixels (half of it, as halfBound): MeshMaxError, capped with
-  // MeshMaxColourError by the colour error a displacement causes at its pixel (the largest luma step
-  // to its 8 neighbours, per pixel, times the displacement).
-  std::vector<float> allowance;
-  if (luma && options_.maxColourError > 0.0) {
-    allowance.resize(mesh.vertexCount());
+  // MeshMaxColourError: each vertex's tolerance in q for a block plane above its sample (colourAbove:
+  // plane - q > 0) and below it. Where a block is off by dq at a sample, the virtual pixel that truly
+  // shows the sample shows the reference position dq (du, dv) before it instead (ReferenceShift: the
+  // texture moves by dq (du, dv) there), a colour change of about |dq| |(du, dv)| times the luma step
+  // from the sample to its neighbour one pixel back along dq (du, dv) (interpolated between samples where
+  // the shift is not along a row or column) while that is at most a pixel. Half the bound, as for
+  // MeshMaxError. Only the step on the side the shift goes counts: a sample next to a texture edge may
+  // move away from it by a whole MeshMaxError, not towards it.
+  std::vector<float> colourAbove, colourBelow;
+  if (luma && shift_ && options_.maxColourError > 0.0) {
+    colourAbove.resize(mesh.vertexCount());
+    colourBelow.resize(mesh.vertexCount());
     const double halfColour = 0.5 * options_.maxColourError;
-    // The allowance of each step up to 1023 (10-bit samples), computed once.
-    std::vector<float> allowanceOfStep(1024);
-    auto allowanceOf = [&](int step) {
-      return float(step > 0 ? std::min(halfBound, halfColour / double(step)) : halfBound);
+    constexpr float kNoBound = std::numeric_limits<float>::infinity();
+    auto sample = [&](double x, double y) {  // bilinear, clamped to the picture
+      x = std::clamp(x, 0.0, double(width_ - 1));
+      y = std::clamp(y, 0.0, double(height_ - 1));
+      const int x0 = std::min(int(x), width_ - 1), y0 = std::min(int(y), height_ - 1);
+      const int x1 = std::min(x0 + 1, width_ - 1), y1 = std::min(y0 + 1, height_ - 1);
+      const double fx = x - x0, fy = y - y0;
+      const double top = (1.0 - fx) * luma->at(x0, y0) + fx * luma->at(x1, y0);
+      const double bottom = (1.0 - fx) * luma->at(x0, y1) + fx * luma->at(x1, y1);
+      return (1.0 - fy) * top + fy * bottom;
     };
-    for (int step = 0; step < int(allowanceOfStep.size()); ++step) allowanceOfStep[size_t(step)] = allowanceOf(step);
-    // The largest step from a pixel to the 3 x 3 around it (clamped at the picture's border) is
-    // max(largest - centre, centre - smallest) over the 3 x 3: the largest and smallest of each column's
-    // three rows first, then of three such columns.
-    std::vector<uint16_t> columnMax(static_cast<size_t>(width_)), columnMin(static_cast<size_t>(width_));
     for (int r = 0; r < rows; ++r) {
       const int py = pixelV_[size_t(r)];
-      const uint16_t* above = luma->row(std::max(py - 1, 0));
-      const uint16_t* centreRow = luma->row(py);
-      const uint16_t* below = luma->row(std::min(py + 1, height_ - 1));
-      for (int x = 0; x < width_; ++x) {
-        columnMax[size_t(x)] = std::max({above[x], centreRow[x], below[x]});
-        columnMin[size_t(x)] = std::min({above[x], centreRow[x], below[x]});
-      }
+      const uint16_t* row = luma->row(py);
       for (int c = 0; c < columns; ++c) {
+        const size_t i = vertexIndex(c, r);
+        colourAbove[i] = colourBelow[i] = kNoBound;
+        // Only the corners of mergeable cells are ever tested.
+        const bool tested = (r > 0 && c > 0 && ok[0][size_t(r - 1) * size_t(cellsX) + size_t(c - 1)]) ||
+                            (r > 0 && c < cellsX && ok[0][size_t(r - 1) * size_t(cellsX) + size_t(c)]) ||
+                            (r < cellsY && c > 0 && ok[0][size_t(r) * size_t(cellsX) + size_t(c - 1)]) ||
+                            (r < cellsY && c < cellsX && ok[0][size_t(r) * size_t(cellsX) + size_t(c)]);
+        double du = 0.0, dv = 0.0;
+        if (!tested || !shift_(mesh.gridU[size_t(c)], mesh.gridV[size_t(r)], inverseCameraZ[i], du, dv)) continue;
+        const double length = std::sqrt(du * du + dv * dv);
+        if (!(length > 0.0) || !std::isfinite(length)) continue;
         const int px = pixelU_[size_t(c)];
-        const int left = std::max(px - 1, 0), right = std::min(px + 1, width_ - 1);
-        const int largest = std::max({columnMax[size_t(left)], columnMax[size_t(px)], columnMax[size_t(right)]});
-        const int smallest = std::min({columnMin[size_t(left)], columnMin[size_t(px)], columnMin[size_t(right)]});
-        const int centre = centreRow[px];
-        const int step = std::max(largest - centre, centre - smallest);
-        allowance[size_t(r) * size_t(columns) + size_t(c)] =
-            step < int(allowanceOfStep.size()) ? allowanceOfStep[size_t(step)] : allowanceOf(step);
+        const double centre = row[px];
+        double forward, backward;
+        if (dv == 0.0) {  // along the row (rectified cameras): the neighbours themselves
+          const int ahead = du > 0.0 ? std::min(px + 1, width_ - 1) : std::max(px - 1, 0);
+          const int behind = du > 0.0 ? std::max(px - 1, 0) : std::min(px + 1, width_ - 1);
+          forward = std::fabs(row[ahead] - centre);
+          backward = std::fabs(row[behind] - centre);
+        } else {
+          const double ex = du / length, ey = dv / length;
+          forward = std::fabs(sample(px + ex, py + ey) - centre);
+          backward = std::fabs(sample(px - ex, py - ey) - centre);
+        }
+        if (backward > 0.0) colourAbove[i] = float(halfColour / (backward * length));
+        if (forward > 0.0) colourBelow[i] = float(halfColour / (forward * length));
       }
     }
   }
@@ -399,21 +418,26 @@ bool DepthMeshBuilder::merge(DepthMesh& mesh, const std::vector<double>& inverse
   // largest displacement rate at the corners; half the bound, since the drawn triangles interpolate
   // vertices that are themselves up to the tolerance off.
   std::vector<double> blockDu;  // planarBlock's scratch: each column's du in the block
-  auto planarBlock = [&](int x0, int y0, int size) {
-    const int x1 = x0 + size, y1 = y0 + size;
+  // Each vertex's displacement rate, computed when a block first has it as a corner (NaN before).
+  std::vector<double> cornerRate(mesh.vertexCount(), std::numeric_limits<double>::quiet_NaN());
+  auto planarBlock = [&](int x0, int y0, int width, int height) {
+    const int x1 = x0 + width, y1 = y0 + height;
     const double u0 = mesh.gridU[size_t(x0)], u1 = mesh.gridU[size_t(x1)];
     const double v0 = mesh.gridV[size_t(y0)], v1 = mesh.gridV[size_t(y1)];
     const double q00 = inverseCameraZ[vertexIndex(x0, y0)], q10 = inverseCameraZ[vertexIndex(x1, y0)];
     const double q01 = inverseCameraZ[vertexIndex(x0, y1)], q11 = inverseCameraZ[vertexIndex(x1, y1)];
     double rate = 0.0;
-    const double corners[4][3] = {{u0, v0, q00}, {u1, v0, q10}, {u0, v1, q01}, {u1, v1, q11}};
-    for (const auto& corner : corners) {
-      const double r = rate_(corner[0], corner[1], corner[2]);
+    const int cornerX[4] = {x0, x1, x0, x1}, cornerY[4] = {y0, y0, y1, y1};
+    for (int k = 0; k < 4; ++k) {
+      const size_t i = vertexIndex(cornerX[k], cornerY[k]);
+      if (std::isnan(cornerRate[i]))
+        cornerRate[i] = rate_(mesh.gridU[size_t(cornerX[k])], mesh.gridV[size_t(cornerY[k])], inverseCameraZ[i]);
+      const double r = cornerRate[i];
       if (!(r < std::numeric_limits<double>::infinity())) return false;  // not in front of the virtual camera
       rate = std::max(rate, r);
     }
     const double su = 1.0 / (u1 - u0), sv = 1.0 / (v1 - v0);
-    const int n = size + 1;
+    const int n = width + 1;
     blockDu.resize(size_t(n));
     for (int i = 0; i < n; ++i) blockDu[size_t(i)] = (mesh.gridU[size_t(x0 + i)] - u0) * su;  // increasing
     // The plane at (du, dv): q00 + du (q10 - q00) + dv (q11 - q10) where du >= dv, else
@@ -423,10 +447,14 @@ bool DepthMeshBuilder::merge(DepthMesh& mesh, const std::vector<double>& inverse
       const double dv = (mesh.gridV[size_t(y)] - v0) * sv;
       const double upperRow = dv * upperV, lowerRow = q00 + dv * lowerV;
       const double* q = &inverseCameraZ[vertexIndex(x0, y)];
-      const float* allowed = allowance.empty() ? nullptr : &allowance[vertexIndex(x0, y)];
-      // Within the tolerance: the displacement (q's error times the rate) within the allowance.
+      const float* above = colourAbove.empty() ? nullptr : &colourAbove[vertexIndex(x0, y)];
+      const float* below = colourBelow.empty() ? nullptr : &colourBelow[vertexIndex(x0, y)];
+      // Within the tolerance: the displacement (q's error times the rate) within half MeshMaxError, and
+      // q's error within the colour tolerance on its side.
       auto within = [&](int i, double plane) {
-        return std::fabs(q[i] - plane) * rate <= (allowed ? double(allowed[i]) : halfBound);
+        const double error = plane - q[i];
+        return std::fabs(error) * rate <= halfBound &&
+               (!above || (error > 0.0 ? error <= double(above[i]) : -error <= double(below[i])));
       };
       int i = 0;
       for (; i < n && !(blockDu[size_t(i)] >= dv); ++i)
@@ -447,7 +475,7 @@ bool DepthMeshBuilder::merge(DepthMesh& mesh, const std::vector<double>& inverse
       for (int x = 0; x < bx; ++x) {
         const size_t c = size_t(2 * y) * size_t(childX) + size_t(2 * x);
         if (!(child[c] && child[c + 1] && child[c + size_t(childX)] && child[c + size_t(childX) + 1])) continue;
-        const bool merged = planarBlock(x << k, y << k, 1 << k);
+        const bool merged = planarBlock(x << k, y << k, 1 << k, 1 << k);
         level[size_t(y) * size_t(bx) + size_t(x)] = merged;
         any = any || merged;
       }
@@ -456,44 +484,67 @@ bool DepthMeshBuilder::merge(DepthMesh& mesh, const std::vector<double>& inverse
     blocksX.push_back(bx);
     blocksY.push_back(by);
   }
-  const int top = int(ok.size()) - 1;
-  if (top == 0) return false;  // nothing merged
+  // From blocks of 2 x 2 cells up, even where none merged: rectangles of two cells still may.
+  const int top = std::max(int(ok.size()) - 1, 1);
 
-  // The leaves, top-down: a merged block not inside a larger merged one; cells elsewhere. Every leaf's
-  // corners are marked: a merged block's sides pass through the marked vertices of its neighbours.
+  // The leaves, top-down: a merged block not inside a larger merged one, a 2:1 rectangle of two merged
+  // blocks whose parent did not merge, cells elsewhere. Every leaf's corners are marked: a merged
+  // block's or rectangle's sides pass through the marked vertices of its neighbours.
   struct Leaf {
-    int level, x, y;  // x, y: first cell
+    int x, y, width, height;  // x, y: first cell; a single cell (width 0) keeps its grid triangles
   };
   std::vector<Leaf> leaves;
   std::vector<uint8_t> corner(mesh.vertexCount(), 0);
-  auto addLeaf = [&](int level, int x, int y) {
-    leaves.push_back({level, x, y});
-    const int size = 1 << level;
-    corner[vertexIndex(x, y)] = corner[vertexIndex(x + size, y)] = 1;
-    corner[vertexIndex(x, y + size)] = corner[vertexIndex(x + size, y + size)] = 1;
+  auto addLeaf = [&](int x, int y, int width, int height) {
+    const int w = std::max(width, 1), h = std::max(height, 1);
+    leaves.push_back({x, y, width, height});
+    corner[vertexIndex(x, y)] = corner[vertexIndex(x + w, y)] = 1;
+    corner[vertexIndex(x, y + h)] = corner[vertexIndex(x + w, y + h)] = 1;
+  };
+  auto merged = [&](int level, int bx, int by) {
+    return level < int(ok.size()) && bx < blocksX[size_t(level)] && by < blocksY[size_t(level)] &&
+           ok[size_t(level)][size_t(by) * size_t(blocksX[size_t(level)]) + size_t(bx)];
   };
   std::function<void(int, int, int)> collect = [&](int level, int bx, int by) {
     const int x = bx << level, y = by << level;
     if (x >= cellsX || y >= cellsY) return;
-    if (level == 0) return addLeaf(0, x, y);
-    if (bx < blocksX[size_t(level)] && by < blocksY[size_t(level)] &&
-        ok[size_t(level)][size_t(by) * size_t(blocksX[size_t(level)]) + size_t(bx)])
-      return addLeaf(level, x, y);
+    if (level == 0) return addLeaf(x, y, 0, 0);
+    if (merged(level, bx, by)) return addLeaf(x, y, 1 << level, 1 << level);
+    // The block did not merge: a pair of its merged halves (two children side by side, or one above the
+    // other) still may, as a 2:1 rectangle tested like a block.
+    bool done[2][2] = {{false, false}, {false, false}};  // [j][i]
+    {
+      const int half = 1 << (level - 1);
+      auto child = [&](int i, int j) { return merged(level - 1, 2 * bx + i, 2 * by + j); };
+      for (int j = 0; j < 2; ++j)
+        if (child(0, j) && child(1, j) && planarBlock(x, y + j * half, 2 * half, half)) {
+          addLeaf(x, y + j * half, 2 * half, half);
+          done[j][0] = done[j][1] = true;
+        }
+      if (!done[0][0] && !done[1][0])
+        for (int i = 0; i < 2; ++i)
+          if (child(i, 0) && child(i, 1) && planarBlock(x + i * half, y, half, 2 * half)) {
+            addLeaf(x + i * half, y, half, 2 * half);
+            done[0][i] = done[1][i] = true;
+          }
+    }
     for (int j = 0; j < 2; ++j)
-      for (int i = 0; i < 2; ++i) collect(level - 1, 2 * bx + i, 2 * by + j);
+      for (int i = 0; i < 2; ++i)
+        if (!done[j][i]) collect(level - 1, 2 * bx + i, 2 * by + j);
   };
   for (int by = 0; by << top < cellsY; ++by)
     for (int bx = 0; bx << top < cellsX; ++bx) collect(top, bx, by);
+  if (std::all_of(leaves.begin(), leaves.end(), [](const Leaf& leaf) { return leaf.width == 0; })) return false;  // nothing merged
 
   std::vector<uint32_t>& triangles = mesh.triangles;
   std::vector<uint32_t> ring;
   for (const Leaf& leaf : leaves) {
-    if (leaf.level == 0) {
+    if (leaf.width == 0) {
       appendCellTriangles(cellCode[size_t(leaf.y) * size_t(cellsX) + size_t(leaf.x)], uint32_t(vertexIndex(leaf.x, leaf.y)),
                           columns, triangles);
       continue;
     }
-    const int size = 1 << leaf.level, x0 = leaf.x, y0 = leaf.y, x1 = x0 + size, y1 = y0 + size;
+    const int x0 = leaf.x, y0 = leaf.y, x1 = x0 + leaf.width, y1 = y0 + leaf.height;
     // The block's outline, clockwise from (x0, y0), through every marked vertex.
     ring.clear();
     for (int x = x0; x < x1; ++x)

@@ -48,7 +48,9 @@
 // virtual camera per unit of its inverse depth (a DisplacementRate, which depends on the camera model),
 // aligned square blocks of 2^k x 2^k grid cells whose every triangle is kept and whose every vertex lies
 // within the bound of the two triangles through the block's corners are merged (bottom-up, as a
-// region quadtree), at most 128 cells wide. A merged block is drawn as two triangles, or, where smaller
+// region quadtree), at most 128 cells wide; where a block does not merge, two of its four quarters side by
+// side (or one above the other) that did still merge as a 2:1 rectangle if it passes the same test.
+// A merged block or rectangle is drawn as two triangles, or, where smaller
 // neighbours put vertices on its sides, as a triangulation of each of the two tested triangles through
 // those vertices (n - 2 triangles for n vertices on the block's outline, each inside one tested
 // triangle), so the mesh has no T-junctions and no cracks. A cell with a dropped triangle (a depth edge) or an invalid vertex is
@@ -71,9 +73,10 @@ struct MeshOptions {
   double discontinuityThreshold = 0.02;  // MeshDiscontinuityThreshold: relative depth step that drops a triangle
   int missingDepthLevel = -1;            // MissingDepthLevel: vertices at this level are dropped; -1 off
   double maxError = 2.0;                 // MeshMaxError: virtual-camera pixels a merged block may move a sample
-  // MeshMaxColourError: with the reference luma, a sample may move only as far as keeps the colour
-  // there within this many sample values (its luma gradient times the displacement); 0: off.
-  double maxColourError = 4.0;
+  // MeshMaxColourError: with the reference luma, a merged block may be off at a sample only as far as
+  // keeps the colour a virtual pixel shows there within this many sample values (the luma step from
+  // the sample to its neighbour along the reference shift, ReferenceShift, times the shift); 0: off.
+  double maxColourError = 2.6;
 };
 
 // How far, in virtual-camera pixels, a surface point seen at reference pixel (u, v) with inverse camera
@@ -81,6 +84,14 @@ struct MeshOptions {
 // where the point is not in front of the virtual camera. The adaptive mesh turns MeshMaxError into a
 // tolerance in q with it; each camera model supplies its own (pinholeDisplacementRate, MeshProjection.h).
 using DisplacementRate = std::function<double(double u, double v, double q)>;
+
+// How the texture seen in the virtual camera moves with a surface drawn off in q: the virtual pixel that
+// truly shows reference pixel (u, v) (inverse depth q) shows reference position (u, v) - dq (du, dv)
+// when the surface there is drawn at q + dq (to first order, the surface taken as facing the reference
+// camera). Writes (du, dv), in reference pixels per unit of q, along the epipolar line of (u, v); false
+// where the point is not in front of the virtual camera. MeshMaxColourError turns the luma step along it
+// into a tolerance in q (pinholeReferenceShift, MeshProjection.h).
+using ReferenceShift = std::function<bool(double u, double v, double q, double& du, double& dv)>;
 
 struct DepthMesh {
   int columns = 0, rows = 0;           // vertex grid size
@@ -117,9 +128,10 @@ bool referenceVertex(const Camera& reference, int depthType, double u, double v,
 class DepthMeshBuilder {
 public:
   // For depth maps of `width` x `height` samples with levels in `range`, seen by `reference`. Without
-  // `rate` the mesh keeps every grid quad (no adaptive merge).
+  // `rate` the mesh keeps every grid quad (no adaptive merge); without `shift` the merge has no colour
+  // bound (MeshMaxColourError).
   DepthMeshBuilder(const Camera& reference, const DepthRange& range, int width, int height, const MeshOptions& options,
-                   DisplacementRate rate = {});
+                   DisplacementRate rate = {}, ReferenceShift shift = {});
 
   // Builds the mesh of one depth map (luma of the depth file; its size must be width x height).
   // `luma`: the view's texture luma, for MeshMaxColourError (ignored when null or of another size).
@@ -135,6 +147,7 @@ private:
 
   Camera reference_;
   DisplacementRate rate_;
+  ReferenceShift shift_;
   MeshOptions options_;
   int width_, height_;
   std::vector<double> inverseZ_;     // per depth level; NaN for MissingDepthLevel

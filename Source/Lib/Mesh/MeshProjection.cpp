@@ -72,6 +72,38 @@ DisplacementRate pinholeDisplacementRate(const Camera& reference, const Camera& 
   };
 }
 
+ReferenceShift pinholeReferenceShift(const Camera& reference, const Camera& virtualCamera, const RenderGrid& grid) {
+  const Mat4 toVirtual = referenceToVirtualMatrix(reference, virtualCamera);
+  Mat3 rotation;
+  Vec3 translation;
+  for (int r = 0; r < 3; ++r) {
+    for (int k = 0; k < 3; ++k) rotation[r][k] = toVirtual.m[r][k];
+    translation[r] = toVirtual.m[r][3];
+  }
+  const Mat3 H = grid.K * rotation;
+  const Vec3 e = grid.K * translation;
+  return [H, e](double u, double v, double q, double& du, double& dv) {
+    const Vec3 h = H * Vec3(u, v, 1.0) + q * e;
+    if (!(h.z > 0.0)) return false;
+    // d pixel / d u, d pixel / d v and d pixel / d q are each (b_xy h_z - h_xy b_z) / h_z^2 for their
+    // column b; the common 1 / h_z^2 cancels in J^-1 (d pixel / d q), so it is left out.
+    auto derivative = [&h](const Vec3& b, double& x, double& y) {
+      x = b.x * h.z - h.x * b.z;
+      y = b.y * h.z - h.y * b.z;
+    };
+    double xu, yu, xv, yv, xq, yq;
+    derivative(Vec3(H[0][0], H[1][0], H[2][0]), xu, yu);
+    derivative(Vec3(H[0][1], H[1][1], H[2][1]), xv, yv);
+    derivative(e, xq, yq);
+    const double det = xu * yv - xv * yu;
+    if (!(std::fabs(det) > 0.0)) return false;
+    const double inverse = 1.0 / det;
+    du = (yv * xq - xv * yq) * inverse;  // (du, dv) = J_uv^-1 (d pixel / d q)
+    dv = (xu * yq - yu * xq) * inverse;
+    return std::isfinite(du) && std::isfinite(dv);
+  };
+}
+
 Mat4 projectionMatrix(const RenderGrid& grid, const InverseDepthRange& planes) {
   VS_CHECK(grid.width > 0 && grid.height > 0 && planes.hi > planes.lo);
   const Mat3& K = grid.K;

@@ -84,6 +84,12 @@ Mat4 meshClipMatrix(const Camera& reference, const Camera& virtualCamera, const 
 // Infinite where h_z <= 0 (not in front of the virtual camera).
 DisplacementRate pinholeDisplacementRate(const Camera& reference, const Camera& virtualCamera, const RenderGrid& grid);
 
+// The pinhole camera's ReferenceShift (DepthMesh.h): with h as above, the virtual pixel x(u, v, q) moves
+// by J = d x / d(u, v) per reference pixel and by d x / d q per unit of q, so the virtual pixel x(u, v, q)
+// meets a surface drawn at q + dq at the reference position (u, v) - J^-1 (d x / d q) dq: (du, dv) =
+// J^-1 (d x / d q). False where h_z <= 0 or J is singular.
+ReferenceShift pinholeReferenceShift(const Camera& reference, const Camera& virtualCamera, const RenderGrid& grid);
+
 // Where OpenGL's viewport transform puts `vertex` under `clip` (with the viewport 0, 0, W, H), in grid
 // pixel positions (fragment centres at integers), and its q; evaluated in double. False when the
 // point is not in front of the camera (w_clip <= 0).

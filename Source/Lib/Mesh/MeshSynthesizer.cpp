@@ -154,7 +154,8 @@ void MeshSynthesizer::buildViews() {
     // the depth-buffer planes come from each frame's projected mesh (Mesh/MeshErp.h).
     const bool erp = projectedPass(reference.camera, scene.virtualCamera);
     ViewState view{DepthMeshBuilder(reference.camera, reference.depthRange, s.depthFormat.width, s.depthFormat.height, options,
-                                    erp ? DisplacementRate{} : pinholeDisplacementRate(reference.camera, scene.virtualCamera, lumaGrid_)),
+                                    erp ? DisplacementRate{} : pinholeDisplacementRate(reference.camera, scene.virtualCamera, lumaGrid_),
+                                    erp ? ReferenceShift{} : pinholeReferenceShift(reference.camera, scene.virtualCamera, lumaGrid_)),
                    false, {}, {}, {}, {}, {}, {}};
     InverseDepthRange range;
     view.depthRangeBounded = !erp && sceneInverseDepthRange(reference.camera, reference.depthRange, s.depthType,
