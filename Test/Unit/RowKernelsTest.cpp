@@ -353,6 +353,83 @@ TEST(RowKernels, TextureTableRowIsThePlainRule) {
   EXPECT_GT(restSamples, 150 * int(levels().size()));
 }
 
+// textureTableRow with v null, the 1D path's rule: a look-up fails where u is not finite or outside
+// [-0.5, lastU]; every other one lies on the row and reads the tables where they hold its integer part.
+TEST(RowKernels, TextureTableRowOnTheRowPathIsThePlainRule) {
+  std::mt19937 rng(31);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  const int width = 37;
+  int tableReads = 0, failed = 0, left = 0;
+  for (const RowKernels* kernels : levels())
+    for (const int n : kWidths)
+      for (const int channels : {1, 3})
+        for (const int shift : {0, 2}) {
+          const double precision = double(1 << shift);
+          std::vector<double> u = awkwardRow(rng, n, width), depth = awkwardRow(rng, n, 1.0);
+          std::vector<double> gridU(static_cast<size_t>(n)), nearest = gridU;
+          for (int i = 0; i < n; ++i) {
+            const size_t k = size_t(i);
+            if (unit(rng) < 0.4) u[k] = (width + 1.0) * unit(rng) - 1.0;
+            if (unit(rng) < 0.05) u[k] = unit(rng) < 0.5 ? -0.5 : width - 0.5;
+            gridU[k] = std::floor(u[k] * precision + 0.5);
+            nearest[k] = std::isnan(u[k]) ? 0.0 : std::clamp(std::floor(u[k] + 0.5), 0.0, width - 1.0);
+          }
+          const long long first = 2, last = width - 5, stride = last - first + 1;
+          std::vector<float> tables[3];
+          for (std::vector<float>& table : tables)
+            for (long long t = 0; t < stride * (1 << shift); ++t) table.push_back(float(255.0 * unit(rng)));
+          std::vector<uint8_t> edges(static_cast<size_t>(width));
+          for (uint8_t& e : edges) e = uint8_t(unit(rng) < 0.3);
+          const float unset = -7.0f;
+          std::vector<double> plainDepth = depth, ourDepth = depth;
+          std::vector<float> plainColour[3], ourColour[3];
+          for (int c = 0; c < 3; ++c) plainColour[c].assign(size_t(n), unset), ourColour[c] = plainColour[c];
+          std::vector<uint8_t> plainEdge(size_t(n), 9), ourEdge = plainEdge;
+          std::vector<int> plainRest;
+          for (int i = 0; i < n; ++i) {
+            const size_t k = size_t(i);
+            if (depth[k] < 0) continue;
+            if (!std::isfinite(u[k]) || u[k] < -0.5 || u[k] > width - 0.5) {
+              plainDepth[k] = -1.0;
+              ++failed;
+              continue;
+            }
+            const long long index = (long long)gridU[k];  // |gridU| <= 4 * 37 here
+            const long long ix = index / (1 << shift) - (index % (1 << shift) < 0 ? 1 : 0);
+            if (ix < first || ix > last) {
+              plainRest.push_back(i);
+              ++left;
+              continue;
+            }
+            for (int c = 0; c < channels; ++c)
+              plainColour[c][k] = tables[c][size_t((index - ix * (1 << shift)) * stride + ix - first)];
+            plainEdge[k] = edges[size_t(nearest[k])];
+            ++tableReads;
+          }
+          std::vector<int> rest(size_t(n) + 1, -1);
+          const TextureTableRow row = {u.data(), nullptr, nullptr, gridU.data(), nullptr, nearest.data(), 0.0,
+                                       width - 0.5, 0.0, {tables[0].data(), tables[1].data(), tables[2].data()},
+                                       first, last, stride, shift, (1 << shift) - 1, channels, edges.data(),
+                                       ourDepth.data(), {ourColour[0].data(), ourColour[1].data(), ourColour[2].data()},
+                                       ourEdge.data()};
+          int count = 0;
+          ASSERT_EQ(kernels->textureTableRow(row, 0, n, true, rest.data(), count), n);
+          ASSERT_EQ(std::vector<int>(rest.begin(), rest.begin() + count), plainRest) << "level " << kernels->level;
+          for (int i = 0; i < n; ++i) {
+            const size_t k = size_t(i);
+            ASSERT_EQ(bitsOf(ourDepth[k]), bitsOf(plainDepth[k])) << "level " << kernels->level << ", sample " << i;
+            ASSERT_EQ(ourEdge[k], plainEdge[k]) << "level " << kernels->level << ", sample " << i;
+            for (int c = 0; c < 3; ++c)
+              ASSERT_EQ(bitsOf(ourColour[c][k]), bitsOf(plainColour[c][k]))
+                  << "level " << kernels->level << ", channel " << c << ", sample " << i;
+          }
+        }
+  const int perLevel = int(levels().size());
+  EXPECT_GT(tableReads, 100 * perLevel);
+  EXPECT_GT(failed, 50 * perLevel);
+  EXPECT_GT(left, 50 * perLevel);
+}
+
 TEST(RowKernels, SampleRowPhaseIsTheWeightedSumInTapOrder) {
   std::mt19937 rng(9);
   std::uniform_int_distribution<int> sample(0, 65535);
