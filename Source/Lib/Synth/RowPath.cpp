@@ -15,8 +15,6 @@
 
 namespace vs {
 
-static_assert(kKernelNoDepth == kNoDepth, "the row kernels' hole is the layers' hole");
-
 namespace {
 
 // CleanNoiseOption on one row of a layer's depth: a sample with holes on both sides along its row is
@@ -136,8 +134,6 @@ void Synthesizer::warpTextureRows(ViewState& view, const std::vector<const Plane
       double* sources = sourceRow.data();
       double* grid = gridRow.data();
       double* nearest = grid + width;
-      scratch->rest.resize(size_t(width));
-      int* rest = scratch->rest.data();
       const double precision = sampler.precision();
       for (int y = y0; y < y1; ++y) {
         const uint8_t* edges = view.referenceEdge.data() + size_t(y) * referenceWidth;
@@ -146,25 +142,15 @@ void Synthesizer::warpTextureRows(ViewState& view, const std::vector<const Plane
         // sampledRows[0].gridIndex(sources[x]) and the nearest reference sample for every x, in a loop
         // compiled for the CPU's x86-64 level.
         rowKernels().rowLookups(sources, width, precision, referenceWidth, grid, nearest);
-        // The holes, the failed look-ups and the table's in a kernel compiled for the CPU's x86-64
-        // level (Rows.h's textureTableRow, its 1D rule: no v), any left over (none whose table holds
-        // its integer part) here.
-        const size_t rowStart = size_t(y) * width;
-        const SampledRow& table = sampledRows[0];  // every channel's has the same shape
-        TextureTableRow row = {sources, nullptr, nullptr, grid, nullptr, nearest, 0.0, referenceWidth - 0.5, 0.0,
-                               {nullptr, nullptr, nullptr}, table.first(), table.last(), table.stride(),
-                               table.shift(), table.mask(), kChannels, edges, depth + rowStart,
-                               {nullptr, nullptr, nullptr}, edgeOut + rowStart};
-        for (int c = 0; c < kChannels; ++c) {
-          row.table[c] = sampledRows[c].values();
-          row.colour[c] = colour[c] + rowStart;
-        }
-        int restCount = 0;
-        rowKernels().textureTableRow(row, 0, width, true, rest, restCount);
-        for (int k = 0; k < restCount; ++k) {
-          const int x = rest[k];
-          const size_t i = rowStart + size_t(x);
-          for (int c = 0; c < kChannels; ++c) colour[c][i] = sampledRows[c].atGrid<kTaps>(sources[x], grid[x]);
+        for (int x = 0; x < width; ++x) {
+          const size_t i = size_t(y) * width + x;
+          if (depth[i] < 0) continue;
+          const double u = sources[x];
+          if (!std::isfinite(u) || u < -0.5 || u > referenceWidth - 0.5) {
+            depth[i] = kNoDepth;
+            continue;
+          }
+          for (int c = 0; c < kChannels; ++c) colour[c][i] = sampledRows[c].atGrid<kTaps>(u, grid[x]);
           edgeOut[i] = edges[size_t(nearest[x])];
         }
       }

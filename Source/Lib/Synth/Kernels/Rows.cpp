@@ -218,14 +218,12 @@ void textureLookups(const double* u, const double* v, int n, double precision, i
 // the caller, -1 when it lies on the row's own reference row and the tables are not ready (nothing done).
 inline int textureTableSample(const TextureTableRow& r, int x, bool ready) {
   if (r.depth[x] < 0) return 0;
-  const double u = r.u[x];
-  const bool fails = r.v ? !r.ok[x] || u < -0.5 || r.v[x] < -0.5 || u > r.lastU || r.v[x] > r.lastV
-                         : !std::isfinite(u) || u < -0.5 || u > r.lastU;
-  if (fails) {
+  const double u = r.u[x], v = r.v[x];
+  if (!r.ok[x] || u < -0.5 || v < -0.5 || u > r.lastU || v > r.lastV) {
     r.depth[x] = kKernelNoDepth;
     return 0;
   }
-  if (r.v && !(r.gridV[x] == r.rowGrid)) return 1;
+  if (!(r.gridV[x] == r.rowGrid)) return 1;
   if (!ready) return -1;
   const double g = r.gridU[x];
   if (!(std::fabs(g) < 4503599627370496.0)) return 1;  // 2^52
@@ -252,21 +250,16 @@ int textureTableRow(const TextureTableRow& r, int from, int width, bool ready, i
   for (; x + 8 <= width; x += 8) {
     const __mmask8 live = _mm512_cmp_pd_mask(_mm512_loadu_pd(r.depth + x), zero, _CMP_NLT_UQ);  // !(d < 0)
     if (!live) continue;
-    const __m512d u = _mm512_loadu_pd(r.u + x);
-    __mmask8 fails = __mmask8(_mm512_cmp_pd_mask(u, low, _CMP_LT_OQ) | _mm512_cmp_pd_mask(u, lastU, _CMP_GT_OQ));
-    if (r.v) {
-      const __m512d v = _mm512_loadu_pd(r.v + x);
-      __m128i okBytes;
-      std::memcpy(&okBytes, r.ok + x, 8);  // the low eight bytes
-      const __m512i okLanes = _mm512_maskz_cvtepu8_epi64(0xff, okBytes);
-      fails |= __mmask8(~_mm512_test_epi64_mask(okLanes, okLanes) | _mm512_cmp_pd_mask(v, low, _CMP_LT_OQ) |
-                        _mm512_cmp_pd_mask(v, lastV, _CMP_GT_OQ));
-    } else {
-      fails |= _mm512_cmp_pd_mask(_mm512_sub_pd(u, u), zero, _CMP_NEQ_UQ);  // not finite: u - u is NaN
-    }
+    const __m512d u = _mm512_loadu_pd(r.u + x), v = _mm512_loadu_pd(r.v + x);
+    __m128i okBytes;
+    std::memcpy(&okBytes, r.ok + x, 8);  // the low eight bytes
+    const __m512i okLanes = _mm512_maskz_cvtepu8_epi64(0xff, okBytes);
+    const __mmask8 fails = __mmask8(~_mm512_test_epi64_mask(okLanes, okLanes) | _mm512_cmp_pd_mask(u, low, _CMP_LT_OQ) |
+                                    _mm512_cmp_pd_mask(v, low, _CMP_LT_OQ) |
+                                    _mm512_cmp_pd_mask(u, lastU, _CMP_GT_OQ) |
+                                    _mm512_cmp_pd_mask(v, lastV, _CMP_GT_OQ));
     const __mmask8 keep = live & __mmask8(~fails);
-    const __mmask8 onRow =
-        r.v ? _mm512_mask_cmp_pd_mask(keep, _mm512_loadu_pd(r.gridV + x), rowGrid, _CMP_EQ_OQ) : keep;
+    const __mmask8 onRow = _mm512_mask_cmp_pd_mask(keep, _mm512_loadu_pd(r.gridV + x), rowGrid, _CMP_EQ_OQ);
     if (onRow && !ready) return x;
     _mm512_mask_storeu_pd(r.depth + x, live & fails, noDepth);
     const __m512d g = _mm512_loadu_pd(r.gridU + x);

@@ -45,7 +45,7 @@ struct TwoViewBlendRows {
 // (backwardRow, textureLookups), the tables of its channels as numbers, and the row's outputs.
 struct TextureTableRow {
   const double* u;
-  const double* v;                   // null on the 1D path (TextureTableRow's rule says what changes)
+  const double* v;
   const uint8_t* ok;
   const double* gridU;
   const double* gridV;
@@ -100,10 +100,8 @@ struct RowKernels {
   void (*textureLookups)(const double* u, const double* v, int n, double precision, int width, int height,
                          double* gridU, double* gridV, double* nearest);
   // The general texture warp's row (TextureTableRow) from sample `from` on, for samples with depth not
-  // below 0 (NaN included): one whose look-up fails (!ok, or u, v outside [-0.5, lastU], [-0.5, lastV];
-  // with v null, the 1D path's rule: u not finite or outside [-0.5, lastU], and every look-up on the
-  // row, ok, gridV and rowGrid not read) gets depth kKernelNoDepth; one on the row's own reference row
-  // (gridV == rowGrid) whose grid index
+  // below 0 (NaN included): one whose look-up fails (!ok, or u, v outside [-0.5, lastU], [-0.5, lastV])
+  // gets depth kKernelNoDepth; one on the row's own reference row (gridV == rowGrid) whose grid index
   // lies in the tables (|gridU| < 2^52, first <= gridU >> shift <= last) gets colour[c] from table c
   // and edgeOut = edges[nearest]; every other one is appended to rest (rest[count++] = x), for the
   // caller's general look-up. With tablesReady false the tables are not read: the kernel returns the
