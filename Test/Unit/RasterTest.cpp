@@ -349,6 +349,59 @@ TEST(Raster, QuadRowEqualsPlainTrianglesOfEachQuad) {
   }
 }
 
+// The points of a row (QuadRowKernels::pointsLone, pointsAtomic) at every level this CPU runs, against
+// the plain rule: a sample with w not below 0 (NaN included) raises the cell of floor(x + 0.5),
+// floor(y + 0.5) when that lies inside the view. Positions round the view's borders and exactly half
+// way between centres, samples not warped, rows of every length round the lane counts.
+TEST(Raster, PointsEqualThePlainNearestCentreRule) {
+  std::mt19937 rng(41);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  const int outWidth = 9, outHeight = 5;
+  std::vector<const QuadRowKernels*> kernels;
+  for (int level = 0; level <= cpuX86Level(); ++level)
+    if (quadRowKernelsFor(level)) kernels.push_back(quadRowKernelsFor(level));
+  ASSERT_FALSE(kernels.empty());
+  for (int width = 1; width <= 19; ++width) {
+    std::vector<double> plain(size_t(outWidth) * outHeight, kEmpty);
+    std::vector<std::vector<double>> lone(kernels.size(), plain);
+    std::vector<AtomicMaxBuffer> shared(kernels.size());
+    for (AtomicMaxBuffer& buffer : shared) buffer.reset(plain.size(), kEmpty);
+    for (int t = 0; t < 400; ++t) {
+      std::vector<double> x(static_cast<size_t>(width)), y = x, w = x;
+      for (int i = 0; i < width; ++i) {
+        // -2 to outWidth + 1: outside on both sides; a third exactly between two centres (x.5).
+        x[size_t(i)] = unit(rng) < 0.3 ? std::floor(unit(rng) * (outWidth + 3)) - 2.5 : unit(rng) * (outWidth + 3) - 2.0;
+        y[size_t(i)] = unit(rng) < 0.3 ? std::floor(unit(rng) * (outHeight + 3)) - 2.5 : unit(rng) * (outHeight + 3) - 2.0;
+        const double u = unit(rng);
+        w[size_t(i)] = u < 0.15 ? -1.0 : u < 0.2 ? std::nan("") : u < 0.25 ? 0.0 : unit(rng);
+      }
+      for (int i = 0; i < width; ++i) {
+        if (w[size_t(i)] < 0) continue;
+        const double px = std::floor(x[size_t(i)] + 0.5), py = std::floor(y[size_t(i)] + 0.5);
+        if (px < 0 || py < 0 || px >= outWidth || py >= outHeight) continue;
+        plain::raise(plain[size_t(py) * outWidth + size_t(px)], w[size_t(i)]);
+      }
+      for (size_t k = 0; k < kernels.size(); ++k) {
+        kernels[k]->pointsLone(lone[k].data(), width, outWidth, outHeight, x.data(), y.data(), w.data());
+        kernels[k]->pointsAtomic(shared[k].cells(), width, outWidth, outHeight, x.data(), y.data(), w.data());
+      }
+    }
+    size_t raised = 0;
+    for (size_t i = 0; i < plain.size(); ++i) raised += bitsOf(plain[i]) != bitsOf(kEmpty);
+    EXPECT_GT(raised, width >= 4 ? plain.size() / 2 : 0);
+    for (size_t k = 0; k < kernels.size(); ++k) {
+      std::vector<double> fromAtomic(plain.size());
+      shared[k].copyTo(0, plain.size(), fromAtomic.data());
+      for (size_t i = 0; i < plain.size(); ++i) {
+        ASSERT_EQ(bitsOf(plain[i]), bitsOf(lone[k][i])) << "level " << kernels[k]->level << ", row of " << width
+                                                        << ", cell " << i;
+        ASSERT_EQ(bitsOf(plain[i]), bitsOf(fromAtomic[i])) << "level " << kernels[k]->level << " atomic, row of "
+                                                           << width << ", cell " << i;
+      }
+    }
+  }
+}
+
 TEST(Raster, LoneRaiseKeepsWhatAtomicRaiseKeeps) {
   std::mt19937 rng(3);
   std::uniform_real_distribution<double> value(-2.0, 2.0);

@@ -238,6 +238,121 @@ TEST(RowKernels, TextureLookupsAreTheGridIndicesAndTheNearestSample) {
       }
 }
 
+// The general texture warp's row (textureTableRow) against its rule written plainly: holes (depth
+// below 0; NaN is not) untouched, failed look-ups (not ok, outside the picture by more than half a
+// sample) made holes, look-ups on the row's own reference row whose integer part the tables hold read
+// from every channel's table with the nearest sample's edge flag, every other one left to the caller
+// in order. Tables narrower than the row (so that some integer parts fall outside), grid indices of
+// 2^52 and more, NaN positions; then the same row with the tables not ready: the kernel stops at or
+// before the first sample that would read them, having done exactly the samples before, and goes on
+// from there once they are.
+TEST(RowKernels, TextureTableRowIsThePlainRule) {
+  std::mt19937 rng(29);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  const int width = 37, height = 23, y = 5;
+  int tableReads = 0, restSamples = 0;
+  for (const RowKernels* kernels : levels())
+    for (const int n : kWidths)
+      for (const int channels : {1, 3})
+        for (const int shift : {0, 1, 2}) {
+          const double precision = double(1 << shift), rowGrid = y * precision;
+          // Sample positions: a third on the row (v rounds to row y's grid index), the rest awkward.
+          std::vector<double> u = awkwardRow(rng, n, width), v = awkwardRow(rng, n, height);
+          std::vector<double> depth = awkwardRow(rng, n, 1.0);
+          std::vector<uint8_t> ok(static_cast<size_t>(n));
+          std::vector<double> gridU(static_cast<size_t>(n)), gridV = gridU, nearest = gridU;
+          for (int i = 0; i < n; ++i) {
+            const size_t k = size_t(i);
+            if (unit(rng) < 0.4) v[k] = y + (unit(rng) - 0.5) / precision * 0.99;
+            if (unit(rng) < 0.4) u[k] = (width + 1.0) * unit(rng) - 1.0;
+            if (unit(rng) < 0.05) u[k] = unit(rng) < 0.5 ? -0.5 : width - 0.5;  // the picture's bounds exactly
+            if (unit(rng) < 0.03) v[k] = unit(rng) < 0.5 ? -0.5 : height - 0.5;
+            ok[k] = unit(rng) < 0.9;
+            gridU[k] = std::floor(u[k] * precision + 0.5);
+            if (unit(rng) < 0.05) gridU[k] = (unit(rng) < 0.5 ? -1.0 : 1.0) * 4503599627370496.0 * (1.0 + unit(rng));
+            gridV[k] = std::floor(v[k] * precision + 0.5);
+            const double nx = std::isnan(u[k]) ? 0.0 : std::clamp(std::floor(u[k] + 0.5), 0.0, width - 1.0);
+            const double ny = std::isnan(v[k]) ? 0.0 : std::clamp(std::floor(v[k] + 0.5), 0.0, height - 1.0);
+            nearest[k] = ny * width + nx;
+          }
+          // Tables holding integer parts 2 to width - 5 (the row's -1 to width - 1 reach past them).
+          const long long first = 2, last = width - 5, stride = last - first + 1;
+          std::vector<float> tables[3];
+          for (std::vector<float>& table : tables)
+            for (long long t = 0; t < stride * (1 << shift); ++t) table.push_back(float(255.0 * unit(rng)));
+          std::vector<uint8_t> edges(size_t(width) * height);
+          for (uint8_t& e : edges) e = uint8_t(unit(rng) < 0.3);
+          // The rule, plainly.
+          const float unset = -7.0f;
+          std::vector<double> plainDepth = depth;
+          std::vector<float> plainColour[3];
+          for (std::vector<float>& c : plainColour) c.assign(size_t(n), unset);
+          std::vector<uint8_t> plainEdge(size_t(n), 9);
+          std::vector<int> plainRest;
+          int firstOnRow = n;
+          for (int i = 0; i < n; ++i) {
+            const size_t k = size_t(i);
+            if (depth[k] < 0) continue;
+            if (!ok[k] || u[k] < -0.5 || v[k] < -0.5 || u[k] > width - 0.5 || v[k] > height - 0.5) {
+              plainDepth[k] = -1.0;
+              continue;
+            }
+            if (gridV[k] == rowGrid) firstOnRow = std::min(firstOnRow, i);
+            const double g = gridU[k];
+            const long long index = std::fabs(g) < 4503599627370496.0 ? (long long)g : 0;
+            const long long ix = index / (1 << shift) - (index % (1 << shift) < 0 ? 1 : 0);  // floor division
+            if (gridV[k] != rowGrid || !(std::fabs(g) < 4503599627370496.0) || ix < first || ix > last) {
+              plainRest.push_back(i);
+              continue;
+            }
+            const long long phase = index - ix * (1 << shift);
+            for (int c = 0; c < channels; ++c) plainColour[c][k] = tables[c][size_t(phase * stride + ix - first)];
+            plainEdge[k] = edges[size_t(nearest[k])];
+            ++tableReads;
+          }
+          // The kernel, first with the tables not ready.
+          std::vector<double> ourDepth = depth;
+          std::vector<float> ourColour[3];
+          for (std::vector<float>& c : ourColour) c.assign(size_t(n), unset);
+          std::vector<uint8_t> ourEdge(size_t(n), 9);
+          std::vector<int> rest(size_t(n) + 1, -1);
+          TextureTableRow row = {u.data(), v.data(), ok.data(), gridU.data(), gridV.data(), nearest.data(), rowGrid,
+                                 width - 0.5, height - 0.5, {nullptr, nullptr, nullptr}, first, last, stride, shift,
+                                 (1 << shift) - 1, channels, edges.data(), ourDepth.data(),
+                                 {ourColour[0].data(), ourColour[1].data(), ourColour[2].data()}, ourEdge.data()};
+          int count = 0;
+          const int stop = kernels->textureTableRow(row, 0, n, false, rest.data(), count);
+          ASSERT_LE(stop, firstOnRow) << "level " << kernels->level;
+          if (firstOnRow == n) {
+            ASSERT_EQ(stop, n);
+          }
+          for (int i = 0; i < n; ++i) {
+            const size_t k = size_t(i);
+            ASSERT_EQ(bitsOf(ourDepth[k]), bitsOf(i < stop ? plainDepth[k] : depth[k])) << "level " << kernels->level;
+            ASSERT_EQ(ourEdge[k], i < stop ? plainEdge[k] : 9);
+          }
+          ASSERT_EQ(std::vector<int>(rest.begin(), rest.begin() + count),
+                    std::vector<int>(plainRest.begin(), std::lower_bound(plainRest.begin(), plainRest.end(), stop)));
+          // Then ready, from where it stopped.
+          for (int c = 0; c < 3; ++c) row.table[c] = tables[c].data();
+          ASSERT_EQ(kernels->textureTableRow(row, stop, n, true, rest.data(), count), n);
+          ASSERT_EQ(std::vector<int>(rest.begin(), rest.begin() + count), plainRest) << "level " << kernels->level;
+          ASSERT_EQ(rest[size_t(count)], -1);
+          restSamples += count;
+          for (int i = 0; i < n; ++i) {
+            const size_t k = size_t(i);
+            ASSERT_EQ(bitsOf(ourDepth[k]), bitsOf(plainDepth[k])) << "level " << kernels->level << ", sample " << i;
+            ASSERT_EQ(ourEdge[k], plainEdge[k]) << "level " << kernels->level << ", sample " << i;
+            for (int c = 0; c < 3; ++c)
+              ASSERT_EQ(bitsOf(ourColour[c][k]), bitsOf(plainColour[c][k]))
+                  << "level " << kernels->level << ", channel " << c << ", sample " << i;
+          }
+        }
+  // Every branch reached (per level, of 1266 samples: about 150 read the tables, 240 are left over).
+  EXPECT_GT(tableReads, 100 * int(levels().size()));
+  EXPECT_GT(restSamples, 150 * int(levels().size()));
+}
+
 TEST(RowKernels, SampleRowPhaseIsTheWeightedSumInTapOrder) {
   std::mt19937 rng(9);
   std::uniform_int_distribution<int> sample(0, 65535);

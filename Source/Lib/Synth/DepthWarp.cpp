@@ -166,8 +166,6 @@ void Synthesizer::warpDepth(ViewState& view, const Plane& depth) {
       const int first = y0 == 0 && sphere.north ? -1 : y0, last = sphere.south ? height : height - 1;
       for (int y = first; y <= y1 && y <= last; ++y) {
         project(y);
-        // Every sample also lands as a point, so thin foreground keeps its width.
-        if (y < y1 && y >= 0 && y < height) raisePoints(width, outWidth, outHeight, xs, ys, ws);
         if (y > y0 && !spherical)
           rasteriseRow(width, outWidth, outHeight, discontinuity, xAbove, yAbove, wAbove, xs, ys, ws);
         else if (y > first)
@@ -175,6 +173,10 @@ void Synthesizer::warpDepth(ViewState& view, const Plane& depth) {
               [&](int n, double jump, auto... rows) { rasteriseRow(n, outWidth, outHeight, jump, rows...); },
               projection, width, outWidth, outHeight, discontinuity, projection.referenceWraps(), xAbove, yAbove,
               wAbove, xs, ys, ws);
+        // Every sample also lands as a point, so thin foreground keeps its width. After the quads
+        // (the z-buffer keeps the largest whatever the order): they have just touched the cells the
+        // points land on.
+        if (y < y1 && y >= 0 && y < height) raisePoints(width, outWidth, outHeight, xs, ys, ws);
         std::swap(xAbove, xs);
         std::swap(yAbove, ys);
         std::swap(wAbove, ws);

@@ -304,6 +304,15 @@ public:
     return sampleFar<TAPS>(x);  // far outside any plane
   }
 
+  // The table as numbers (a built one): atGrid(x, g) with |g| < 2^52, index = (long long)g and ix = index
+  // >> shift() in [first(), last()] is values()[(index & mask()) * stride() + ix - first()].
+  const float* values() const { return values_.data(); }
+  long long first() const { return first_; }
+  long long last() const { return last_; }
+  long long stride() const { return (long long)stride_; }
+  int shift() const { return shift_; }
+  long long mask() const { return mask_; }
+
 private:
   template <int TAPS>
   float sampleFar(double x) const {

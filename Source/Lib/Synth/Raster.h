@@ -347,12 +347,13 @@ template <int kQuads, class Raise>
     const Mask bits = inside ? Mask(w[0] + b1 * dw1 + b2 * dw2) : nothing;
     const Mask pair = Mask(L::swapped(Doubles(bits)));
     const Mask largest = bits < pair ? pair : bits;
-    for (int q = 0; q < kQuads; ++q) {
-      const int64_t larger = largest[2 * q];
-      double value;
-      std::memcpy(&value, &larger, sizeof value);
-      raise(size_t(cells[dy][dx][2 * q]), value);
-    }
+    // Through memory: one vector store each, then scalar loads, cheaper than taking lanes out of
+    // a register one by one.
+    alignas(sizeof(Mask)) int64_t at[kLanes];
+    alignas(sizeof(Mask)) double values[kLanes];
+    std::memcpy(at, &cells[dy][dx], sizeof at);
+    std::memcpy(values, &largest, sizeof values);
+    for (int q = 0; q < kQuads; ++q) raise(size_t(at[2 * q]), values[2 * q]);
   };
   const Doubles columnAfter = left + 1.0;
   {

@@ -101,6 +101,7 @@ private:
     SampledRow sampled[3];
     std::vector<double> sourceU, sourceV, grid;
     std::vector<uint8_t> sourceOk;
+    std::vector<int> rest;  // warpTexture: a row's samples left to its general look-up
   };
   struct ChromaRows {  // warpChroma: U and V row tables, a row's block depths, edges and source positions
     SampledRow sampledU, sampledV;

@@ -13,6 +13,8 @@
 
 namespace vs {
 
+static_assert(kKernelNoDepth == kNoDepth, "the row kernels' hole is the layers' hole");
+
 namespace {
 
 // A sample seen by one view only is dropped when it lies this many discontinuity steps behind every
@@ -53,6 +55,8 @@ void Synthesizer::warpTexture(ViewState& view, const std::vector<const Plane*>& 
       double* us = scratch->sourceU.data();
       double* vs = scratch->sourceV.data();
       uint8_t* ok = scratch->sourceOk.data();
+      scratch->rest.resize(size_t(width));
+      int* rest = scratch->rest.data();
       double* gridU = scratch->grid.data();
       double* gridV = gridU + width;
       double* nearest = gridV + width;
@@ -68,13 +72,14 @@ void Synthesizer::warpTexture(ViewState& view, const std::vector<const Plane*>& 
         // sampler.wholeRow(v, row) && row == y: the grid index of v is y's (a row's grid index is
         // y * precision, and one of 2^52 or more is no row's).
         const double rowGrid = double(y) * precision;
-        for (int x = 0; x < width; ++x) {
+        // Sample x's look-up, as a whole.
+        const auto lookUp = [&](int x) {
           const size_t i = size_t(y) * width + x;
-          if (depth[i] < 0) continue;
+          if (depth[i] < 0) return;
           const double u = us[x], v = vs[x];
           if (!ok[x] || u < -0.5 || v < -0.5 || u > referenceWidth - 0.5 || v > referenceHeight - 0.5) {
             depth[i] = kNoDepth;
-            continue;
+            return;
           }
           if (sphereEdges && SubPixelSampler::nearEdge(u, v, referenceWidth, referenceHeight)) {
             for (int c = 0; c < channels; ++c)
@@ -89,7 +94,32 @@ void Synthesizer::warpTexture(ViewState& view, const std::vector<const Plane*>& 
             for (int c = 0; c < channels; ++c) colour[c][i] = sampler.sampleTaps<kTaps>(*planes[size_t(c)], u, v);
           }
           edgeOut[i] = edges[size_t(nearest[x])];
+        };
+        if (sphereEdges) {
+          for (int x = 0; x < width; ++x) lookUp(x);
+          continue;
         }
+        // The holes, the failed look-ups and those read from the row's tables in a kernel compiled for
+        // the CPU's x86-64 level (Synth/Kernels/Rows.h; the tables are built where it first finds one
+        // that reads them), the rest here.
+        const size_t rowStart = size_t(y) * width;
+        TextureTableRow row = {us, vs, ok, gridU, gridV, nearest, rowGrid, referenceWidth - 0.5, referenceHeight - 0.5,
+                               {nullptr, nullptr, nullptr}, 0, 0, 0, 0, 0, channels, edges, depth + rowStart,
+                               {nullptr, nullptr, nullptr}, edgeOut + rowStart};
+        for (int c = 0; c < channels; ++c) row.colour[c] = colour[c] + rowStart;
+        int restCount = 0;
+        for (int x = 0; (x = kernels.textureTableRow(row, x, width, tableRow == y, rest, restCount)) < width;) {
+          for (int c = 0; c < channels; ++c) sampledRows[c].build<kTaps>(sampler, *planes[size_t(c)], y, -1, referenceWidth);
+          tableRow = y;
+          const SampledRow& table = sampledRows[0];  // every channel's has the same shape
+          for (int c = 0; c < channels; ++c) row.table[c] = sampledRows[c].values();
+          row.first = table.first();
+          row.last = table.last();
+          row.stride = table.stride();
+          row.shift = table.shift();
+          row.mask = table.mask();
+        }
+        for (int k = 0; k < restCount; ++k) lookUp(rest[k]);
       }
     });
   });

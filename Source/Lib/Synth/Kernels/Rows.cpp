@@ -13,7 +13,9 @@
 #include <cstring>
 #include <limits>
 
-#if defined(__SSE4_1__)
+#if defined(__AVX512F__)
+#include <immintrin.h>
+#elif defined(__SSE4_1__)
 #include <smmintrin.h>
 #endif
 
@@ -210,6 +212,84 @@ void textureLookups(const double* u, const double* v, int n, double precision, i
     gridV[i] = floorOf(v[i] * precision + 0.5);
     nearest[i] = nearestClamped(v[i], lastRow) * rowLength + nearestClamped(u[i], lastColumn);
   }
+}
+
+// textureTableRow's rule for sample x: 0 when done (a hole, a failed look-up, a table's), 1 when left to
+// the caller, -1 when it lies on the row's own reference row and the tables are not ready (nothing done).
+inline int textureTableSample(const TextureTableRow& r, int x, bool ready) {
+  if (r.depth[x] < 0) return 0;
+  const double u = r.u[x], v = r.v[x];
+  if (!r.ok[x] || u < -0.5 || v < -0.5 || u > r.lastU || v > r.lastV) {
+    r.depth[x] = kKernelNoDepth;
+    return 0;
+  }
+  if (!(r.gridV[x] == r.rowGrid)) return 1;
+  if (!ready) return -1;
+  const double g = r.gridU[x];
+  if (!(std::fabs(g) < 4503599627370496.0)) return 1;  // 2^52
+  const long long index = (long long)g, ix = index >> r.shift;
+  if (ix < r.first || ix > r.last) return 1;
+  const long long at = (index & r.mask) * r.stride + (ix - r.first);
+  for (int c = 0; c < r.channels; ++c) r.colour[c][x] = r.table[c][at];
+  r.edgeOut[x] = r.edges[size_t((long long)r.nearest[x])];
+  return 0;
+}
+
+int textureTableRow(const TextureTableRow& r, int from, int width, bool ready, int* rest, int& count) {
+  int x = from;
+#if defined(__AVX512F__) && defined(__AVX512DQ__) && defined(__AVX512VL__)
+  // Eight samples at a time: the rule's tests as lane masks, the table reads as gathers, the colours
+  // and failed depths as masked stores; the edge flags and the samples left over one by one. (The
+  // zero-masking forms of the intrinsics: GCC 12's plain ones warn, as in Raster.h.)
+  const __m512d zero = _mm512_setzero_pd(), low = _mm512_set1_pd(-0.5), lastU = _mm512_set1_pd(r.lastU),
+                lastV = _mm512_set1_pd(r.lastV), rowGrid = _mm512_set1_pd(r.rowGrid),
+                limit = _mm512_set1_pd(4503599627370496.0), noDepth = _mm512_set1_pd(kKernelNoDepth);
+  const __m512i first = _mm512_set1_epi64(r.first), last = _mm512_set1_epi64(r.last),
+                stride = _mm512_set1_epi64(r.stride), mask = _mm512_set1_epi64(r.mask);
+  const __m128i shift = _mm_cvtsi32_si128(r.shift);
+  for (; x + 8 <= width; x += 8) {
+    const __mmask8 live = _mm512_cmp_pd_mask(_mm512_loadu_pd(r.depth + x), zero, _CMP_NLT_UQ);  // !(d < 0)
+    if (!live) continue;
+    const __m512d u = _mm512_loadu_pd(r.u + x), v = _mm512_loadu_pd(r.v + x);
+    __m128i okBytes;
+    std::memcpy(&okBytes, r.ok + x, 8);  // the low eight bytes
+    const __m512i okLanes = _mm512_maskz_cvtepu8_epi64(0xff, okBytes);
+    const __mmask8 fails = __mmask8(~_mm512_test_epi64_mask(okLanes, okLanes) | _mm512_cmp_pd_mask(u, low, _CMP_LT_OQ) |
+                                    _mm512_cmp_pd_mask(v, low, _CMP_LT_OQ) |
+                                    _mm512_cmp_pd_mask(u, lastU, _CMP_GT_OQ) |
+                                    _mm512_cmp_pd_mask(v, lastV, _CMP_GT_OQ));
+    const __mmask8 keep = live & __mmask8(~fails);
+    const __mmask8 onRow = _mm512_mask_cmp_pd_mask(keep, _mm512_loadu_pd(r.gridV + x), rowGrid, _CMP_EQ_OQ);
+    if (onRow && !ready) return x;
+    _mm512_mask_storeu_pd(r.depth + x, live & fails, noDepth);
+    const __m512d g = _mm512_loadu_pd(r.gridU + x);
+    const __mmask8 small = _mm512_mask_cmp_pd_mask(onRow, _mm512_abs_pd(g), limit, _CMP_LT_OQ);
+    const __m512i index = _mm512_maskz_cvttpd_epi64(small, g);
+    const __m512i ix = _mm512_maskz_sra_epi64(0xff, index, shift);
+    const __mmask8 inTable = _mm512_mask_cmp_epi64_mask(small, ix, first, _MM_CMPINT_NLT) &
+                             _mm512_cmp_epi64_mask(ix, last, _MM_CMPINT_LE);
+    if (inTable) {
+      const __m512i at = _mm512_add_epi64(_mm512_mullo_epi64(_mm512_and_si512(index, mask), stride),
+                                          _mm512_sub_epi64(ix, first));
+      for (int c = 0; c < r.channels; ++c)
+        _mm256_mask_storeu_ps(r.colour[c] + x, inTable,
+                              _mm512_mask_i64gather_ps(_mm256_setzero_ps(), inTable, at, r.table[c], 4));
+      alignas(64) long long nearest[8];
+      _mm512_store_si512(nearest, _mm512_maskz_cvttpd_epi64(0xff, _mm512_loadu_pd(r.nearest + x)));
+      for (unsigned m = inTable; m; m &= m - 1) {
+        const int k = __builtin_ctz(m);
+        r.edgeOut[x + k] = r.edges[size_t(nearest[k])];
+      }
+    }
+    for (unsigned m = keep & __mmask8(~inTable); m; m &= m - 1) rest[count++] = x + __builtin_ctz(m);
+  }
+#endif
+  for (; x < width; ++x) {
+    const int done = textureTableSample(r, x, ready);
+    if (done < 0) return x;
+    if (done) rest[count++] = x;
+  }
+  return width;
 }
 
 void rowLookups(const double* u, int n, double precision, int width, double* gridU, double* nearest) {
@@ -467,6 +547,7 @@ const RowKernels rowKernelsOfLevel = {forwardRow,
                                       rowPoints,
                                       rowSegments,
                                       textureLookups,
+                                      textureTableRow,
                                       rowLookups,
                                       chromaGridIndices,
                                       sampleRowPhase0,

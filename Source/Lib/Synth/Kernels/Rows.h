@@ -40,6 +40,30 @@ struct TwoViewBlendRows {
   uint8_t* holeOut;
 };
 
+// One row of the general texture warp (Synth/TextureWarp.cpp) for the look-ups that read the row's own
+// table (Interpolation.h's SampledRow): its samples' reference positions and grid indices
+// (backwardRow, textureLookups), the tables of its channels as numbers, and the row's outputs.
+struct TextureTableRow {
+  const double* u;
+  const double* v;
+  const uint8_t* ok;
+  const double* gridU;
+  const double* gridV;
+  const double* nearest;
+  double rowGrid;                    // the grid index of the row's own reference row
+  double lastU, lastV;               // the reference's width - 0.5 and height - 0.5
+  const float* table[3];             // per channel: phase p, integer part ix at table[p * stride + ix - first]
+  long long first, last;             // the integer parts the tables hold
+  long long stride;
+  int shift;                         // the grid index's integer part: index >> shift, phase: index & mask
+  long long mask;
+  int channels;
+  const uint8_t* edges;              // the reference's edge flags, read at nearest
+  double* depth;                     // the row's inverse depths, colours and edge flags
+  float* colour[3];
+  uint8_t* edgeOut;
+};
+
 struct RowKernels {
   // ViewProjection::forwardRow's general loop (DepthType 0, not parallel): positions x, y of the
   // reference samples (u, v), u in [0, n), and their inverse target depths wv (-1 where it fails).
@@ -75,6 +99,15 @@ struct RowKernels {
   // width - 1), as a double (exact); 0 for a position that is not a number.
   void (*textureLookups)(const double* u, const double* v, int n, double precision, int width, int height,
                          double* gridU, double* gridV, double* nearest);
+  // The general texture warp's row (TextureTableRow) from sample `from` on, for samples with depth not
+  // below 0 (NaN included): one whose look-up fails (!ok, or u, v outside [-0.5, lastU], [-0.5, lastV])
+  // gets depth kKernelNoDepth; one on the row's own reference row (gridV == rowGrid) whose grid index
+  // lies in the tables (|gridU| < 2^52, first <= gridU >> shift <= last) gets colour[c] from table c
+  // and edgeOut = edges[nearest]; every other one is appended to rest (rest[count++] = x), for the
+  // caller's general look-up. With tablesReady false the tables are not read: the kernel returns the
+  // first x (a multiple of its lanes past `from`) of a run of samples one of which would read them,
+  // nothing from there on done; otherwise, and when every sample is done, width.
+  int (*textureTableRow)(const TextureTableRow& row, int from, int width, bool tablesReady, int* rest, int& count);
   // The 1D texture warp's look-ups (Synth/RowPath.cpp) of reference positions u[i] along a row: their
   // grid indices gridU[i], as textureLookups gives, and their nearest reference sample clamp(floor(u +
   // 0.5), 0, width - 1), as a double; 0 for a position that is not a number.
