@@ -17,6 +17,7 @@ Synthesizer::Synthesizer(const Scene& scene, const Plan& plan)
     : scene_(scene),
       plan_(plan),
       rowPath_(plan.mode == SynthesisMode::Parallel1D),
+      releaseSpent_(scene.settings.frameCount <= 1),
       outputFormat_(scene.settings.virtualFormat()),
       sampler_(plan.precision, plan.filter),
       aligner_(scene.settings, plan.missingDepthLevel) {
@@ -111,6 +112,40 @@ void Synthesizer::forEachView(const Step& step) {
   for (size_t k = 0; k < count; ++k) step(k);
 }
 
+// Frees what the steps before `spent` used and nothing after reads (a run of one frame): the later
+// steps' buffers then take that memory from the heap again instead of fresh pages (doc/speed.md).
+void Synthesizer::releaseSpentBuffers(Spent spent) {
+  for (ViewState& view : views_) {
+    switch (spent) {
+      case Spent::depthSteps:
+        releaseMemory(view.filledDepth.samples);
+        releaseMemory(view.filledSamples);
+        releaseMemory(view.referenceStep);
+        releaseMemory(view.referenceStepRows);
+        break;
+      case Spent::textureSteps:
+        releaseMemory(view.referenceEdge);
+        releaseMemory(view.dropScratch);
+        releaseMemory(view.rowHoleScratch);
+        break;
+      case Spent::viewLayers:
+        for (WarpedLayer* layer : {&view.luma, &view.chroma}) {
+          releaseMemory(layer->inverseDepth);
+          for (std::vector<float>& channel : layer->colour) releaseMemory(channel);
+          releaseMemory(layer->edge);
+        }
+        break;
+    }
+  }
+  if (spent == Spent::depthSteps) aligner_.releaseMemory();
+  if (spent == Spent::textureSteps) {
+    releaseMemory(occlusionScratch_.soleView);
+    releaseMemory(occlusionScratch_.stillBehind);
+    releaseMemory(occlusionScratch_.above);
+    occlusionScratch_.around.release();
+  }
+}
+
 void Synthesizer::synthesize(const std::vector<ReferenceFrame>& references, Frame& output, StageTimes& times) {
   VS_CHECK(references.size() == views_.size());
   output.reset(outputFormat_);
@@ -148,6 +183,7 @@ void Synthesizer::synthesize(const std::vector<ReferenceFrame>& references, Fram
   };
   forEachView(depthSteps);
   firstFrameFill_.clear();
+  if (releaseSpent_) releaseSpentBuffers(Spent::depthSteps);
   stats_.alignedDepthSamples = 0;
   for (const ViewState& view : views_) stats_.alignedDepthSamples += view.alignedSamples;
   times.depthWarp += secondsSince(start);
@@ -170,6 +206,7 @@ void Synthesizer::synthesize(const std::vector<ReferenceFrame>& references, Fram
   if (views_.size() > 1) rejectOccludedInOtherViews();
   // Chroma follows the luma decisions: it is warped from the final luma depth.
   if (yuvChroma) forEachView([&](size_t k) { warpChroma(views_[k], *references[k].texture); });
+  if (releaseSpent_) releaseSpentBuffers(Spent::textureSteps);
   times.textureWarp += secondsSince(start);
 
   start = std::chrono::steady_clock::now();
@@ -182,6 +219,7 @@ void Synthesizer::synthesize(const std::vector<ReferenceFrame>& references, Fram
   if (yuvChroma) blendLayers(chromaLayers, plan_.blending, blendedChroma_);
   stats_.holesAfterBlend = blendedLuma_.holeCount();
   if (plan_.virtualMaskOutput) uncovered_ = blendedLuma_.hole;  // hole filling clears the flags
+  if (releaseSpent_) releaseSpentBuffers(Spent::viewLayers);
   times.blend += secondsSince(start);
 
   start = std::chrono::steady_clock::now();

@@ -108,6 +108,8 @@ private:
     std::vector<uint8_t> blockEdge, sourceOk;
   };
 
+  enum class Spent { depthSteps, textureSteps, viewLayers };
+  void releaseSpentBuffers(Spent spent);
   bool reuseFirstFrameFill(size_t k, const Plane& depth);  // view k's fill from firstFrameFill_; false: none fits
   void markReferenceEdges(ViewState& view, const Plane& depth);               // ReferenceEdges.cpp
   void warpDepth(ViewState& view, const Plane& depth);                        // DepthWarp.cpp
@@ -127,6 +129,9 @@ private:
   const Scene& scene_;
   const Plan plan_;
   const bool rowPath_;  // the 1D path: rows warp into rows (plan_.mode == Parallel1D)
+  // A run of one frame frees each step's buffers once the step is over (releaseSpentBuffers); a
+  // sequence keeps them for its next frame, which then allocates nothing.
+  const bool releaseSpent_;
   FrameFormat outputFormat_;
   SubPixelSampler sampler_;
   DepthEdgeAligner aligner_;
