@@ -17,7 +17,6 @@ Synthesizer::Synthesizer(const Scene& scene, const Plan& plan)
     : scene_(scene),
       plan_(plan),
       rowPath_(plan.mode == SynthesisMode::Parallel1D),
-      releaseSpent_(scene.settings.frameCount <= 1),
       outputFormat_(scene.settings.virtualFormat()),
       sampler_(plan.precision, plan.filter),
       aligner_(scene.settings, plan.missingDepthLevel) {
