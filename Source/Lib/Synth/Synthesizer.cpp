@@ -147,7 +147,6 @@ void Synthesizer::releaseSpentBuffers(Spent spent) {
 
 void Synthesizer::synthesize(const std::vector<ReferenceFrame>& references, Frame& output, StageTimes& times) {
   VS_CHECK(references.size() == views_.size());
-  output.reset(outputFormat_);
   auto start = std::chrono::steady_clock::now();
   const bool rgb = plan_.rgb, yuvChroma = !plan_.rgb && plan_.chroma;
   std::vector<const Plane*> lumas, depths;
@@ -231,6 +230,8 @@ void Synthesizer::synthesize(const std::vector<ReferenceFrame>& references, Fram
                                  outputFormat_.chroma == ChromaFormat::Yuv420 ? 2 : 1);
   times.holeFill += secondsSince(start);
 
+  // Sized here, not before the steps: a run of one frame then takes the memory the steps freed.
+  output.reset(outputFormat_);
   roundLayersToFrame(blendedLuma_, blendedChroma_, rgb, rgbOutput_, output);
 }
 
