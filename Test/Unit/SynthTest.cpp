@@ -149,6 +149,44 @@ TEST(Synth, FilledSamplesStayUnreliableWhenEdgesAreAligned) {
   EXPECT_TRUE(on == off);
 }
 
+// A run of one frame frees each step's buffers once the step is over (Synthesizer::
+// releaseBuffersAfterEachStep); a sequence keeps them for its next frame. Nothing later in the frame
+// may read what was freed, and what grows again must not depend on what it held: a synthesizer that
+// frees, given two different frames in a row, gives bit for bit what one that keeps gives, on both
+// paths, with missing depth filled and tested, edges aligned and chroma.
+TEST(Synth, FreeingSpentBuffersInAOneFrameRunChangesNoOutput) {
+  AnalyticScene analytic;
+  analytic.square = true;
+  analytic.width = 96;
+  analytic.range = DepthRange{50.0, 200.0, 8};
+  const Camera left = analytic.camera("left", -6), virtualCamera = analytic.camera("virtual", 1), right = analytic.camera("right", 6);
+  Scene scene = analytic.scene(left, virtualCamera, right);
+  scene.settings.missingDepthLevel = 0;
+  scene.settings.missingDepthFill = true;
+  scene.settings.depthEdgeAlignment = 4;
+  test::RenderedReferences first = test::renderReferences(analytic, scene), second = first;
+  // The second frame: unknown depth on the plane in the left view, and the square's texture changed.
+  for (int y = 16; y < 32; ++y)
+    for (int x = 8; x < 20; ++x) second.depths[0].at(x, y) = 0;
+  for (Frame& texture : second.textures)
+    for (uint16_t& sample : texture.planes[0].samples) sample = uint16_t(255 - sample);
+  for (SynthesisMode path : {SynthesisMode::General, SynthesisMode::Parallel1D}) {
+    auto run = [&](bool release) {
+      Synthesizer synthesizer(scene, test::planOnPath(scene, path));
+      if (release) synthesizer.releaseBuffersAfterEachStep();
+      std::vector<Frame> outputs(2);
+      StageTimes times;
+      synthesizer.synthesize(first.frames(), outputs[0], times);
+      synthesizer.synthesize(second.frames(), outputs[1], times);
+      return outputs;
+    };
+    const std::vector<Frame> oneFrame = run(true), sequence = run(false);
+    EXPECT_TRUE(oneFrame[0] == sequence[0]) << "path " << int(path);
+    EXPECT_TRUE(oneFrame[1] == sequence[1]) << "path " << int(path);
+    EXPECT_FALSE(oneFrame[0] == oneFrame[1]);  // the frames differ, so stale buffers would show
+  }
+}
+
 // A one- or two-row line of unknown depth coded as the far plane across a nearer surface (as
 // Middlebury's maps have between touching objects) warps into the crack it leaves in that surface, with
 // far-plane depth and so the colour of the wrong spot. The warped depth closes such slivers like any

@@ -1,4 +1,5 @@
 // YuvReader / YuvWriter: round trips, the byte layout on disk, seeking, short files and refusals.
+#include <algorithm>
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
@@ -366,6 +367,42 @@ TEST(YuvTest, FramesLargerThanOneReadChunkReadWhole) {
     const std::string message = inputErrorOf([&] { damaged.read(1, frame); });
     EXPECT_NE(message.find("frame 1, plane V: sample 4096 at (x 200, y 166)"), std::string::npos) << message;
   }
+}
+
+// The writer packs and writes a frame through a chunk of at most 256 KiB: frames of several chunks,
+// whose chunk boundaries fall inside planes (and inside no 16-bit word), give the bytes the layout
+// rules give, built here sample by sample, one frame after the other, with and without Y4M headers.
+TEST(YuvTest, FramesLargerThanOneWriteChunkWriteWhole) {
+  const fs::path dir = vs::test::scratchDir("yuv_write_chunks");
+  for (const int bitDepth : {8, 10})
+    for (const bool y4m : {false, true}) {
+      const vs::FrameFormat format = makeFormat(1001, 533, bitDepth, vs::ChromaFormat::Yuv420);  // chroma 501x267
+      std::vector<uint8_t> expected;
+      const fs::path path = dir / ("big" + std::to_string(bitDepth) + (y4m ? ".y4m" : ".yuv"));
+      {
+        vs::YuvWriter writer(path.string(), format);
+        for (unsigned f = 0; f < 2; ++f) {
+          const vs::Frame frame = randomFrame(format, 10 * f + unsigned(bitDepth));
+          writer.append(frame);
+          if (y4m) expected.insert(expected.end(), {'F', 'R', 'A', 'M', 'E', '\n'});
+          for (const vs::Plane& plane : frame.planes)
+            for (const uint16_t value : plane.samples) {
+              expected.push_back(uint8_t(value & 0xff));
+              if (bitDepth > 8) expected.push_back(uint8_t(value >> 8));
+            }
+        }
+        writer.commit();
+      }
+      ASSERT_GT(expectedFrameBytes(1001, 533, bitDepth, vs::ChromaFormat::Yuv420), uint64_t(3) << 18);
+      std::vector<uint8_t> bytes = readBytes(path);
+      if (y4m) {  // the stream header, up to its newline, is the Y4M tests' business
+        const auto newline = std::find(bytes.begin(), bytes.end(), uint8_t('\n'));
+        ASSERT_NE(newline, bytes.end());
+        bytes.erase(bytes.begin(), newline + 1);
+      }
+      ASSERT_EQ(bytes.size(), expected.size()) << path;
+      EXPECT_TRUE(bytes == expected) << path;
+    }
 }
 
 TEST(YuvTest, ReadLumaSkipsChroma) {

@@ -35,10 +35,9 @@ size_t planeBytes(const Plane& plane, int bytesPerSample) {
   return size_t(plane.width) * size_t(plane.height) * size_t(bytesPerSample);
 }
 
-// Packs one plane into `out` (8-bit: bytes; else little-endian 16-bit words); returns the bytes written.
-size_t packPlane(const Plane& plane, int bitDepth, uint8_t* out) {
-  const size_t count = plane.samples.size();
-  const uint16_t* samples = plane.samples.data();
+// Packs `count` samples into `out` (8-bit: bytes; else little-endian 16-bit words); returns the bytes
+// written.
+size_t packSamples(const uint16_t* samples, size_t count, int bitDepth, uint8_t* out) {
   uint16_t maxSample = 0;
   if (bitDepth <= 8) {
     for (size_t i = 0; i < count; ++i) {
@@ -260,16 +259,35 @@ void YuvWriter::append(const Frame& frame) {
   }
   if (failed_) throw InputError(path_ + ": an earlier write failed; no further frames are written");
 
-  const uint64_t frameBytes = format_.frameBytes();
-  const size_t header = y4m_ ? 6 : 0;
-  if (buffer_.size() != header + frameBytes) buffer_.resize(header + frameBytes);
-  if (y4m_) std::memcpy(buffer_.data(), "FRAME\n", 6);
-  size_t offset = header;
-  for (int p = 0; p < planeCount(format_.chroma); ++p)
-    offset += packPlane(frame.planes[p], format_.bitDepth, buffer_.data() + offset);
-  VS_CHECK(offset == header + frameBytes);
+  // Packed and written through a chunk of at most 256 KiB, as the readers read (a whole frame of file
+  // bytes per writer was first-touched memory beside the frame itself).
+  constexpr uint64_t kChunk = uint64_t(1) << 18;
+  const uint64_t frameBytes = (y4m_ ? 6 : 0) + format_.frameBytes();
+  if (buffer_.size() < std::min(frameBytes, kChunk)) buffer_.resize(size_t(std::min(frameBytes, kChunk)));
+  const size_t sampleBytes = format_.bitDepth <= 8 ? 1 : 2;
   try {
-    file_->write(buffer_.data(), buffer_.size());
+    size_t used = 0;
+    if (y4m_) {
+      std::memcpy(buffer_.data(), "FRAME\n", 6);
+      used = 6;
+    }
+    uint64_t written = 0;
+    for (int p = 0; p < planeCount(format_.chroma); ++p) {
+      const uint16_t* samples = frame.planes[p].samples.data();
+      const size_t count = frame.planes[p].samples.size();
+      for (size_t i = 0; i < count;) {
+        if (buffer_.size() - used < sampleBytes) {
+          file_->write(buffer_.data(), used);
+          written += used;
+          used = 0;
+        }
+        const size_t n = std::min(count - i, (buffer_.size() - used) / sampleBytes);
+        used += packSamples(samples + i, n, format_.bitDepth, buffer_.data() + used);
+        i += n;
+      }
+    }
+    if (used > 0) file_->write(buffer_.data(), used);
+    VS_CHECK(written + used == frameBytes);
   } catch (const InputError& e) {
     failed_ = true;
     if (!file_->lastError()) throw;

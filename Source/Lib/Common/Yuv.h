@@ -109,7 +109,7 @@ private:
   bool y4m_ = false;
   int64_t framesWritten_ = 0;
   bool failed_ = false;
-  std::vector<uint8_t> buffer_;  // one frame of file bytes, allocated on first use
+  std::vector<uint8_t> buffer_;  // a chunk of file bytes (at most 256 KiB), allocated on first use
 };
 
 }  // namespace vs

@@ -6,6 +6,7 @@
 #include <exception>
 #include <functional>
 #include <thread>
+#include <utility>
 
 #include "Common/Error.h"
 #include "Common/Timing.h"
@@ -40,13 +41,38 @@ SequenceInputs::SequenceInputs(const SynthesisSettings& settings) : settings_(se
     slot.depths.resize(depths_.size());
   }
   // The first frame is read when the loop asks for it, on the calling thread and beside it; each next
-  // one on a thread of its own while the frame before is rendered.
-  if (available_ > 0)
-    nextRead_ = std::async(std::launch::deferred, [this] { read(settings_.startFrame, slots_[0], true); });
+  // one on the reading thread while the frame before is rendered.
 }
 
 SequenceInputs::~SequenceInputs() {
-  if (nextRead_.valid()) nextRead_.wait();
+  if (!reader_.joinable()) return;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    stop_ = true;
+  }
+  asked_.notify_one();
+  reader_.join();  // after the read under way, if any
+}
+
+void SequenceInputs::readAhead() {
+  std::unique_lock<std::mutex> lock(mutex_);
+  for (;;) {
+    asked_.wait(lock, [this] { return stop_ || askedFrame_ >= 0; });
+    if (stop_) return;
+    const int64_t f = askedFrame_;
+    askedFrame_ = -1;
+    lock.unlock();
+    std::exception_ptr error;
+    try {
+      read(settings_.startFrame + f, slots_[f % 2], false);
+    } catch (...) {
+      error = std::current_exception();
+    }
+    lock.lock();
+    readError_ = error;
+    readOver_ = true;
+    done_.notify_one();
+  }
 }
 
 const Y4mHeader* SequenceInputs::y4mTexture() const {
@@ -99,11 +125,24 @@ void SequenceInputs::read(int64_t frameIndex, Slot& slot, bool sideBySide) {
 SequenceInputs::FrameInputs SequenceInputs::next(double& readSeconds) {
   const int64_t f = nextFrame_++;
   const auto start = std::chrono::steady_clock::now();
-  nextRead_.get();  // rethrows a read error
+  if (f == 0) {
+    read(settings_.startFrame, slots_[0], true);
+  } else {
+    std::unique_lock<std::mutex> lock(mutex_);
+    done_.wait(lock, [this] { return readOver_; });
+    if (readError_) std::rethrow_exception(std::exchange(readError_, nullptr));
+  }
   Slot& current = slots_[f % 2];
   readSeconds = std::max(secondsSince(start), f == 0 ? current.seconds : 0.0);
-  if (f + 1 < available_)
-    nextRead_ = std::async(std::launch::async, [this, f] { read(settings_.startFrame + f + 1, slots_[(f + 1) % 2], false); });
+  if (f + 1 < available_) {
+    if (!reader_.joinable()) reader_ = std::thread([this] { readAhead(); });
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      askedFrame_ = f + 1;
+      readOver_ = false;
+    }
+    asked_.notify_one();
+  }
   FrameInputs inputs;
   for (size_t k = 0; k < textures_.size(); ++k) inputs.references.push_back({&current.textures[k], &current.depths[k]});
   if (truth_) inputs.truth = &current.truth;

@@ -2,10 +2,13 @@
 // The input sequences of a run: every reference view's texture and depth file and the ground truth of
 // the virtual view. Opens them all, finds how many frames all of them hold from StartFrame on, and
 // reads each next frame on a thread of its own while the current one is rendered.
+#include <condition_variable>
 #include <cstdint>
-#include <future>
+#include <exception>
 #include <memory>
+#include <mutex>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "Common/Frame.h"
@@ -19,7 +22,8 @@ public:
   // Opens every input; throws InputError for a file that cannot be opened or that ends before
   // StartFrame.
   explicit SequenceInputs(const SynthesisSettings& settings);
-  // Waits for a read still running (after an error), before the buffers it fills go away.
+  // Waits for a read still running (after an error), before the buffers it fills go away, and ends
+  // the reading thread.
   ~SequenceInputs();
   SequenceInputs(const SequenceInputs&) = delete;
   SequenceInputs& operator=(const SequenceInputs&) = delete;
@@ -48,6 +52,7 @@ private:
     double seconds = 0;
   };
   void read(int64_t frameIndex, Slot& slot, bool sideBySide);
+  void readAhead();  // the reading thread: reads each frame asked for into its slot
 
   const SynthesisSettings& settings_;
   std::vector<std::unique_ptr<YuvReader>> textures_, depths_;
@@ -56,7 +61,15 @@ private:
   std::string shortest_;
   Slot slots_[2];
   int64_t nextFrame_ = 0;  // 0-based from StartFrame
-  std::future<void> nextRead_;
+  // One thread for the whole run reads the frame after the current one (a thread per frame cost its
+  // start and the first touch of its stack every frame). Under mutex_: the frame asked for (-1: none),
+  // whether its read is over and how it failed, and whether the thread is to end.
+  std::thread reader_;
+  std::mutex mutex_;
+  std::condition_variable asked_, done_;
+  int64_t askedFrame_ = -1;
+  bool readOver_ = true, stop_ = false;
+  std::exception_ptr readError_;
 };
 
 }  // namespace vs

@@ -60,6 +60,13 @@ public:
   // View k's depth map aligned, given every view's texture luma this frame; `depth` itself when off.
   // The result stays valid until the next call for the same view. Adds the samples moved to `moved`.
   const Plane& align(size_t view, const Plane& depth, const std::vector<const Plane*>& lumas, size_t& moved);
+  // Frees the aligned maps (a run of one frame, once the depth warp has read them).
+  void releaseMemory() {
+    for (View& view : views_) {
+      std::vector<uint16_t>().swap(view.aligned.samples);
+      std::vector<uint16_t>().swap(view.scratch.samples);
+    }
+  }
 
 private:
   struct View {

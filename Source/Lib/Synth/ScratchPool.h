@@ -103,17 +103,24 @@ public:
   T& operator[](size_t i) { return data_[i]; }
   const T& operator[](size_t i) const { return data_[i]; }
 
-private:
+  // Gives the memory back (size and capacity 0).
   void release() {
     untouchedFree(data_, capacity_ * sizeof(T), mapped_);
     data_ = nullptr;
     capacity_ = size_ = 0;
   }
 
+private:
   T* data_ = nullptr;
   size_t size_ = 0, capacity_ = 0;
   bool mapped_ = false;  // data_ is a mapping of its own (else from operator new)
 };
 
+// Frees a std::vector's memory (clear() keeps it): for a buffer nothing reads any more, so that what is
+// allocated next takes that memory from the heap instead of fresh pages.
+template <class Vector>
+void releaseMemory(Vector& v) {
+  Vector().swap(v);
+}
 
 }  // namespace vs

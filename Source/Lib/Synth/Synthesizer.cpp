@@ -111,9 +111,42 @@ void Synthesizer::forEachView(const Step& step) {
   for (size_t k = 0; k < count; ++k) step(k);
 }
 
+// Frees what the steps before `spent` used and nothing after reads (a run of one frame): the later
+// steps' buffers then take that memory from the heap again instead of fresh pages (doc/speed.md).
+void Synthesizer::releaseSpentBuffers(Spent spent) {
+  for (ViewState& view : views_) {
+    switch (spent) {
+      case Spent::depthSteps:
+        releaseMemory(view.filledDepth.samples);
+        releaseMemory(view.filledSamples);
+        releaseMemory(view.referenceStep);
+        releaseMemory(view.referenceStepRows);
+        break;
+      case Spent::textureSteps:
+        releaseMemory(view.referenceEdge);
+        releaseMemory(view.dropScratch);
+        releaseMemory(view.rowHoleScratch);
+        break;
+      case Spent::viewLayers:
+        for (WarpedLayer* layer : {&view.luma, &view.chroma}) {
+          releaseMemory(layer->inverseDepth);
+          for (std::vector<float>& channel : layer->colour) releaseMemory(channel);
+          releaseMemory(layer->edge);
+        }
+        break;
+    }
+  }
+  if (spent == Spent::depthSteps) aligner_.releaseMemory();
+  if (spent == Spent::textureSteps) {
+    releaseMemory(occlusionScratch_.soleView);
+    releaseMemory(occlusionScratch_.stillBehind);
+    releaseMemory(occlusionScratch_.above);
+    occlusionScratch_.around.release();
+  }
+}
+
 void Synthesizer::synthesize(const std::vector<ReferenceFrame>& references, Frame& output, StageTimes& times) {
   VS_CHECK(references.size() == views_.size());
-  output.reset(outputFormat_);
   auto start = std::chrono::steady_clock::now();
   const bool rgb = plan_.rgb, yuvChroma = !plan_.rgb && plan_.chroma;
   std::vector<const Plane*> lumas, depths;
@@ -148,6 +181,7 @@ void Synthesizer::synthesize(const std::vector<ReferenceFrame>& references, Fram
   };
   forEachView(depthSteps);
   firstFrameFill_.clear();
+  if (releaseSpent_) releaseSpentBuffers(Spent::depthSteps);
   stats_.alignedDepthSamples = 0;
   for (const ViewState& view : views_) stats_.alignedDepthSamples += view.alignedSamples;
   times.depthWarp += secondsSince(start);
@@ -170,6 +204,7 @@ void Synthesizer::synthesize(const std::vector<ReferenceFrame>& references, Fram
   if (views_.size() > 1) rejectOccludedInOtherViews();
   // Chroma follows the luma decisions: it is warped from the final luma depth.
   if (yuvChroma) forEachView([&](size_t k) { warpChroma(views_[k], *references[k].texture); });
+  if (releaseSpent_) releaseSpentBuffers(Spent::textureSteps);
   times.textureWarp += secondsSince(start);
 
   start = std::chrono::steady_clock::now();
@@ -182,6 +217,7 @@ void Synthesizer::synthesize(const std::vector<ReferenceFrame>& references, Fram
   if (yuvChroma) blendLayers(chromaLayers, plan_.blending, blendedChroma_);
   stats_.holesAfterBlend = blendedLuma_.holeCount();
   if (plan_.virtualMaskOutput) uncovered_ = blendedLuma_.hole;  // hole filling clears the flags
+  if (releaseSpent_) releaseSpentBuffers(Spent::viewLayers);
   times.blend += secondsSince(start);
 
   start = std::chrono::steady_clock::now();
@@ -194,6 +230,8 @@ void Synthesizer::synthesize(const std::vector<ReferenceFrame>& references, Fram
                                  outputFormat_.chroma == ChromaFormat::Yuv420 ? 2 : 1);
   times.holeFill += secondsSince(start);
 
+  // Sized here, not before the steps: a run of one frame then takes the memory the steps freed.
+  output.reset(outputFormat_);
   roundLayersToFrame(blendedLuma_, blendedChroma_, rgb, rgbOutput_, output);
 }
 

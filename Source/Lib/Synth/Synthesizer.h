@@ -66,6 +66,10 @@ public:
   // of filling and testing its depth again where the view's depth is the one it was made from; then
   // they are dropped.
   void takeFirstFrameFill(std::vector<FilledDepth> fills) { firstFrameFill_ = std::move(fills); }
+  // For a run of one frame: each step's buffers are freed once the step is over, so that the later
+  // steps take that memory from the heap again instead of first-touching fresh pages (doc/speed.md).
+  // By default they are kept for the next frame, which then allocates nothing.
+  void releaseBuffersAfterEachStep() { releaseSpent_ = true; }
 
 private:
   struct ViewState {
@@ -109,6 +113,8 @@ private:
     std::vector<uint8_t> blockEdge, sourceOk;
   };
 
+  enum class Spent { depthSteps, textureSteps, viewLayers };
+  void releaseSpentBuffers(Spent spent);
   bool reuseFirstFrameFill(size_t k, const Plane& depth);  // view k's fill from firstFrameFill_; false: none fits
   void markReferenceEdges(ViewState& view, const Plane& depth);               // ReferenceEdges.cpp
   void warpDepth(ViewState& view, const Plane& depth);                        // DepthWarp.cpp
@@ -128,6 +134,7 @@ private:
   const Scene& scene_;
   const Plan plan_;
   const bool rowPath_;  // the 1D path: rows warp into rows (plan_.mode == Parallel1D)
+  bool releaseSpent_ = false;  // releaseBuffersAfterEachStep()
   FrameFormat outputFormat_;
   SubPixelSampler sampler_;
   DepthEdgeAligner aligner_;

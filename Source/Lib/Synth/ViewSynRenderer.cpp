@@ -20,7 +20,7 @@ namespace {
 class ViewSynRenderer : public FrameRenderer {
 public:
   explicit ViewSynRenderer(const Scene& scene) : scene_(scene), plan_(makePlan(scene_)) {
-    if (plan_.copyOf < 0 && !plan_.missingDepthAuto) synthesizer_ = std::make_unique<Synthesizer>(scene, plan_);
+    if (plan_.copyOf < 0 && !plan_.missingDepthAuto) makeSynthesizer();
   }
   // MissingDepthLevel auto: the plan decides on the first frame, then the synthesizer is built.
   std::vector<std::string> prepare(const std::vector<ReferenceFrame>& firstFrame) override {
@@ -31,7 +31,7 @@ public:
       parallelStripes(count, count, body);
     };
     decideMissingDepth(scene_, firstFrame, plan_, &firstFrameFill, onThreads);
-    synthesizer_ = std::make_unique<Synthesizer>(scene_, plan_);
+    makeSynthesizer();
     synthesizer_->takeFirstFrameFill(std::move(firstFrameFill));
     return plan_.missingDepthEvidence;
   }
@@ -83,14 +83,18 @@ public:
     }
     plan_ = std::move(moved);
     synthesizer_.reset();
-    if (plan_.copyOf < 0 && (!plan_.missingDepthAuto || plan_.missingDepthDecided))
-      synthesizer_ = std::make_unique<Synthesizer>(scene_, plan_);
+    if (plan_.copyOf < 0 && (!plan_.missingDepthAuto || plan_.missingDepthDecided)) makeSynthesizer();
     return true;
   }
   std::vector<std::string> plan() const override { return plan_.lines(); }
   std::vector<std::pair<std::string, std::string>> decisions() const override { return plan_.fields(); }
 
 private:
+  // A run of one frame frees the synthesizer's buffers step by step (Synthesizer.h).
+  void makeSynthesizer() {
+    synthesizer_ = std::make_unique<Synthesizer>(scene_, plan_);
+    if (scene_.settings.frameCount <= 1) synthesizer_->releaseBuffersAfterEachStep();
+  }
   Scene scene_;  // a copy: a pose trace moves its virtual camera
   Plan plan_;
   std::unique_ptr<Synthesizer> synthesizer_;
