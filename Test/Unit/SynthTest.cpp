@@ -117,22 +117,37 @@ TEST(Synth, SamplesInAStripTheOtherViewCannotSeeAreKept) {
   EXPECT_LE(worst, 6.0) << "76 when the right view's square alone judged the strip";
 }
 
+// The square seen from -6, 1 and 6 with level 0 read as unknown depth and filled, and references in
+// which the plane left of the square has unknown depth in the left view only (the right view sees it).
+struct SquareWithUnknownPatch {
+  AnalyticScene analytic;
+  Scene scene;
+};
+
+SquareWithUnknownPatch squareWithUnknownPatch() {
+  SquareWithUnknownPatch s;
+  s.analytic.square = true;
+  s.analytic.width = 96;
+  s.analytic.range = DepthRange{50.0, 200.0, 8};
+  s.scene = s.analytic.scene(s.analytic.camera("left", -6), s.analytic.camera("virtual", 1), s.analytic.camera("right", 6));
+  s.scene.settings.missingDepthLevel = 0;
+  s.scene.settings.missingDepthFill = true;
+  return s;
+}
+
+void clearLeftPlanePatch(test::RenderedReferences& rendered) {
+  for (int y = 16; y < 32; ++y)
+    for (int x = 8; x < 20; ++x) rendered.depths[0].at(x, y) = 0;
+}
+
 // Filled samples stay unreliable when depth edge alignment runs after the fill: where the other view
 // sees the same surface with a real depth, that view's colour wins. On exact maps alignment moves
 // nothing, so the output with it on must equal the output with it off, bit for bit.
 TEST(Synth, FilledSamplesStayUnreliableWhenEdgesAreAligned) {
-  AnalyticScene analytic;
-  analytic.square = true;
-  analytic.width = 96;
-  analytic.range = DepthRange{50.0, 200.0, 8};
-  const Camera left = analytic.camera("left", -6), virtualCamera = analytic.camera("virtual", 1), right = analytic.camera("right", 6);
-  Scene scene = analytic.scene(left, virtualCamera, right);
-  scene.settings.missingDepthLevel = 0;
-  scene.settings.missingDepthFill = true;
-  test::RenderedReferences rendered = test::renderReferences(analytic, scene);
-  // Unknown depth on the plane left of the square in the left view only, which the right view sees too.
-  for (int y = 16; y < 32; ++y)
-    for (int x = 8; x < 20; ++x) rendered.depths[0].at(x, y) = 0;
+  const SquareWithUnknownPatch patch = squareWithUnknownPatch();
+  const Scene& scene = patch.scene;
+  test::RenderedReferences rendered = test::renderReferences(patch.analytic, scene);
+  clearLeftPlanePatch(rendered);
   auto synthesize = [&](int reach, size_t& moved) {
     Scene s = scene;
     s.settings.depthEdgeAlignment = reach;
@@ -155,19 +170,12 @@ TEST(Synth, FilledSamplesStayUnreliableWhenEdgesAreAligned) {
 // frees, given two different frames in a row, gives bit for bit what one that keeps gives, on both
 // paths, with missing depth filled and tested, edges aligned and chroma.
 TEST(Synth, FreeingSpentBuffersInAOneFrameRunChangesNoOutput) {
-  AnalyticScene analytic;
-  analytic.square = true;
-  analytic.width = 96;
-  analytic.range = DepthRange{50.0, 200.0, 8};
-  const Camera left = analytic.camera("left", -6), virtualCamera = analytic.camera("virtual", 1), right = analytic.camera("right", 6);
-  Scene scene = analytic.scene(left, virtualCamera, right);
-  scene.settings.missingDepthLevel = 0;
-  scene.settings.missingDepthFill = true;
+  SquareWithUnknownPatch patch = squareWithUnknownPatch();
+  Scene& scene = patch.scene;
   scene.settings.depthEdgeAlignment = 4;
-  test::RenderedReferences first = test::renderReferences(analytic, scene), second = first;
+  test::RenderedReferences first = test::renderReferences(patch.analytic, scene), second = first;
   // The second frame: unknown depth on the plane in the left view, and the square's texture changed.
-  for (int y = 16; y < 32; ++y)
-    for (int x = 8; x < 20; ++x) second.depths[0].at(x, y) = 0;
+  clearLeftPlanePatch(second);
   for (Frame& texture : second.textures)
     for (uint16_t& sample : texture.planes[0].samples) sample = uint16_t(255 - sample);
   for (SynthesisMode path : {SynthesisMode::General, SynthesisMode::Parallel1D}) {
