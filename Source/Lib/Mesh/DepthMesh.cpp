@@ -70,7 +70,8 @@ inline int cellOf(const std::vector<double>& lines, int step, double position) {
   const int last = int(lines.size()) - 2;
   if (!(position < lines[size_t(last)])) return last;  // also NaN, as the search's end
   if (!(position >= lines[1])) return 0;
-  int c = std::min(1 + int(position / double(step)), last);
+  // position / 1 is position: no division for the default step.
+  int c = std::min(1 + int(step == 1 ? position : position / double(step)), last);
   while (c > 0 && lines[size_t(c)] > position) --c;
   while (c < last && lines[size_t(c) + 1] <= position) ++c;
   return c;
@@ -145,7 +146,7 @@ void DepthMeshBuilder::build(const Plane& depth, DepthMesh& mesh, const Plane* l
   mesh.droppedTriangles = 0;
   mesh.gridTriangles = 0;
   std::vector<double> cameraInverseZ(count, 0.0);
-  std::vector<int> level(count, 0);  // depth level of each valid vertex
+  std::vector<uint16_t> level(count, 0);  // depth level of each valid vertex (a depth sample: 16 bits)
 
   const bool world = options_.depthType == kDepthTypeWorld;
   // Levels are affine in the image on a plane only for camera depth (DepthType 0).
@@ -211,7 +212,7 @@ void DepthMeshBuilder::build(const Plane& depth, DepthMesh& mesh, const Plane* l
       const int r = ra + k * dr, c = ca + k * dc;
       const bool inside = r >= 0 && c >= 0 && r < rows && c < columns;
       const size_t i = inside ? size_t(r) * columns + c : 0;
-      line[k + 2] = inside && mesh.valid[i] ? level[i] : std::numeric_limits<int>::min();
+      line[k + 2] = inside && mesh.valid[i] ? int(level[i]) : std::numeric_limits<int>::min();
     }
     if (!erpRays_.empty()) return erpEdgeOnPlane(reference_, gridU_, gridV_, erpPoleRows_, ra, ca, dr, dc, line);
     const int step = line[3] - line[2];
@@ -364,10 +365,12 @@ bool DepthMeshBuilder::merge(DepthMesh& mesh, const std::vector<double>& inverse
   // the shift is not along a row or column) while that is at most a pixel. Half the bound, as for
   // MeshMaxError. Only the step on the side the shift goes counts: a sample next to a texture edge may
   // move away from it by a whole MeshMaxError, not towards it.
-  std::vector<float> colourAbove, colourBelow;
+  // colourBound: (above, below) of each vertex, side by side.
+  std::vector<float> colourBound;
   if (luma && shift_ && options_.maxColourError > 0.0) {
-    colourAbove.resize(mesh.vertexCount());
-    colourBelow.resize(mesh.vertexCount());
+    colourBound.resize(2 * mesh.vertexCount());
+    float* colourAbove = colourBound.data();
+    float* colourBelow = colourBound.data() + 1;
     const double halfColour = 0.5 * options_.maxColourError;
     constexpr float kNoBound = std::numeric_limits<float>::infinity();
     auto sample = [&](double x, double y) {  // bilinear, clamped to the picture
@@ -385,7 +388,7 @@ bool DepthMeshBuilder::merge(DepthMesh& mesh, const std::vector<double>& inverse
       const uint16_t* row = luma->row(py);
       for (int c = 0; c < columns; ++c) {
         const size_t i = vertexIndex(c, r);
-        colourAbove[i] = colourBelow[i] = kNoBound;
+        colourAbove[2 * i] = colourBelow[2 * i] = kNoBound;
         // Only the corners of mergeable cells are ever tested.
         const bool tested = (r > 0 && c > 0 && ok[0][size_t(r - 1) * size_t(cellsX) + size_t(c - 1)]) ||
                             (r > 0 && c < cellsX && ok[0][size_t(r - 1) * size_t(cellsX) + size_t(c)]) ||
@@ -408,8 +411,8 @@ bool DepthMeshBuilder::merge(DepthMesh& mesh, const std::vector<double>& inverse
           forward = std::fabs(sample(px + ex, py + ey) - centre);
           backward = std::fabs(sample(px - ex, py - ey) - centre);
         }
-        if (backward > 0.0) colourAbove[i] = float(halfColour / (backward * length));
-        if (forward > 0.0) colourBelow[i] = float(halfColour / (forward * length));
+        if (backward > 0.0) colourAbove[2 * i] = float(halfColour / (backward * length));
+        if (forward > 0.0) colourBelow[2 * i] = float(halfColour / (forward * length));
       }
     }
   }
@@ -447,20 +450,31 @@ bool DepthMeshBuilder::merge(DepthMesh& mesh, const std::vector<double>& inverse
       const double dv = (mesh.gridV[size_t(y)] - v0) * sv;
       const double upperRow = dv * upperV, lowerRow = q00 + dv * lowerV;
       const double* q = &inverseCameraZ[vertexIndex(x0, y)];
-      const float* above = colourAbove.empty() ? nullptr : &colourAbove[vertexIndex(x0, y)];
-      const float* below = colourBelow.empty() ? nullptr : &colourBelow[vertexIndex(x0, y)];
+      const bool above = !colourBound.empty();
       // Within the tolerance: the displacement (q's error times the rate) within half MeshMaxError, and
-      // q's error within the colour tolerance on its side.
-      auto within = [&](int i, double plane) {
-        const double error = plane - q[i];
-        return std::fabs(error) * rate <= halfBound &&
-               (!above || (error > 0.0 ? error <= double(above[i]) : -error <= double(below[i])));
-      };
-      int i = 0;
-      for (; i < n && !(blockDu[size_t(i)] >= dv); ++i)
-        if (!within(i, lowerRow + blockDu[size_t(i)] * lowerU)) return false;
-      for (; i < n; ++i)
-        if (!within(i, q00 + blockDu[size_t(i)] * upperU + upperRow)) return false;
+      // q's error within the colour tolerance on its side. A whole row is tested without a branch per
+      // vertex (the same arithmetic; a NaN error fails), and the block fails after the first row that does.
+      const double* du = blockDu.data();
+      int split = 0;  // the lower triangle's part of the row: du < dv
+      while (split < n && !(du[split] >= dv)) ++split;
+      bool rowWithin = true;
+      if (above) {
+        const float* bound = colourBound.data() + 2 * vertexIndex(x0, y);  // (above, below) per vertex
+        for (int i = 0; i < split; ++i) {
+          const double error = (lowerRow + du[i] * lowerU) - q[i], size = std::fabs(error);
+          const double colour = double(error > 0.0 ? bound[2 * i] : bound[2 * i + 1]);
+          rowWithin &= (size * rate <= halfBound) & (size <= colour);
+        }
+        for (int i = split; i < n; ++i) {
+          const double error = (q00 + du[i] * upperU + upperRow) - q[i], size = std::fabs(error);
+          const double colour = double(error > 0.0 ? bound[2 * i] : bound[2 * i + 1]);
+          rowWithin &= (size * rate <= halfBound) & (size <= colour);
+        }
+      } else {
+        for (int i = 0; i < split; ++i) rowWithin &= std::fabs((lowerRow + du[i] * lowerU) - q[i]) * rate <= halfBound;
+        for (int i = split; i < n; ++i) rowWithin &= std::fabs((q00 + du[i] * upperU + upperRow) - q[i]) * rate <= halfBound;
+      }
+      if (!rowWithin) return false;
     }
     return true;
   };
@@ -505,7 +519,8 @@ bool DepthMeshBuilder::merge(DepthMesh& mesh, const std::vector<double>& inverse
     return level < int(ok.size()) && bx < blocksX[size_t(level)] && by < blocksY[size_t(level)] &&
            ok[size_t(level)][size_t(by) * size_t(blocksX[size_t(level)]) + size_t(bx)];
   };
-  std::function<void(int, int, int)> collect = [&](int level, int bx, int by) {
+  // Recursive through its first argument (itself), without a std::function call per block.
+  auto collect = [&](auto& self, int level, int bx, int by) -> void {
     const int x = bx << level, y = by << level;
     if (x >= cellsX || y >= cellsY) return;
     if (level == 0) return addLeaf(x, y, 0, 0);
@@ -530,10 +545,10 @@ bool DepthMeshBuilder::merge(DepthMesh& mesh, const std::vector<double>& inverse
     }
     for (int j = 0; j < 2; ++j)
       for (int i = 0; i < 2; ++i)
-        if (!done[j][i]) collect(level - 1, 2 * bx + i, 2 * by + j);
+        if (!done[j][i]) self(self, level - 1, 2 * bx + i, 2 * by + j);
   };
   for (int by = 0; by << top < cellsY; ++by)
-    for (int bx = 0; bx << top < cellsX; ++bx) collect(top, bx, by);
+    for (int bx = 0; bx << top < cellsX; ++bx) collect(collect, top, bx, by);
   if (std::all_of(leaves.begin(), leaves.end(), [](const Leaf& leaf) { return leaf.width == 0; })) return false;  // nothing merged
 
   std::vector<uint32_t>& triangles = mesh.triangles;
