@@ -454,6 +454,8 @@ bool DepthMeshBuilder::merge(DepthMesh& mesh, const std::vector<double>& inverse
       // Within the tolerance: the displacement (q's error times the rate) within half MeshMaxError, and
       // q's error within the colour tolerance on its side. A whole row is tested without a branch per
       // vertex (the same arithmetic; a NaN error fails), and the block fails after the first row that does.
+      // Neither colour bound is negative, so the one on the other side than the error always holds: testing
+      // both is testing the one on its side, without a branch on the error's sign (which is unpredictable).
       const double* du = blockDu.data();
       int split = 0;  // the lower triangle's part of the row: du < dv
       while (split < n && !(du[split] >= dv)) ++split;
@@ -461,14 +463,14 @@ bool DepthMeshBuilder::merge(DepthMesh& mesh, const std::vector<double>& inverse
       if (above) {
         const float* bound = colourBound.data() + 2 * vertexIndex(x0, y);  // (above, below) per vertex
         for (int i = 0; i < split; ++i) {
-          const double error = (lowerRow + du[i] * lowerU) - q[i], size = std::fabs(error);
-          const double colour = double(error > 0.0 ? bound[2 * i] : bound[2 * i + 1]);
-          rowWithin &= (size * rate <= halfBound) & (size <= colour);
+          const double error = (lowerRow + du[i] * lowerU) - q[i];
+          rowWithin &= (std::fabs(error) * rate <= halfBound) & (error <= double(bound[2 * i])) &
+                       (-error <= double(bound[2 * i + 1]));
         }
         for (int i = split; i < n; ++i) {
-          const double error = (q00 + du[i] * upperU + upperRow) - q[i], size = std::fabs(error);
-          const double colour = double(error > 0.0 ? bound[2 * i] : bound[2 * i + 1]);
-          rowWithin &= (size * rate <= halfBound) & (size <= colour);
+          const double error = (q00 + du[i] * upperU + upperRow) - q[i];
+          rowWithin &= (std::fabs(error) * rate <= halfBound) & (error <= double(bound[2 * i])) &
+                       (-error <= double(bound[2 * i + 1]));
         }
       } else {
         for (int i = 0; i < split; ++i) rowWithin &= std::fabs((lowerRow + du[i] * lowerU) - q[i]) * rate <= halfBound;
