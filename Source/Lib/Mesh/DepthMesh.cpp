@@ -225,23 +225,39 @@ void DepthMeshBuilder::build(const Plane& depth, DepthMesh& mesh, const Plane* l
     }
     return false;
   };
-  // 0: two surfaces; 1: within the threshold; 2: on a plane (planar()).
-  auto connection = [&](uint32_t a, uint32_t b) {
-    if (sameSurface(cameraInverseZ[a], cameraInverseZ[b], threshold)) return 1;
+  // 0: two surfaces; 1: within the threshold; 2: on a plane (planar()). `same`: sameSurface(a, b).
+  auto connection = [&](uint32_t a, uint32_t b, bool same) {
+    if (same) return 1;
     return planarEdges && planar(a, b) ? 2 : 0;
   };
-  auto diagonal = [&](uint32_t a, uint32_t b) {
-    return a / uint32_t(columns) != b / uint32_t(columns) && a % uint32_t(columns) != b % uint32_t(columns);
+  // sameSurface() of the grid edges of the cell row being triangulated, each computed once in a pass over
+  // the row (an edge belongs to up to four triangles): from (r, c) to (r, c + 1) (top), from (r + 1, c) to
+  // (r + 1, c + 1) (bottom, the next row's top) and from (r, c) to (r + 1, c) (down).
+  std::vector<uint8_t> sameTop(size_t(columns), 0), sameBottom(size_t(columns), 0), sameDown(size_t(columns), 0);
+  auto sameRow = [&](int r, std::vector<uint8_t>& same) {
+    const double* z = &cameraInverseZ[size_t(r) * size_t(columns)];
+    for (int c = 0; c + 1 < columns; ++c) same[size_t(c)] = sameSurface(z[c], z[c + 1], threshold);
   };
-  // A triangle is kept when its three edges are connected. Its diagonal edge also counts as connected
-  // when the other two are and one of them lies on a plane: the diagonal's own line may leave the grid
-  // (near the picture's border) before it holds four vertices.
-  auto kept = [&](uint32_t a, uint32_t b, uint32_t c) {
-    const uint32_t edges[3][2] = {{a, b}, {b, c}, {c, a}};
+  // A triangle of the cell whose corners (0 (c, r), 1 (c+1, r), 2 (c, r+1), 3 (c+1, r+1)) are vertices
+  // q[0 .. 3], given by its corners k[0 .. 2], is kept when its three edges are connected. Its diagonal
+  // edge also counts as connected when the other two are and one of them lies on a plane: the diagonal's
+  // own line may leave the grid (near the picture's border) before it holds four vertices.
+  auto kept = [&](const uint32_t q[4], const int k[3], int c) {
     int link[3];
-    for (int e = 0; e < 3; ++e) link[e] = connection(edges[e][0], edges[e][1]);
+    bool diagonal[3];
     for (int e = 0; e < 3; ++e) {
-      if (link[e] || !diagonal(edges[e][0], edges[e][1])) continue;
+      const int from = k[e], to = k[(e + 1) % 3];
+      const int pair = (1 << from) | (1 << to);
+      diagonal[e] = pair == 9 || pair == 6;  // corners 0 and 3, or 1 and 2
+      const bool same = pair == 3    ? sameTop[size_t(c)] != 0
+                        : pair == 12 ? sameBottom[size_t(c)] != 0
+                        : pair == 5  ? sameDown[size_t(c)] != 0
+                        : pair == 10 ? sameDown[size_t(c) + 1] != 0
+                                     : sameSurface(cameraInverseZ[q[from]], cameraInverseZ[q[to]], threshold);
+      link[e] = connection(q[from], q[to], same);
+    }
+    for (int e = 0; e < 3; ++e) {
+      if (link[e] || !diagonal[e]) continue;
       const int other1 = link[(e + 1) % 3], other2 = link[(e + 2) % 3];
       if (other1 && other2 && (other1 == 2 || other2 == 2)) link[e] = 2;
     }
@@ -251,8 +267,9 @@ void DepthMeshBuilder::build(const Plane& depth, DepthMesh& mesh, const Plane* l
   const int cellsX = columns - 1;
   std::vector<uint8_t> cellCode(size_t(cellsX) * size_t(rows - 1), kNoTriangle);
   std::vector<uint8_t> used(count, 0);
-  auto emit = [&](uint32_t a, uint32_t b, uint32_t c) {
-    if (kept(a, b, c)) {
+  auto emit = [&](const uint32_t q[4], const int k[3], int column) {
+    const uint32_t a = q[k[0]], b = q[k[1]], c = q[k[2]];
+    if (kept(q, k, column)) {
       used[a] = used[b] = used[c] = 1;
       ++mesh.gridTriangles;
       return true;
@@ -261,7 +278,15 @@ void DepthMeshBuilder::build(const Plane& depth, DepthMesh& mesh, const Plane* l
     mesh.boundary[a] = mesh.boundary[b] = mesh.boundary[c] = 1.0f;
     return false;
   };
-  for (int r = 0; r + 1 < rows; ++r)
+  if (rows > 1) sameRow(0, sameBottom);
+  for (int r = 0; r + 1 < rows; ++r) {
+    std::swap(sameTop, sameBottom);
+    sameRow(r + 1, sameBottom);
+    {
+      const double* z0 = &cameraInverseZ[size_t(r) * size_t(columns)];
+      const double* z1 = z0 + columns;
+      for (int c = 0; c < columns; ++c) sameDown[size_t(c)] = sameSurface(z0[c], z1[c], threshold);
+    }
     for (int c = 0; c + 1 < columns; ++c) {
       uint8_t& code = cellCode[size_t(r) * size_t(cellsX) + size_t(c)];
       const uint32_t q[4] = {uint32_t(size_t(r) * columns + c), uint32_t(size_t(r) * columns + c) + 1,
@@ -290,9 +315,10 @@ void DepthMeshBuilder::build(const Plane& depth, DepthMesh& mesh, const Plane* l
       const int split = code;
       for (int t = 0; t < 2; ++t) {
         const int* k = kCellTriangles[split][t];
-        if (k[0] >= 0 && emit(q[k[0]], q[k[1]], q[k[2]])) code = uint8_t(code | (t == 0 ? kKeptFirst : kKeptSecond));
+        if (k[0] >= 0 && emit(q, k, c)) code = uint8_t(code | (t == 0 ? kKeptFirst : kKeptSecond));
       }
     }
+  }
 
   // Border vertices of kept triangles, and valid vertices without a kept triangle unless nothing
   // around them is farther, are also drawn as points (see the header).
