@@ -234,6 +234,7 @@ void DepthMeshBuilder::build(const Plane& depth, DepthMesh& mesh, const Plane* l
   // the row (an edge belongs to up to four triangles): from (r, c) to (r, c + 1) (top), from (r + 1, c) to
   // (r + 1, c + 1) (bottom, the next row's top) and from (r, c) to (r + 1, c) (down).
   std::vector<uint8_t> sameTop(size_t(columns), 0), sameBottom(size_t(columns), 0), sameDown(size_t(columns), 0);
+  std::vector<uint8_t> cellSplitRow(size_t(columns), 0);  // each cell of the row: bit 0 split, bit 1 its diagonal's sameSurface()
   auto sameRow = [&](int r, std::vector<uint8_t>& same) {
     const double* z = &cameraInverseZ[size_t(r) * size_t(columns)];
     for (int c = 0; c + 1 < columns; ++c) same[size_t(c)] = sameSurface(z[c], z[c + 1], threshold);
@@ -286,6 +287,14 @@ void DepthMeshBuilder::build(const Plane& depth, DepthMesh& mesh, const Plane* l
       const double* z0 = &cameraInverseZ[size_t(r) * size_t(columns)];
       const double* z1 = z0 + columns;
       for (int c = 0; c < columns; ++c) sameDown[size_t(c)] = sameSurface(z0[c], z1[c], threshold);
+      // A cell of four valid corners is split along the diagonal whose ends are closer in depth: across
+      // a depth step that keeps one triangle whole on each side instead of stretching both. Its
+      // diagonal's sameSurface() beside it (bit 1).
+      for (int c = 0; c + 1 < columns; ++c) {
+        const bool anti = !(relativeStep(z0[c], z1[c + 1]) <= relativeStep(z0[c + 1], z1[c]));
+        const bool same = anti ? sameSurface(z0[c + 1], z1[c], threshold) : sameSurface(z0[c], z1[c + 1], threshold);
+        cellSplitRow[size_t(c)] = uint8_t((anti ? 1 : 0) | (same ? 2 : 0));
+      }
     }
     for (int c = 0; c + 1 < columns; ++c) {
       uint8_t& code = cellCode[size_t(r) * size_t(cellsX) + size_t(c)];
@@ -305,12 +314,17 @@ void DepthMeshBuilder::build(const Plane& depth, DepthMesh& mesh, const Plane* l
         while (mesh.valid[q[missing]]) ++missing;
         code = uint8_t(2 + missing);
       } else {
-        // Split along the diagonal whose ends are closer in depth: across a depth step that keeps one
-        // triangle whole on each side instead of stretching both.
-        const bool anti = !(relativeStep(cameraInverseZ[q[0]], cameraInverseZ[q[3]]) <=
-                            relativeStep(cameraInverseZ[q[1]], cameraInverseZ[q[2]]));
+        const bool anti = (cellSplitRow[size_t(c)] & 1) != 0;
         if (anti) mesh.cellSplit[size_t(r) * size_t(cellsX) + size_t(c)] = 1;
         code = anti ? kSplitAnti : kSplitMain;
+        // Every edge within the threshold (the common case): both triangles kept, as kept() finds.
+        if ((cellSplitRow[size_t(c)] & 2) && sameTop[size_t(c)] && sameBottom[size_t(c)] && sameDown[size_t(c)] &&
+            sameDown[size_t(c) + 1]) {
+          used[q[0]] = used[q[1]] = used[q[2]] = used[q[3]] = 1;
+          mesh.gridTriangles += 2;
+          code = uint8_t(code | kKeptFirst | kKeptSecond);
+          continue;
+        }
       }
       const int split = code;
       for (int t = 0; t < 2; ++t) {
