@@ -70,7 +70,8 @@ inline int cellOf(const std::vector<double>& lines, int step, double position) {
   const int last = int(lines.size()) - 2;
   if (!(position < lines[size_t(last)])) return last;  // also NaN, as the search's end
   if (!(position >= lines[1])) return 0;
-  int c = std::min(1 + int(position / double(step)), last);
+  // position / 1 is position: no division for the default step.
+  int c = std::min(1 + int(step == 1 ? position : position / double(step)), last);
   while (c > 0 && lines[size_t(c)] > position) --c;
   while (c < last && lines[size_t(c) + 1] <= position) ++c;
   return c;
@@ -145,7 +146,7 @@ void DepthMeshBuilder::build(const Plane& depth, DepthMesh& mesh, const Plane* l
   mesh.droppedTriangles = 0;
   mesh.gridTriangles = 0;
   std::vector<double> cameraInverseZ(count, 0.0);
-  std::vector<int> level(count, 0);  // depth level of each valid vertex
+  std::vector<uint16_t> level(count, 0);  // depth level of each valid vertex (a depth sample: 16 bits)
 
   const bool world = options_.depthType == kDepthTypeWorld;
   // Levels are affine in the image on a plane only for camera depth (DepthType 0).
@@ -211,7 +212,7 @@ void DepthMeshBuilder::build(const Plane& depth, DepthMesh& mesh, const Plane* l
       const int r = ra + k * dr, c = ca + k * dc;
       const bool inside = r >= 0 && c >= 0 && r < rows && c < columns;
       const size_t i = inside ? size_t(r) * columns + c : 0;
-      line[k + 2] = inside && mesh.valid[i] ? level[i] : std::numeric_limits<int>::min();
+      line[k + 2] = inside && mesh.valid[i] ? int(level[i]) : std::numeric_limits<int>::min();
     }
     if (!erpRays_.empty()) return erpEdgeOnPlane(reference_, gridU_, gridV_, erpPoleRows_, ra, ca, dr, dc, line);
     const int step = line[3] - line[2];
@@ -224,23 +225,40 @@ void DepthMeshBuilder::build(const Plane& depth, DepthMesh& mesh, const Plane* l
     }
     return false;
   };
-  // 0: two surfaces; 1: within the threshold; 2: on a plane (planar()).
-  auto connection = [&](uint32_t a, uint32_t b) {
-    if (sameSurface(cameraInverseZ[a], cameraInverseZ[b], threshold)) return 1;
+  // 0: two surfaces; 1: within the threshold; 2: on a plane (planar()). `same`: sameSurface(a, b).
+  auto connection = [&](uint32_t a, uint32_t b, bool same) {
+    if (same) return 1;
     return planarEdges && planar(a, b) ? 2 : 0;
   };
-  auto diagonal = [&](uint32_t a, uint32_t b) {
-    return a / uint32_t(columns) != b / uint32_t(columns) && a % uint32_t(columns) != b % uint32_t(columns);
+  // sameSurface() of the grid edges of the cell row being triangulated, each computed once in a pass over
+  // the row (an edge belongs to up to four triangles): from (r, c) to (r, c + 1) (top), from (r + 1, c) to
+  // (r + 1, c + 1) (bottom, the next row's top) and from (r, c) to (r + 1, c) (down).
+  std::vector<uint8_t> sameTop(size_t(columns), 0), sameBottom(size_t(columns), 0), sameDown(size_t(columns), 0);
+  std::vector<uint8_t> cellSplitRow(size_t(columns), 0);  // each cell of the row: bit 0 split, bit 1 its diagonal's sameSurface()
+  auto sameRow = [&](int r, std::vector<uint8_t>& same) {
+    const double* z = &cameraInverseZ[size_t(r) * size_t(columns)];
+    for (int c = 0; c + 1 < columns; ++c) same[size_t(c)] = sameSurface(z[c], z[c + 1], threshold);
   };
-  // A triangle is kept when its three edges are connected. Its diagonal edge also counts as connected
-  // when the other two are and one of them lies on a plane: the diagonal's own line may leave the grid
-  // (near the picture's border) before it holds four vertices.
-  auto kept = [&](uint32_t a, uint32_t b, uint32_t c) {
-    const uint32_t edges[3][2] = {{a, b}, {b, c}, {c, a}};
+  // A triangle of the cell whose corners (0 (c, r), 1 (c+1, r), 2 (c, r+1), 3 (c+1, r+1)) are vertices
+  // q[0 .. 3], given by its corners k[0 .. 2], is kept when its three edges are connected. Its diagonal
+  // edge also counts as connected when the other two are and one of them lies on a plane: the diagonal's
+  // own line may leave the grid (near the picture's border) before it holds four vertices.
+  auto kept = [&](const uint32_t q[4], const int k[3], int c) {
     int link[3];
-    for (int e = 0; e < 3; ++e) link[e] = connection(edges[e][0], edges[e][1]);
+    bool diagonal[3];
     for (int e = 0; e < 3; ++e) {
-      if (link[e] || !diagonal(edges[e][0], edges[e][1])) continue;
+      const int from = k[e], to = k[(e + 1) % 3];
+      const int pair = (1 << from) | (1 << to);
+      diagonal[e] = pair == 9 || pair == 6;  // corners 0 and 3, or 1 and 2
+      const bool same = pair == 3    ? sameTop[size_t(c)] != 0
+                        : pair == 12 ? sameBottom[size_t(c)] != 0
+                        : pair == 5  ? sameDown[size_t(c)] != 0
+                        : pair == 10 ? sameDown[size_t(c) + 1] != 0
+                                     : sameSurface(cameraInverseZ[q[from]], cameraInverseZ[q[to]], threshold);
+      link[e] = connection(q[from], q[to], same);
+    }
+    for (int e = 0; e < 3; ++e) {
+      if (link[e] || !diagonal[e]) continue;
       const int other1 = link[(e + 1) % 3], other2 = link[(e + 2) % 3];
       if (other1 && other2 && (other1 == 2 || other2 == 2)) link[e] = 2;
     }
@@ -250,8 +268,9 @@ void DepthMeshBuilder::build(const Plane& depth, DepthMesh& mesh, const Plane* l
   const int cellsX = columns - 1;
   std::vector<uint8_t> cellCode(size_t(cellsX) * size_t(rows - 1), kNoTriangle);
   std::vector<uint8_t> used(count, 0);
-  auto emit = [&](uint32_t a, uint32_t b, uint32_t c) {
-    if (kept(a, b, c)) {
+  auto emit = [&](const uint32_t q[4], const int k[3], int column) {
+    const uint32_t a = q[k[0]], b = q[k[1]], c = q[k[2]];
+    if (kept(q, k, column)) {
       used[a] = used[b] = used[c] = 1;
       ++mesh.gridTriangles;
       return true;
@@ -260,7 +279,23 @@ void DepthMeshBuilder::build(const Plane& depth, DepthMesh& mesh, const Plane* l
     mesh.boundary[a] = mesh.boundary[b] = mesh.boundary[c] = 1.0f;
     return false;
   };
-  for (int r = 0; r + 1 < rows; ++r)
+  if (rows > 1) sameRow(0, sameBottom);
+  for (int r = 0; r + 1 < rows; ++r) {
+    std::swap(sameTop, sameBottom);
+    sameRow(r + 1, sameBottom);
+    {
+      const double* z0 = &cameraInverseZ[size_t(r) * size_t(columns)];
+      const double* z1 = z0 + columns;
+      for (int c = 0; c < columns; ++c) sameDown[size_t(c)] = sameSurface(z0[c], z1[c], threshold);
+      // A cell of four valid corners is split along the diagonal whose ends are closer in depth: across
+      // a depth step that keeps one triangle whole on each side instead of stretching both. Its
+      // diagonal's sameSurface() beside it (bit 1).
+      for (int c = 0; c + 1 < columns; ++c) {
+        const bool anti = !(relativeStep(z0[c], z1[c + 1]) <= relativeStep(z0[c + 1], z1[c]));
+        const bool same = anti ? sameSurface(z0[c + 1], z1[c], threshold) : sameSurface(z0[c], z1[c + 1], threshold);
+        cellSplitRow[size_t(c)] = uint8_t((anti ? 1 : 0) | (same ? 2 : 0));
+      }
+    }
     for (int c = 0; c + 1 < columns; ++c) {
       uint8_t& code = cellCode[size_t(r) * size_t(cellsX) + size_t(c)];
       const uint32_t q[4] = {uint32_t(size_t(r) * columns + c), uint32_t(size_t(r) * columns + c) + 1,
@@ -279,19 +314,25 @@ void DepthMeshBuilder::build(const Plane& depth, DepthMesh& mesh, const Plane* l
         while (mesh.valid[q[missing]]) ++missing;
         code = uint8_t(2 + missing);
       } else {
-        // Split along the diagonal whose ends are closer in depth: across a depth step that keeps one
-        // triangle whole on each side instead of stretching both.
-        const bool anti = !(relativeStep(cameraInverseZ[q[0]], cameraInverseZ[q[3]]) <=
-                            relativeStep(cameraInverseZ[q[1]], cameraInverseZ[q[2]]));
+        const bool anti = (cellSplitRow[size_t(c)] & 1) != 0;
         if (anti) mesh.cellSplit[size_t(r) * size_t(cellsX) + size_t(c)] = 1;
         code = anti ? kSplitAnti : kSplitMain;
+        // Every edge within the threshold (the common case): both triangles kept, as kept() finds.
+        if ((cellSplitRow[size_t(c)] & 2) && sameTop[size_t(c)] && sameBottom[size_t(c)] && sameDown[size_t(c)] &&
+            sameDown[size_t(c) + 1]) {
+          used[q[0]] = used[q[1]] = used[q[2]] = used[q[3]] = 1;
+          mesh.gridTriangles += 2;
+          code = uint8_t(code | kKeptFirst | kKeptSecond);
+          continue;
+        }
       }
       const int split = code;
       for (int t = 0; t < 2; ++t) {
         const int* k = kCellTriangles[split][t];
-        if (k[0] >= 0 && emit(q[k[0]], q[k[1]], q[k[2]])) code = uint8_t(code | (t == 0 ? kKeptFirst : kKeptSecond));
+        if (k[0] >= 0 && emit(q, k, c)) code = uint8_t(code | (t == 0 ? kKeptFirst : kKeptSecond));
       }
     }
+  }
 
   // Border vertices of kept triangles, and valid vertices without a kept triangle unless nothing
   // around them is farther, are also drawn as points (see the header).
@@ -364,10 +405,12 @@ bool DepthMeshBuilder::merge(DepthMesh& mesh, const std::vector<double>& inverse
   // the shift is not along a row or column) while that is at most a pixel. Half the bound, as for
   // MeshMaxError. Only the step on the side the shift goes counts: a sample next to a texture edge may
   // move away from it by a whole MeshMaxError, not towards it.
-  std::vector<float> colourAbove, colourBelow;
+  // colourBound: (above, below) of each vertex, side by side.
+  std::vector<float> colourBound;
   if (luma && shift_ && options_.maxColourError > 0.0) {
-    colourAbove.resize(mesh.vertexCount());
-    colourBelow.resize(mesh.vertexCount());
+    colourBound.resize(2 * mesh.vertexCount());
+    float* colourAbove = colourBound.data();
+    float* colourBelow = colourBound.data() + 1;
     const double halfColour = 0.5 * options_.maxColourError;
     constexpr float kNoBound = std::numeric_limits<float>::infinity();
     auto sample = [&](double x, double y) {  // bilinear, clamped to the picture
@@ -385,7 +428,7 @@ bool DepthMeshBuilder::merge(DepthMesh& mesh, const std::vector<double>& inverse
       const uint16_t* row = luma->row(py);
       for (int c = 0; c < columns; ++c) {
         const size_t i = vertexIndex(c, r);
-        colourAbove[i] = colourBelow[i] = kNoBound;
+        colourAbove[2 * i] = colourBelow[2 * i] = kNoBound;
         // Only the corners of mergeable cells are ever tested.
         const bool tested = (r > 0 && c > 0 && ok[0][size_t(r - 1) * size_t(cellsX) + size_t(c - 1)]) ||
                             (r > 0 && c < cellsX && ok[0][size_t(r - 1) * size_t(cellsX) + size_t(c)]) ||
@@ -408,8 +451,8 @@ bool DepthMeshBuilder::merge(DepthMesh& mesh, const std::vector<double>& inverse
           forward = std::fabs(sample(px + ex, py + ey) - centre);
           backward = std::fabs(sample(px - ex, py - ey) - centre);
         }
-        if (backward > 0.0) colourAbove[i] = float(halfColour / (backward * length));
-        if (forward > 0.0) colourBelow[i] = float(halfColour / (forward * length));
+        if (backward > 0.0) colourAbove[2 * i] = float(halfColour / (backward * length));
+        if (forward > 0.0) colourBelow[2 * i] = float(halfColour / (forward * length));
       }
     }
   }
@@ -447,20 +490,33 @@ bool DepthMeshBuilder::merge(DepthMesh& mesh, const std::vector<double>& inverse
       const double dv = (mesh.gridV[size_t(y)] - v0) * sv;
       const double upperRow = dv * upperV, lowerRow = q00 + dv * lowerV;
       const double* q = &inverseCameraZ[vertexIndex(x0, y)];
-      const float* above = colourAbove.empty() ? nullptr : &colourAbove[vertexIndex(x0, y)];
-      const float* below = colourBelow.empty() ? nullptr : &colourBelow[vertexIndex(x0, y)];
+      const bool above = !colourBound.empty();
       // Within the tolerance: the displacement (q's error times the rate) within half MeshMaxError, and
-      // q's error within the colour tolerance on its side.
-      auto within = [&](int i, double plane) {
-        const double error = plane - q[i];
-        return std::fabs(error) * rate <= halfBound &&
-               (!above || (error > 0.0 ? error <= double(above[i]) : -error <= double(below[i])));
-      };
-      int i = 0;
-      for (; i < n && !(blockDu[size_t(i)] >= dv); ++i)
-        if (!within(i, lowerRow + blockDu[size_t(i)] * lowerU)) return false;
-      for (; i < n; ++i)
-        if (!within(i, q00 + blockDu[size_t(i)] * upperU + upperRow)) return false;
+      // q's error within the colour tolerance on its side. A whole row is tested without a branch per
+      // vertex (the same arithmetic; a NaN error fails), and the block fails after the first row that does.
+      // Neither colour bound is negative, so the one on the other side than the error always holds: testing
+      // both is testing the one on its side, without a branch on the error's sign (which is unpredictable).
+      const double* du = blockDu.data();
+      int split = 0;  // the lower triangle's part of the row: du < dv
+      while (split < n && !(du[split] >= dv)) ++split;
+      bool rowWithin = true;
+      if (above) {
+        const float* bound = colourBound.data() + 2 * vertexIndex(x0, y);  // (above, below) per vertex
+        for (int i = 0; i < split; ++i) {
+          const double error = (lowerRow + du[i] * lowerU) - q[i];
+          rowWithin &= (std::fabs(error) * rate <= halfBound) & (error <= double(bound[2 * i])) &
+                       (-error <= double(bound[2 * i + 1]));
+        }
+        for (int i = split; i < n; ++i) {
+          const double error = (q00 + du[i] * upperU + upperRow) - q[i];
+          rowWithin &= (std::fabs(error) * rate <= halfBound) & (error <= double(bound[2 * i])) &
+                       (-error <= double(bound[2 * i + 1]));
+        }
+      } else {
+        for (int i = 0; i < split; ++i) rowWithin &= std::fabs((lowerRow + du[i] * lowerU) - q[i]) * rate <= halfBound;
+        for (int i = split; i < n; ++i) rowWithin &= std::fabs((q00 + du[i] * upperU + upperRow) - q[i]) * rate <= halfBound;
+      }
+      if (!rowWithin) return false;
     }
     return true;
   };
@@ -505,7 +561,8 @@ bool DepthMeshBuilder::merge(DepthMesh& mesh, const std::vector<double>& inverse
     return level < int(ok.size()) && bx < blocksX[size_t(level)] && by < blocksY[size_t(level)] &&
            ok[size_t(level)][size_t(by) * size_t(blocksX[size_t(level)]) + size_t(bx)];
   };
-  std::function<void(int, int, int)> collect = [&](int level, int bx, int by) {
+  // Recursive through its first argument (itself), without a std::function call per block.
+  auto collect = [&](auto& self, int level, int bx, int by) -> void {
     const int x = bx << level, y = by << level;
     if (x >= cellsX || y >= cellsY) return;
     if (level == 0) return addLeaf(x, y, 0, 0);
@@ -530,10 +587,10 @@ bool DepthMeshBuilder::merge(DepthMesh& mesh, const std::vector<double>& inverse
     }
     for (int j = 0; j < 2; ++j)
       for (int i = 0; i < 2; ++i)
-        if (!done[j][i]) collect(level - 1, 2 * bx + i, 2 * by + j);
+        if (!done[j][i]) self(self, level - 1, 2 * bx + i, 2 * by + j);
   };
   for (int by = 0; by << top < cellsY; ++by)
-    for (int bx = 0; bx << top < cellsX; ++bx) collect(top, bx, by);
+    for (int bx = 0; bx << top < cellsX; ++bx) collect(collect, top, bx, by);
   if (std::all_of(leaves.begin(), leaves.end(), [](const Leaf& leaf) { return leaf.width == 0; })) return false;  // nothing merged
 
   std::vector<uint32_t>& triangles = mesh.triangles;
