@@ -54,7 +54,15 @@ Mat4 referenceToVirtualMatrix(const Camera& reference, const Camera& virtualCame
   return a;
 }
 
-DisplacementRate pinholeDisplacementRate(const Camera& reference, const Camera& virtualCamera, const RenderGrid& grid) {
+namespace {
+
+// A reference vertex (u, v, q) lands at virtual pixel h.xy / h.z with h = H (u, v, 1) + q e.
+struct VertexToPixel {
+  Mat3 H;
+  Vec3 e;
+};
+
+VertexToPixel vertexToPixel(const Camera& reference, const Camera& virtualCamera, const RenderGrid& grid) {
   const Mat4 toVirtual = referenceToVirtualMatrix(reference, virtualCamera);
   Mat3 rotation;
   Vec3 translation;
@@ -62,9 +70,14 @@ DisplacementRate pinholeDisplacementRate(const Camera& reference, const Camera& 
     for (int k = 0; k < 3; ++k) rotation[r][k] = toVirtual.m[r][k];
     translation[r] = toVirtual.m[r][3];
   }
-  const Mat3 H = grid.K * rotation;
-  const Vec3 e = grid.K * translation;
-  return [H, e](double u, double v, double q) {
+  return {grid.K * rotation, grid.K * translation};
+}
+
+}  // namespace
+
+DisplacementRate pinholeDisplacementRate(const Camera& reference, const Camera& virtualCamera, const RenderGrid& grid) {
+  const auto [H, e] = vertexToPixel(reference, virtualCamera, grid);
+  return [H = H, e = e](double u, double v, double q) {
     const Vec3 h = H * Vec3(u, v, 1.0) + q * e;
     if (!(h.z > 0.0)) return std::numeric_limits<double>::infinity();
     const double dx = (e.x * h.z - h.x * e.z) / (h.z * h.z), dy = (e.y * h.z - h.y * e.z) / (h.z * h.z);
@@ -73,16 +86,8 @@ DisplacementRate pinholeDisplacementRate(const Camera& reference, const Camera& 
 }
 
 ReferenceShift pinholeReferenceShift(const Camera& reference, const Camera& virtualCamera, const RenderGrid& grid) {
-  const Mat4 toVirtual = referenceToVirtualMatrix(reference, virtualCamera);
-  Mat3 rotation;
-  Vec3 translation;
-  for (int r = 0; r < 3; ++r) {
-    for (int k = 0; k < 3; ++k) rotation[r][k] = toVirtual.m[r][k];
-    translation[r] = toVirtual.m[r][3];
-  }
-  const Mat3 H = grid.K * rotation;
-  const Vec3 e = grid.K * translation;
-  return [H, e](double u, double v, double q, double& du, double& dv) {
+  const auto [H, e] = vertexToPixel(reference, virtualCamera, grid);
+  return [H = H, e = e](double u, double v, double q, double& du, double& dv) {
     const Vec3 h = H * Vec3(u, v, 1.0) + q * e;
     if (!(h.z > 0.0)) return false;
     // d pixel / d u, d pixel / d v and d pixel / d q are each (b_xy h_z - h_xy b_z) / h_z^2 for their
