@@ -498,6 +498,54 @@ TEST(RowKernels, BehindFlagsAreThePlainComparison) {
       }
 }
 
+// The chroma warp's 2x2 blocks against its rule written plainly: the front is the largest depth of the
+// block (a hole's -1 if none is larger); the samples within `surface` of it (holes and NaN never) give
+// their mean depth, added in the block's order, and their edge flags OR-ed.
+TEST(RowKernels, ChromaBlocksAreTheFrontSurfacesMean) {
+  std::mt19937 rng(21);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  std::uniform_int_distribution<int> byte(0, 255);
+  for (const RowKernels* kernels : levels())
+    for (const int n : kWidths)
+      for (const double surface : {0.0, 0.25, 0.5, kInf}) {
+        // Awkward rows, and rows of quarters (front - d == surface exactly) with holes.
+        for (const bool quarters : {false, true}) {
+          std::vector<double> top = awkwardRow(rng, 2 * n, 3.0), bottom = awkwardRow(rng, 2 * n, 3.0);
+          if (quarters)
+            for (auto* row : {&top, &bottom})
+              for (double& d : *row) d = unit(rng) < 0.2 ? -1.0 : 0.25 * std::floor(8.0 * unit(rng));
+          std::vector<uint8_t> edgeTop(size_t(2 * n)), edgeBottom(size_t(2 * n));
+          for (auto* row : {&edgeTop, &edgeBottom})
+            for (uint8_t& e : *row) e = uint8_t(unit(rng) < 0.5 ? 0 : unit(rng) < 0.5 ? 1 : byte(rng));
+          std::vector<double> depth(static_cast<size_t>(n), 99.0);
+          std::vector<uint8_t> edge(static_cast<size_t>(n), 99);
+          kernels->chromaBlocks(top.data(), bottom.data(), edgeTop.data(), edgeBottom.data(), n, surface, depth.data(),
+                                edge.data());
+          for (int i = 0; i < n; ++i) {
+            const double d[4] = {top[size_t(2 * i)], top[size_t(2 * i + 1)], bottom[size_t(2 * i)],
+                                 bottom[size_t(2 * i + 1)]};
+            const uint8_t e[4] = {edgeTop[size_t(2 * i)], edgeTop[size_t(2 * i + 1)], edgeBottom[size_t(2 * i)],
+                                  edgeBottom[size_t(2 * i + 1)]};
+            double front = -1.0;
+            for (const double value : d)
+              if (value > front) front = value;
+            double sum = 0.0;
+            int count = 0;
+            uint8_t flags = 0;
+            for (int k = 0; k < 4; ++k)
+              if (d[k] >= 0 && front - d[k] <= surface) {
+                sum += d[k];
+                ++count;
+                flags = uint8_t(flags | e[k]);
+              }
+            const double expected = front < 0 ? -1.0 : count == 0 ? sum : sum / count;
+            ASSERT_EQ(bitsOf(depth[size_t(i)]), bitsOf(expected)) << "level " << kernels->level << " n " << n << " i " << i;
+            ASSERT_EQ(edge[size_t(i)], flags) << "level " << kernels->level << " n " << n << " i " << i;
+          }
+        }
+      }
+}
+
 // The two-view blend against blendViews' rule written plainly: the nearest valid view's surface,
 // clean samples preferred, the weighted mean of the views on it (or the heaviest alone, or a view of
 // weight 1 wherever it is valid).

@@ -101,10 +101,19 @@ void Synthesizer::warpChroma(ViewState& view, const Frame& texture) {
           blockDepth[i] = front < 0 ? kNoDepth : sum / std::max(count, 1);
           blockEdge[i] = edge;
         };
-        // Whole blocks first, in a loop whose body knows it (and which the compiler can vectorise),
-        // then those the picture's edge cuts.
+        // Whole blocks first, in a loop whose body knows it (and which the compiler can vectorise), or
+        // for 2x2 blocks a row kernel; then those the picture's edge cuts.
         const int whole = (j + 1) * kBlock <= lumaHeight ? std::min(chromaW, lumaWidth / kBlock) : 0;
-        for (int i = 0; i < whole; ++i) block(i, kBlock, kBlock);
+        if constexpr (kBlock == 2) {
+          // 4:2:0: the whole blocks in a kernel compiled for the CPU's level (Kernels/Rows.h), the same rule.
+          if (whole > 0) {
+            const size_t top = size_t(j) * kBlock * lumaWidth;
+            rowKernels().chromaBlocks(lumaDepth + top, lumaDepth + top + lumaWidth, lumaEdge + top,
+                                      lumaEdge + top + lumaWidth, whole, surface, blockDepth, blockEdge);
+          }
+        } else {
+          for (int i = 0; i < whole; ++i) block(i, kBlock, kBlock);
+        }
         for (int i = whole; i < chromaW; ++i)
           block(i, std::min(kBlock, lumaWidth - i * kBlock), std::min(kBlock, lumaHeight - j * kBlock));
         if (rows) {
