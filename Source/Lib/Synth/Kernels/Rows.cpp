@@ -216,10 +216,13 @@ void textureLookups(const double* u, const double* v, int n, double precision, i
 
 // textureTableRow's rule for sample x: 0 when done (a hole, a failed look-up, a table's), 1 when left to
 // the caller, -1 when it lies on the row's own reference row and the tables are not ready (nothing done).
+// CHROMA: chromaTableRow's (a low bound of -1, the edge flag edges[x]).
+template <bool CHROMA>
 inline int textureTableSample(const TextureTableRow& r, int x, bool ready) {
   if (r.depth[x] < 0) return 0;
   const double u = r.u[x], v = r.v[x];
-  if (!r.ok[x] || u < -0.5 || v < -0.5 || u > r.lastU || v > r.lastV) {
+  constexpr double kLow = CHROMA ? -1.0 : -0.5;
+  if (!r.ok[x] || u < kLow || v < kLow || u > r.lastU || v > r.lastV) {
     r.depth[x] = kKernelNoDepth;
     return 0;
   }
@@ -231,17 +234,18 @@ inline int textureTableSample(const TextureTableRow& r, int x, bool ready) {
   if (ix < r.first || ix > r.last) return 1;
   const long long at = (index & r.mask) * r.stride + (ix - r.first);
   for (int c = 0; c < r.channels; ++c) r.colour[c][x] = r.table[c][at];
-  r.edgeOut[x] = r.edges[size_t((long long)r.nearest[x])];
+  r.edgeOut[x] = CHROMA ? r.edges[x] : r.edges[size_t((long long)r.nearest[x])];
   return 0;
 }
 
-int textureTableRow(const TextureTableRow& r, int from, int width, bool ready, int* rest, int& count) {
+template <bool CHROMA>
+int tableRow(const TextureTableRow& r, int from, int width, bool ready, int* rest, int& count) {
   int x = from;
 #if defined(__AVX512F__) && defined(__AVX512DQ__) && defined(__AVX512VL__)
   // Eight samples at a time: the rule's tests as lane masks, the table reads as gathers, the colours
   // and failed depths as masked stores; the edge flags and the samples left over one by one. (The
   // zero-masking forms of the intrinsics: GCC 12's plain ones warn, as in Raster.h.)
-  const __m512d zero = _mm512_setzero_pd(), low = _mm512_set1_pd(-0.5), lastU = _mm512_set1_pd(r.lastU),
+  const __m512d zero = _mm512_setzero_pd(), low = _mm512_set1_pd(CHROMA ? -1.0 : -0.5), lastU = _mm512_set1_pd(r.lastU),
                 lastV = _mm512_set1_pd(r.lastV), rowGrid = _mm512_set1_pd(r.rowGrid),
                 limit = _mm512_set1_pd(4503599627370496.0), noDepth = _mm512_set1_pd(kKernelNoDepth);
   const __m512i first = _mm512_set1_epi64(r.first), last = _mm512_set1_epi64(r.last),
@@ -274,22 +278,34 @@ int textureTableRow(const TextureTableRow& r, int from, int width, bool ready, i
       for (int c = 0; c < r.channels; ++c)
         _mm256_mask_storeu_ps(r.colour[c] + x, inTable,
                               _mm512_mask_i64gather_ps(_mm256_setzero_ps(), inTable, at, r.table[c], 4));
-      alignas(64) long long nearest[8];
-      _mm512_store_si512(nearest, _mm512_maskz_cvttpd_epi64(0xff, _mm512_loadu_pd(r.nearest + x)));
-      for (unsigned m = inTable; m; m &= m - 1) {
-        const int k = __builtin_ctz(m);
-        r.edgeOut[x + k] = r.edges[size_t(nearest[k])];
+      if (CHROMA) {
+        for (unsigned m = inTable; m; m &= m - 1) r.edgeOut[x + __builtin_ctz(m)] = r.edges[x + __builtin_ctz(m)];
+      } else {
+        alignas(64) long long nearest[8];
+        _mm512_store_si512(nearest, _mm512_maskz_cvttpd_epi64(0xff, _mm512_loadu_pd(r.nearest + x)));
+        for (unsigned m = inTable; m; m &= m - 1) {
+          const int k = __builtin_ctz(m);
+          r.edgeOut[x + k] = r.edges[size_t(nearest[k])];
+        }
       }
     }
     for (unsigned m = keep & __mmask8(~inTable); m; m &= m - 1) rest[count++] = x + __builtin_ctz(m);
   }
 #endif
   for (; x < width; ++x) {
-    const int done = textureTableSample(r, x, ready);
+    const int done = textureTableSample<CHROMA>(r, x, ready);
     if (done < 0) return x;
     if (done) rest[count++] = x;
   }
   return width;
+}
+
+int textureTableRow(const TextureTableRow& r, int from, int width, bool ready, int* rest, int& count) {
+  return tableRow<false>(r, from, width, ready, rest, count);
+}
+
+int chromaTableRow(const TextureTableRow& r, int from, int width, bool ready, int* rest, int& count) {
+  return tableRow<true>(r, from, width, ready, rest, count);
 }
 
 void rowLookups(const double* u, int n, double precision, int width, double* gridU, double* nearest) {
@@ -623,6 +639,7 @@ const RowKernels rowKernelsOfLevel = {forwardRow,
                                        {blendTwoViews<2, false>, blendTwoViews<2, true>},
                                        {blendTwoViews<3, false>, blendTwoViews<3, true>}},
                                       chromaBlocks,
+                                      chromaTableRow,
                                       VS_KERNEL_LEVEL};
 
 }  // namespace VS_LEVEL_NS

@@ -152,6 +152,10 @@ struct RowKernels {
   // divided by their count; edge[i] = the OR of their edge flags. For i in [0, n).
   void (*chromaBlocks)(const double* top, const double* bottom, const uint8_t* edgeTop, const uint8_t* edgeBottom,
                        int n, double surface, double* depth, uint8_t* edge);
+  // The chroma warp's general look-ups (Synth/ChromaWarp.cpp): textureTableRow's rule but for the
+  // look-up's bounds, [-1, lastU] and [-1, lastV] (lastU, lastV: the reference chroma's width and
+  // height), and the edge flag of a table's sample, edgeOut[x] = edges[x] (nearest is not read).
+  int (*chromaTableRow)(const TextureTableRow& row, int from, int width, bool tablesReady, int* rest, int& count);
   int level;  // the x86-64 level they are compiled for (0: not x86-64)
 };
 
