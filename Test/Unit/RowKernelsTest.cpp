@@ -245,16 +245,20 @@ TEST(RowKernels, TextureLookupsAreTheGridIndicesAndTheNearestSample) {
 // in order. Tables narrower than the row (so that some integer parts fall outside), grid indices of
 // 2^52 and more, NaN positions; then the same row with the tables not ready: the kernel stops at or
 // before the first sample that would read them, having done exactly the samples before, and goes on
-// from there once they are.
+// from there once they are. chromaTableRow likewise, with its bounds and edge flags.
 TEST(RowKernels, TextureTableRowIsThePlainRule) {
   std::mt19937 rng(29);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   const int width = 37, height = 23, y = 5;
   int tableReads = 0, restSamples = 0;
   for (const RowKernels* kernels : levels())
+    for (const bool chroma : {false, true})  // chromaTableRow: bounds -1 to the size, the edge flag edges[x]
     for (const int n : kWidths)
       for (const int channels : {1, 3})
         for (const int shift : {0, 1, 2}) {
+          const double low = chroma ? -1.0 : -0.5, highU = chroma ? width : width - 0.5;
+          const double highV = chroma ? height : height - 0.5;
+          const auto kernel = chroma ? kernels->chromaTableRow : kernels->textureTableRow;
           const double precision = double(1 << shift), rowGrid = y * precision;
           // Sample positions: a third on the row (v rounds to row y's grid index), the rest awkward.
           std::vector<double> u = awkwardRow(rng, n, width), v = awkwardRow(rng, n, height);
@@ -265,8 +269,9 @@ TEST(RowKernels, TextureTableRowIsThePlainRule) {
             const size_t k = size_t(i);
             if (unit(rng) < 0.4) v[k] = y + (unit(rng) - 0.5) / precision * 0.99;
             if (unit(rng) < 0.4) u[k] = (width + 1.0) * unit(rng) - 1.0;
-            if (unit(rng) < 0.05) u[k] = unit(rng) < 0.5 ? -0.5 : width - 0.5;  // the picture's bounds exactly
-            if (unit(rng) < 0.03) v[k] = unit(rng) < 0.5 ? -0.5 : height - 0.5;
+            if (unit(rng) < 0.05) u[k] = unit(rng) < 0.5 ? low : highU;  // the picture's bounds exactly
+            if (unit(rng) < 0.03) v[k] = unit(rng) < 0.5 ? low : highV;
+            if (unit(rng) < 0.03) u[k] = unit(rng) < 0.5 ? -0.75 : width - 0.25;  // inside chroma's only
             ok[k] = unit(rng) < 0.9;
             gridU[k] = std::floor(u[k] * precision + 0.5);
             if (unit(rng) < 0.05) gridU[k] = (unit(rng) < 0.5 ? -1.0 : 1.0) * 4503599627370496.0 * (1.0 + unit(rng));
@@ -293,7 +298,7 @@ TEST(RowKernels, TextureTableRowIsThePlainRule) {
           for (int i = 0; i < n; ++i) {
             const size_t k = size_t(i);
             if (depth[k] < 0) continue;
-            if (!ok[k] || u[k] < -0.5 || v[k] < -0.5 || u[k] > width - 0.5 || v[k] > height - 0.5) {
+            if (!ok[k] || u[k] < low || v[k] < low || u[k] > highU || v[k] > highV) {
               plainDepth[k] = -1.0;
               continue;
             }
@@ -307,7 +312,7 @@ TEST(RowKernels, TextureTableRowIsThePlainRule) {
             }
             const long long phase = index - ix * (1 << shift);
             for (int c = 0; c < channels; ++c) plainColour[c][k] = tables[c][size_t(phase * stride + ix - first)];
-            plainEdge[k] = edges[size_t(nearest[k])];
+            plainEdge[k] = chroma ? edges[k] : edges[size_t(nearest[k])];
             ++tableReads;
           }
           // The kernel, first with the tables not ready.
@@ -317,11 +322,11 @@ TEST(RowKernels, TextureTableRowIsThePlainRule) {
           std::vector<uint8_t> ourEdge(size_t(n), 9);
           std::vector<int> rest(size_t(n) + 1, -1);
           TextureTableRow row = {u.data(), v.data(), ok.data(), gridU.data(), gridV.data(), nearest.data(), rowGrid,
-                                 width - 0.5, height - 0.5, {nullptr, nullptr, nullptr}, first, last, stride, shift,
+                                 highU, highV, {nullptr, nullptr, nullptr}, first, last, stride, shift,
                                  (1 << shift) - 1, channels, edges.data(), ourDepth.data(),
                                  {ourColour[0].data(), ourColour[1].data(), ourColour[2].data()}, ourEdge.data()};
           int count = 0;
-          const int stop = kernels->textureTableRow(row, 0, n, false, rest.data(), count);
+          const int stop = kernel(row, 0, n, false, rest.data(), count);
           ASSERT_LE(stop, firstOnRow) << "level " << kernels->level;
           if (firstOnRow == n) {
             ASSERT_EQ(stop, n);
@@ -335,7 +340,7 @@ TEST(RowKernels, TextureTableRowIsThePlainRule) {
                     std::vector<int>(plainRest.begin(), std::lower_bound(plainRest.begin(), plainRest.end(), stop)));
           // Then ready, from where it stopped.
           for (int c = 0; c < 3; ++c) row.table[c] = tables[c].data();
-          ASSERT_EQ(kernels->textureTableRow(row, stop, n, true, rest.data(), count), n);
+          ASSERT_EQ(kernel(row, stop, n, true, rest.data(), count), n);
           ASSERT_EQ(std::vector<int>(rest.begin(), rest.begin() + count), plainRest) << "level " << kernels->level;
           ASSERT_EQ(rest[size_t(count)], -1);
           restSamples += count;
@@ -348,9 +353,10 @@ TEST(RowKernels, TextureTableRowIsThePlainRule) {
                   << "level " << kernels->level << ", channel " << c << ", sample " << i;
           }
         }
-  // Every branch reached (per level, of 1266 samples: about 150 read the tables, 240 are left over).
-  EXPECT_GT(tableReads, 100 * int(levels().size()));
-  EXPECT_GT(restSamples, 150 * int(levels().size()));
+  // Every branch reached (per level and kernel, of 1266 samples: about 150 read the tables, 240 are left
+  // over).
+  EXPECT_GT(tableReads, 2 * 100 * int(levels().size()));
+  EXPECT_GT(restSamples, 2 * 150 * int(levels().size()));
 }
 
 TEST(RowKernels, SampleRowPhaseIsTheWeightedSumInTapOrder) {
@@ -495,6 +501,54 @@ TEST(RowKernels, BehindFlagsAreThePlainComparison) {
         for (int i = 0; i < n; ++i)
           ASSERT_EQ(flags[size_t(i)], uint8_t(behind[size_t(i)] < front[size_t(i)] - limit))
               << "level " << kernels->level << " n " << n << " i " << i;
+      }
+}
+
+// The chroma warp's 2x2 blocks against its rule written plainly: the front is the largest depth of the
+// block (a hole's -1 if none is larger); the samples within `surface` of it (holes and NaN never) give
+// their mean depth, added in the block's order, and their edge flags OR-ed.
+TEST(RowKernels, ChromaBlocksAreTheFrontSurfacesMean) {
+  std::mt19937 rng(21);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  std::uniform_int_distribution<int> byte(0, 255);
+  for (const RowKernels* kernels : levels())
+    for (const int n : kWidths)
+      for (const double surface : {0.0, 0.25, 0.5, kInf}) {
+        // Awkward rows, and rows of quarters (front - d == surface exactly) with holes.
+        for (const bool quarters : {false, true}) {
+          std::vector<double> top = awkwardRow(rng, 2 * n, 3.0), bottom = awkwardRow(rng, 2 * n, 3.0);
+          if (quarters)
+            for (auto* row : {&top, &bottom})
+              for (double& d : *row) d = unit(rng) < 0.2 ? -1.0 : 0.25 * std::floor(8.0 * unit(rng));
+          std::vector<uint8_t> edgeTop(size_t(2 * n)), edgeBottom(size_t(2 * n));
+          for (auto* row : {&edgeTop, &edgeBottom})
+            for (uint8_t& e : *row) e = uint8_t(unit(rng) < 0.5 ? 0 : unit(rng) < 0.5 ? 1 : byte(rng));
+          std::vector<double> depth(static_cast<size_t>(n), 99.0);
+          std::vector<uint8_t> edge(static_cast<size_t>(n), 99);
+          kernels->chromaBlocks(top.data(), bottom.data(), edgeTop.data(), edgeBottom.data(), n, surface, depth.data(),
+                                edge.data());
+          for (int i = 0; i < n; ++i) {
+            const double d[4] = {top[size_t(2 * i)], top[size_t(2 * i + 1)], bottom[size_t(2 * i)],
+                                 bottom[size_t(2 * i + 1)]};
+            const uint8_t e[4] = {edgeTop[size_t(2 * i)], edgeTop[size_t(2 * i + 1)], edgeBottom[size_t(2 * i)],
+                                  edgeBottom[size_t(2 * i + 1)]};
+            double front = -1.0;
+            for (const double value : d)
+              if (value > front) front = value;
+            double sum = 0.0;
+            int count = 0;
+            uint8_t flags = 0;
+            for (int k = 0; k < 4; ++k)
+              if (d[k] >= 0 && front - d[k] <= surface) {
+                sum += d[k];
+                ++count;
+                flags = uint8_t(flags | e[k]);
+              }
+            const double expected = front < 0 ? -1.0 : count == 0 ? sum : sum / count;
+            ASSERT_EQ(bitsOf(depth[size_t(i)]), bitsOf(expected)) << "level " << kernels->level << " n " << n << " i " << i;
+            ASSERT_EQ(edge[size_t(i)], flags) << "level " << kernels->level << " n " << n << " i " << i;
+          }
+        }
       }
 }
 

@@ -6,6 +6,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <type_traits>
+#include <vector>
 
 #include "Synth/Kernels/Rows.h"
 #include "Synth/Synthesizer.h"
@@ -61,6 +62,7 @@ void Synthesizer::warpChroma(ViewState& view, const Frame& texture) {
       double* gridV = grid + chromaW;
       uint8_t* blockEdge = scratch->blockEdge.data();
       int tableRow = -1;  // the row sampledU and sampledV hold (the general path builds them when needed)
+      std::vector<int> rest(static_cast<size_t>(chromaW));  // the general path's samples left to the per-sample code
       for (int j = j0; j < j1; ++j) {
         clearRows(layer, j, j + 1);
         const double rowGrid = double(j) * sampler.precision();
@@ -101,10 +103,19 @@ void Synthesizer::warpChroma(ViewState& view, const Frame& texture) {
           blockDepth[i] = front < 0 ? kNoDepth : sum / std::max(count, 1);
           blockEdge[i] = edge;
         };
-        // Whole blocks first, in a loop whose body knows it (and which the compiler can vectorise),
-        // then those the picture's edge cuts.
+        // Whole blocks first, in a loop whose body knows it (and which the compiler can vectorise), or
+        // for 2x2 blocks a row kernel; then those the picture's edge cuts.
         const int whole = (j + 1) * kBlock <= lumaHeight ? std::min(chromaW, lumaWidth / kBlock) : 0;
-        for (int i = 0; i < whole; ++i) block(i, kBlock, kBlock);
+        if constexpr (kBlock == 2) {
+          // 4:2:0: the whole blocks in a kernel compiled for the CPU's level (Kernels/Rows.h), the same rule.
+          if (whole > 0) {
+            const size_t top = size_t(j) * kBlock * lumaWidth;
+            rowKernels().chromaBlocks(lumaDepth + top, lumaDepth + top + lumaWidth, lumaEdge + top,
+                                      lumaEdge + top + lumaWidth, whole, surface, blockDepth, blockEdge);
+          }
+        } else {
+          for (int i = 0; i < whole; ++i) block(i, kBlock, kBlock);
+        }
         for (int i = whole; i < chromaW; ++i)
           block(i, std::min(kBlock, lumaWidth - i * kBlock), std::min(kBlock, lumaHeight - j * kBlock));
         if (rows) {
@@ -118,6 +129,45 @@ void Synthesizer::warpChroma(ViewState& view, const Frame& texture) {
           // The chroma positions cu = (u - offset) / kBlock, cv likewise, in place, and their grid indices.
           rowKernels().chromaGridIndices(sources, chromaW, offset, kBlock, sampler.precision(), grid);
           rowKernels().chromaGridIndices(sourcesV, chromaW, offset, kBlock, sampler.precision(), gridV);
+        }
+        if (!rows && !sphereEdges) {
+          // The holes, the failed look-ups and those read from the row's tables in a kernel compiled for
+          // the CPU's x86-64 level (Kernels/Rows.h's chromaTableRow, as warpTexture does; the tables are
+          // built where it first finds one that reads them), the rest below. The row's depths start as its
+          // blocks' (a hole's is kNoDepth, as cleared); the kernel sets the failed look-ups' to kNoDepth.
+          const size_t rowStart = size_t(j) * chromaW;
+          std::copy(blockDepth, blockDepth + chromaW, depthOut + rowStart);
+          TextureTableRow row = {sources, sourcesV, sourceOk, grid, gridV, nullptr, rowGrid, double(sourceW),
+                                 double(sourceH), {nullptr, nullptr, nullptr}, 0, 0, 0, 0, 0, 2, blockEdge,
+                                 depthOut + rowStart, {uOut + rowStart, vOut + rowStart, nullptr}, edgeOut + rowStart};
+          int restCount = 0;
+          for (int i = 0; (i = rowKernels().chromaTableRow(row, i, chromaW, tableRow == j, rest.data(), restCount)) <
+                          chromaW;) {
+            sampledU.build<kTaps>(sampler, texture.planes[1], j, -1, sourceW);
+            sampledV.build<kTaps>(sampler, texture.planes[2], j, -1, sourceW);
+            tableRow = j;
+            row.table[0] = sampledU.values();  // both tables have one shape (the planes have one size)
+            row.table[1] = sampledV.values();
+            row.first = sampledU.first();
+            row.last = sampledU.last();
+            row.stride = sampledU.stride();
+            row.shift = sampledU.shift();
+            row.mask = sampledU.mask();
+          }
+          for (int k = 0; k < restCount; ++k) {
+            const int i = rest[size_t(k)];
+            const size_t c = rowStart + size_t(i);
+            const double cu = sources[i], cv = sourcesV[i];
+            edgeOut[c] = blockEdge[i];
+            if (gridV[i] == rowGrid) {  // outside the tables' range (they are built: the kernel read them)
+              uOut[c] = sampledU.atGrid<kTaps>(cu, grid[i]);
+              vOut[c] = sampledV.atGrid<kTaps>(cu, grid[i]);
+            } else {
+              uOut[c] = sampler.sampleTaps<kTaps>(texture.planes[1], cu, cv);
+              vOut[c] = sampler.sampleTaps<kTaps>(texture.planes[2], cu, cv);
+            }
+          }
+          continue;
         }
         for (int i = 0; i < chromaW; ++i) {
           const double inverseDepth = blockDepth[i];

@@ -216,10 +216,13 @@ void textureLookups(const double* u, const double* v, int n, double precision, i
 
 // textureTableRow's rule for sample x: 0 when done (a hole, a failed look-up, a table's), 1 when left to
 // the caller, -1 when it lies on the row's own reference row and the tables are not ready (nothing done).
+// CHROMA: chromaTableRow's (a low bound of -1, the edge flag edges[x]).
+template <bool CHROMA>
 inline int textureTableSample(const TextureTableRow& r, int x, bool ready) {
   if (r.depth[x] < 0) return 0;
   const double u = r.u[x], v = r.v[x];
-  if (!r.ok[x] || u < -0.5 || v < -0.5 || u > r.lastU || v > r.lastV) {
+  constexpr double kLow = CHROMA ? -1.0 : -0.5;
+  if (!r.ok[x] || u < kLow || v < kLow || u > r.lastU || v > r.lastV) {
     r.depth[x] = kKernelNoDepth;
     return 0;
   }
@@ -231,17 +234,18 @@ inline int textureTableSample(const TextureTableRow& r, int x, bool ready) {
   if (ix < r.first || ix > r.last) return 1;
   const long long at = (index & r.mask) * r.stride + (ix - r.first);
   for (int c = 0; c < r.channels; ++c) r.colour[c][x] = r.table[c][at];
-  r.edgeOut[x] = r.edges[size_t((long long)r.nearest[x])];
+  r.edgeOut[x] = CHROMA ? r.edges[x] : r.edges[size_t((long long)r.nearest[x])];
   return 0;
 }
 
-int textureTableRow(const TextureTableRow& r, int from, int width, bool ready, int* rest, int& count) {
+template <bool CHROMA>
+int tableRow(const TextureTableRow& r, int from, int width, bool ready, int* rest, int& count) {
   int x = from;
 #if defined(__AVX512F__) && defined(__AVX512DQ__) && defined(__AVX512VL__)
   // Eight samples at a time: the rule's tests as lane masks, the table reads as gathers, the colours
   // and failed depths as masked stores; the edge flags and the samples left over one by one. (The
   // zero-masking forms of the intrinsics: GCC 12's plain ones warn, as in Raster.h.)
-  const __m512d zero = _mm512_setzero_pd(), low = _mm512_set1_pd(-0.5), lastU = _mm512_set1_pd(r.lastU),
+  const __m512d zero = _mm512_setzero_pd(), low = _mm512_set1_pd(CHROMA ? -1.0 : -0.5), lastU = _mm512_set1_pd(r.lastU),
                 lastV = _mm512_set1_pd(r.lastV), rowGrid = _mm512_set1_pd(r.rowGrid),
                 limit = _mm512_set1_pd(4503599627370496.0), noDepth = _mm512_set1_pd(kKernelNoDepth);
   const __m512i first = _mm512_set1_epi64(r.first), last = _mm512_set1_epi64(r.last),
@@ -274,22 +278,34 @@ int textureTableRow(const TextureTableRow& r, int from, int width, bool ready, i
       for (int c = 0; c < r.channels; ++c)
         _mm256_mask_storeu_ps(r.colour[c] + x, inTable,
                               _mm512_mask_i64gather_ps(_mm256_setzero_ps(), inTable, at, r.table[c], 4));
-      alignas(64) long long nearest[8];
-      _mm512_store_si512(nearest, _mm512_maskz_cvttpd_epi64(0xff, _mm512_loadu_pd(r.nearest + x)));
-      for (unsigned m = inTable; m; m &= m - 1) {
-        const int k = __builtin_ctz(m);
-        r.edgeOut[x + k] = r.edges[size_t(nearest[k])];
+      if (CHROMA) {
+        for (unsigned m = inTable; m; m &= m - 1) r.edgeOut[x + __builtin_ctz(m)] = r.edges[x + __builtin_ctz(m)];
+      } else {
+        alignas(64) long long nearest[8];
+        _mm512_store_si512(nearest, _mm512_maskz_cvttpd_epi64(0xff, _mm512_loadu_pd(r.nearest + x)));
+        for (unsigned m = inTable; m; m &= m - 1) {
+          const int k = __builtin_ctz(m);
+          r.edgeOut[x + k] = r.edges[size_t(nearest[k])];
+        }
       }
     }
     for (unsigned m = keep & __mmask8(~inTable); m; m &= m - 1) rest[count++] = x + __builtin_ctz(m);
   }
 #endif
   for (; x < width; ++x) {
-    const int done = textureTableSample(r, x, ready);
+    const int done = textureTableSample<CHROMA>(r, x, ready);
     if (done < 0) return x;
     if (done) rest[count++] = x;
   }
   return width;
+}
+
+int textureTableRow(const TextureTableRow& r, int from, int width, bool ready, int* rest, int& count) {
+  return tableRow<false>(r, from, width, ready, rest, count);
+}
+
+int chromaTableRow(const TextureTableRow& r, int from, int width, bool ready, int* rest, int& count) {
+  return tableRow<true>(r, from, width, ready, rest, count);
 }
 
 void rowLookups(const double* u, int n, double precision, int width, double* gridU, double* nearest) {
@@ -537,6 +553,66 @@ bool blendTwoViews(const TwoViewBlendRows& rows, size_t begin, size_t end) {
   return lost;
 }
 
+void chromaBlocks(const double* top, const double* bottom, const uint8_t* edgeTop, const uint8_t* edgeBottom, int n,
+                  double surface, double* depth, uint8_t* edge) {
+  int i = 0;
+#if defined(__AVX512F__)
+  // Eight blocks at a time (GCC leaves the plain loop scalar): the rule below in lanes, each lane the
+  // same operations in the same order; a block's four depths taken apart from two rows of sixteen, its
+  // flags from two rows of sixteen bytes as sixteen-bit lanes.
+  const __m512i evens = _mm512_setr_epi64(0, 2, 4, 6, 8, 10, 12, 14), odds = _mm512_setr_epi64(1, 3, 5, 7, 9, 11, 13, 15);
+  const __m512d none = _mm512_set1_pd(kKernelNoDepth), zero = _mm512_setzero_pd(), one = _mm512_set1_pd(1.0);
+  const __m512d limit = _mm512_set1_pd(surface);
+  const __m128i lowBytes = _mm_set1_epi16(0xFF);
+  for (; i + 8 <= n; i += 8) {
+    const __m512d topA = _mm512_loadu_pd(top + 2 * i), topB = _mm512_loadu_pd(top + 2 * i + 8);
+    const __m512d bottomA = _mm512_loadu_pd(bottom + 2 * i), bottomB = _mm512_loadu_pd(bottom + 2 * i + 8);
+    const __m512d d[4] = {_mm512_permutex2var_pd(topA, evens, topB), _mm512_permutex2var_pd(topA, odds, topB),
+                          _mm512_permutex2var_pd(bottomA, evens, bottomB), _mm512_permutex2var_pd(bottomA, odds, bottomB)};
+    __m512d front = none;
+    for (int k = 0; k < 4; ++k) front = _mm512_mask_mov_pd(front, _mm512_cmp_pd_mask(front, d[k], _CMP_LT_OQ), d[k]);
+    const __m128i flagsTop = _mm_loadu_si128(reinterpret_cast<const __m128i*>(edgeTop + 2 * i));
+    const __m128i flagsBottom = _mm_loadu_si128(reinterpret_cast<const __m128i*>(edgeBottom + 2 * i));
+    const __m128i e[4] = {_mm_and_si128(flagsTop, lowBytes), _mm_srli_epi16(flagsTop, 8),
+                          _mm_and_si128(flagsBottom, lowBytes), _mm_srli_epi16(flagsBottom, 8)};
+    __m512d sum = zero, count = zero;
+    __m128i flags = _mm_setzero_si128();
+    for (int k = 0; k < 4; ++k) {
+      const __mmask8 on = _mm512_mask_cmp_pd_mask(_mm512_cmp_pd_mask(d[k], zero, _CMP_GE_OQ),
+                                                  _mm512_sub_pd(front, d[k]), limit, _CMP_LE_OQ);
+      sum = _mm512_add_pd(sum, _mm512_maskz_mov_pd(on, d[k]));
+      count = _mm512_add_pd(count, _mm512_maskz_mov_pd(on, one));  // a whole number: as the int count
+      flags = _mm_or_si128(flags, _mm_maskz_mov_epi16(on, e[k]));
+    }
+    // max(count, 1) as a blend (GCC 12 warns of _mm512_max_pd's undefined operand).
+    const __m512d divisor = _mm512_mask_mov_pd(count, _mm512_cmp_pd_mask(count, one, _CMP_LT_OQ), one);
+    const __m512d mean = _mm512_div_pd(sum, divisor);
+    _mm512_storeu_pd(depth + i, _mm512_mask_mov_pd(mean, _mm512_cmp_pd_mask(front, zero, _CMP_LT_OQ), none));
+    _mm_storel_epi64(reinterpret_cast<__m128i*>(edge + i), _mm_packus_epi16(flags, flags));
+  }
+#endif
+  for (; i < n; ++i) {
+    const double d0 = top[2 * i], d1 = top[2 * i + 1], d2 = bottom[2 * i], d3 = bottom[2 * i + 1];
+    double front = kKernelNoDepth;
+    front = front < d0 ? d0 : front;
+    front = front < d1 ? d1 : front;
+    front = front < d2 ? d2 : front;
+    front = front < d3 ? d3 : front;
+    const bool on0 = d0 >= 0 && front - d0 <= surface, on1 = d1 >= 0 && front - d1 <= surface;
+    const bool on2 = d2 >= 0 && front - d2 <= surface, on3 = d3 >= 0 && front - d3 <= surface;
+    double sum = 0.0;
+    sum += on0 ? d0 : 0.0;
+    sum += on1 ? d1 : 0.0;
+    sum += on2 ? d2 : 0.0;
+    sum += on3 ? d3 : 0.0;
+    const int count = int(on0) + int(on1) + int(on2) + int(on3);
+    depth[i] = front < 0 ? kKernelNoDepth : sum / double(count > 1 ? count : 1);
+    // The flags read whether or not their sample is on the front (no branch), then masked.
+    const uint8_t e0 = edgeTop[2 * i], e1 = edgeTop[2 * i + 1], e2 = edgeBottom[2 * i], e3 = edgeBottom[2 * i + 1];
+    edge[i] = uint8_t((e0 & -uint8_t(on0)) | (e1 & -uint8_t(on1)) | (e2 & -uint8_t(on2)) | (e3 & -uint8_t(on3)));
+  }
+}
+
 }  // namespace
 
 extern const RowKernels rowKernelsOfLevel;
@@ -562,6 +638,8 @@ const RowKernels rowKernelsOfLevel = {forwardRow,
                                       {{blendTwoViews<1, false>, blendTwoViews<1, true>},
                                        {blendTwoViews<2, false>, blendTwoViews<2, true>},
                                        {blendTwoViews<3, false>, blendTwoViews<3, true>}},
+                                      chromaBlocks,
+                                      chromaTableRow,
                                       VS_KERNEL_LEVEL};
 
 }  // namespace VS_LEVEL_NS

@@ -144,6 +144,18 @@ struct RowKernels {
   // The two-view blend of samples [begin, end), for 1, 2 or 3 channels, each with and without
   // NearestViewOnly ([channels - 1][nearestViewOnly]); true where the general blend finds no bestView.
   bool (*blendTwoViews[3][2])(const TwoViewBlendRows& blend, size_t begin, size_t end);
+  // The chroma warp's whole 2x2 blocks (Synth/ChromaWarp.cpp, 4:2:0): block i covers luma samples 2i
+  // and 2i + 1 of rows top and bottom (inverse depths and edge flags), in the order top 2i, top 2i + 1,
+  // bottom 2i, bottom 2i + 1. front = the largest of kKernelNoDepth and the four (front = front < d ? d
+  // : front, in that order); a sample is on the front where d >= 0 and front - d <= surface. depth[i] =
+  // kKernelNoDepth where front < 0, else the sum of the front's depths (from +0.0, in that order)
+  // divided by their count; edge[i] = the OR of their edge flags. For i in [0, n).
+  void (*chromaBlocks)(const double* top, const double* bottom, const uint8_t* edgeTop, const uint8_t* edgeBottom,
+                       int n, double surface, double* depth, uint8_t* edge);
+  // The chroma warp's general look-ups (Synth/ChromaWarp.cpp): textureTableRow's rule but for the
+  // look-up's bounds, [-1, lastU] and [-1, lastV] (lastU, lastV: the reference chroma's width and
+  // height), and the edge flag of a table's sample, edgeOut[x] = edges[x] (nearest is not read).
+  int (*chromaTableRow)(const TextureTableRow& row, int from, int width, bool tablesReady, int* rest, int& count);
   int level;  // the x86-64 level they are compiled for (0: not x86-64)
 };
 
