@@ -1,11 +1,14 @@
 #pragma once
 // Equirectangular test cameras and directions shared by the ERP tests, written independently of
 // Common/Camera.cpp so that the tests check it rather than repeat it.
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <string>
 
 #include "Common/Camera.h"
 #include "Common/CameraJson.h"
+#include "Common/Frame.h"
 
 namespace vs::test {
 
@@ -39,6 +42,30 @@ inline Camera pinholeCamera(const std::string& name, double degrees, double yaw,
   c.R = rotationFromYawPitchRoll(yaw, 0, 0);
   c.t = centre;
   return c;
+}
+
+// The direction of ERP sample position (u, v) of a full-sphere width x height picture (integers are
+// sample centres, column 0 starts at longitude 180, row 0 at latitude 90), from MPEG's formulas.
+inline Vec3 erpPixelDirection(double u, double v, int width, int height) {
+  return sphereDirection(kPi - (u + 0.5) * 2 * kPi / width, kPi / 2 - (v + 0.5) * kPi / height);
+}
+
+// A smooth texture on the sphere, steep enough (about 20 code values a sample at 128 x 64) that a
+// look-up half a sample off shows; continuous round the wrap and across the poles, where a picture is not.
+inline double sphereLuma(const Vec3& d) { return 128.0 + 45.0 * std::sin(9.0 * d.x + 1.0) + 45.0 * std::sin(9.0 * d.z + 2.0); }
+inline double sphereChroma(const Vec3& d) { return 128.0 + 60.0 * std::sin(5.0 * d.x - 5.0 * d.y + 0.5); }
+
+// The function sampled at an ERP picture's sample centres; `scale` its samples per luma sample (0.5 for
+// 4:2:0 chroma, whose sample c covers luma (c + 0.5) / scale - 0.5).
+inline Plane sphereTexture(int width, int height, double (*f)(const Vec3&), double scale) {
+  Plane plane(width, height);
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < width; ++x) {
+      const double value = f(erpPixelDirection((x + 0.5) / scale - 0.5, (y + 0.5) / scale - 0.5, int(width / scale),
+                                               int(height / scale)));
+      plane.at(x, y) = uint16_t(std::lround(std::clamp(value, 0.0, 255.0)));
+    }
+  return plane;
 }
 
 }  // namespace vs::test

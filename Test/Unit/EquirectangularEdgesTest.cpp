@@ -15,38 +15,18 @@
 namespace vs {
 namespace {
 
+using test::erpPixelDirection;
+using test::sphereChroma;
 using test::sphereDirection;
+using test::sphereLuma;
+using test::sphereTexture;
 
 using test::kPi;
 
 
-// The direction of ERP sample position (u, v) of a full-sphere width x height picture (integers are
-// sample centres, column 0 starts at longitude 180, row 0 at latitude 90).
-Vec3 pixelDirection(double u, double v, int width, int height) {
-  return sphereDirection(kPi - (u + 0.5) * 2 * kPi / width, kPi / 2 - (v + 0.5) * kPi / height);
-}
-
-// A smooth texture on the sphere, steep enough (about 20 code values a sample at 128 x 64) that reading
-// half a sample off shows: continuous round the wrap and across the poles, where a picture is not.
-double luma(const Vec3& d) { return 128.0 + 45.0 * std::sin(9.0 * d.x + 1.0) + 45.0 * std::sin(9.0 * d.z + 2.0); }
-double chromaU(const Vec3& d) { return 128.0 + 60.0 * std::sin(5.0 * d.x - 5.0 * d.y + 0.5); }
-
-Plane planeOf(int width, int height, double (*f)(const Vec3&), double scale) {
-  // scale: the plane's samples per luma sample (0.5 for 4:2:0 chroma), whose centres sit in the middle
-  // of their luma block: chroma sample c covers luma (c + 0.5) / scale - 0.5.
-  Plane plane(width, height);
-  for (int y = 0; y < height; ++y)
-    for (int x = 0; x < width; ++x) {
-      const double value = f(pixelDirection((x + 0.5) / scale - 0.5, (y + 0.5) / scale - 0.5, int(width / scale),
-                                            int(height / scale)));
-      plane.at(x, y) = uint16_t(std::lround(std::clamp(value, 0.0, 255.0)));
-    }
-  return plane;
-}
-
 TEST(EquirectangularEdges, SamplerReadsRoundTheWrapAndAcrossThePoles) {
   const int width = 128, height = 64;
-  const Plane plane = planeOf(width, height, luma, 1.0);
+  const Plane plane = sphereTexture(width, height, sphereLuma, 1.0);
   const SphereEdges sphere{true, true, true};
   for (int filter : {0, 1, 2}) {
     const SubPixelSampler sampler(4, filter);
@@ -60,7 +40,7 @@ TEST(EquirectangularEdges, SamplerReadsRoundTheWrapAndAcrossThePoles) {
     // the function there; the plain sampler, which reads the edge sample, is far off.
     double worst = 0, worstClamped = 0;
     const auto check = [&](double x, double y) {
-      const double truth = luma(pixelDirection(x, y, width, height));
+      const double truth = sphereLuma(erpPixelDirection(x, y, width, height));
       const float value = sampler.withTaps([&](auto taps) {
         return sampler.sampleSphereTaps<decltype(taps)::value>(plane, x, y, sphere);
       });
@@ -89,16 +69,12 @@ TEST(EquirectangularEdges, SamplerReadsRoundTheWrapAndAcrossThePoles) {
 // the function at its own direction, up to the interpolation, rounding to quarter pel and 8 bits.
 TEST(EquirectangularEdges, ReferenceTextureIsReadRoundTheWrapAndAcrossThePoles) {
   const int width = 128, height = 64;
-  Camera reference;
-  reference.name = "reference";
-  reference.projection = Projection::Equirectangular;
-  reference.erp.width = width;
-  reference.erp.height = height;
+  const Camera reference = test::erpCamera("reference", width, height, Vec3(0, 0, 0));
   const FrameFormat format{width, height, 8, ChromaFormat::Yuv420};
   test::SynthesisInputs inputs;
   inputs.textures.emplace_back(format);
-  inputs.textures[0].planes[0] = planeOf(width, height, luma, 1.0);
-  inputs.textures[0].planes[1] = planeOf(width / 2, height / 2, chromaU, 0.5);
+  inputs.textures[0].planes[0] = sphereTexture(width, height, sphereLuma, 1.0);
+  inputs.textures[0].planes[1] = sphereTexture(width / 2, height / 2, sphereChroma, 0.5);
   inputs.textures[0].planes[2] = Plane(width / 2, height / 2, 128);
   const DepthRange range{1.0, 10.0, 8};
   inputs.depths.emplace_back(width, height, uint16_t(255));  // distance 1 everywhere
@@ -112,7 +88,7 @@ TEST(EquirectangularEdges, ReferenceTextureIsReadRoundTheWrapAndAcrossThePoles) 
     const Frame output = test::synthesize(scene, inputs).output;
     // The direction of a virtual sample in the reference's (the world's) axes: R^T times its ray.
     const auto worldDirection = [&](double u, double v) {
-      const Vec3 ray = pixelDirection(u, v, width, height);
+      const Vec3 ray = erpPixelDirection(u, v, width, height);
       const Mat3& r = turned.R;
       return Vec3(r[0][0] * ray.x + r[1][0] * ray.y + r[2][0] * ray.z,
                   r[0][1] * ray.x + r[1][1] * ray.y + r[2][1] * ray.z,
@@ -121,7 +97,7 @@ TEST(EquirectangularEdges, ReferenceTextureIsReadRoundTheWrapAndAcrossThePoles) 
     double wrapWorst = 0, poleWorst = 0, chromaWorst = 0;
     for (int y = 0; y < height; ++y)
       for (int x = 0; x < width; ++x) {
-        const double error = std::fabs(output.planes[0].at(x, y) - luma(worldDirection(x, y)));
+        const double error = std::fabs(output.planes[0].at(x, y) - sphereLuma(worldDirection(x, y)));
         if (x < 2 || x >= width - 2) wrapWorst = std::max(wrapWorst, error);
         if (y < 2 || y >= height - 2) poleWorst = std::max(poleWorst, error);
       }
@@ -129,7 +105,7 @@ TEST(EquirectangularEdges, ReferenceTextureIsReadRoundTheWrapAndAcrossThePoles) 
       for (int x = 0; x < width / 2; ++x)
         if (x == 0 || x == width / 2 - 1 || y == 0 || y == height / 2 - 1)
           chromaWorst = std::max(chromaWorst, std::fabs(output.planes[1].at(x, y) -
-                                                        chromaU(worldDirection(2 * x + 0.5, 2 * y + 0.5))));
+                                                        sphereChroma(worldDirection(2 * x + 0.5, 2 * y + 0.5))));
     const std::string turn = std::to_string(int(std::lround(pitch / sample * 100)));
     test::recordFigure("wrap_columns_worst_error_pitch" + turn, wrapWorst);
     test::recordFigure("pole_rows_worst_error_pitch" + turn, poleWorst);

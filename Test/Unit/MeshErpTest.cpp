@@ -26,7 +26,11 @@ namespace vs {
 namespace {
 
 using test::erpCamera;
+using test::erpPixelDirection;
 using test::pinholeCamera;
+using test::sphereChroma;
+using test::sphereLuma;
+using test::sphereTexture;
 using test::sphereDirection;
 
 using test::kPi;
@@ -426,30 +430,6 @@ TEST(MeshErpGl, RoomIntoPerspectiveViewportsAndFromPerspectiveReferences) {
   EXPECT_GE(narrowFromErp, 22.0);
   EXPECT_GE(wideFromErp, 19.0);
   EXPECT_GE(erpFromPerspective, 15.0);
-}
-
-// The direction of ERP sample position (u, v) of a full-sphere width x height picture (integers are
-// sample centres, column 0 starts at longitude 180, row 0 at latitude 90), from MPEG's formulas.
-Vec3 erpPixelDirection(double u, double v, int width, int height) {
-  return sphereDirection(kPi - (u + 0.5) * 2 * kPi / width, kPi / 2 - (v + 0.5) * kPi / height);
-}
-
-// A smooth texture on the sphere, steep enough (about 20 code values a sample at 128 x 64) that a
-// look-up half a sample off shows; continuous round the wrap and across the poles, where a picture is not.
-double sphereLuma(const Vec3& d) { return 128.0 + 45.0 * std::sin(9.0 * d.x + 1.0) + 45.0 * std::sin(9.0 * d.z + 2.0); }
-double sphereChroma(const Vec3& d) { return 128.0 + 60.0 * std::sin(5.0 * d.x - 5.0 * d.y + 0.5); }
-
-// The function sampled at an ERP picture's sample centres; `scale` its samples per luma sample (0.5 for
-// 4:2:0 chroma, whose sample c covers luma (c + 0.5) / scale - 0.5).
-Plane sphereTexture(int width, int height, double (*f)(const Vec3&), double scale) {
-  Plane plane(width, height);
-  for (int y = 0; y < height; ++y)
-    for (int x = 0; x < width; ++x) {
-      const double value = f(erpPixelDirection((x + 0.5) / scale - 0.5, (y + 0.5) / scale - 0.5, int(width / scale),
-                                               int(height / scale)));
-      plane.at(x, y) = uint16_t(std::lround(std::clamp(value, 0.0, 255.0)));
-    }
-  return plane;
 }
 
 // A full-sphere ERP reference at the origin at constant distance, textured with the function above,
