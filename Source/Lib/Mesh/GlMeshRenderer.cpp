@@ -242,8 +242,7 @@ struct GlMeshRenderer::Impl {
   const GlFunctions& gl;
   GLuint program = 0, triangleProgram = 0, vertexArray = 0, vertexBuffer = 0, indexBuffer = 0;
   GLsizei pointCount = 0;
-  GLsizei orphanCount = 0;  // locally farthest orphans, after the points in `indices`
-  std::vector<uint32_t> indices;  // triangles, then points, then locally farthest orphans
+  GLsizei orphanCount = 0;  // locally farthest orphans, after the points in the index buffer
   GLuint framebuffer = 0, colourBuffer = 0, depthBuffer = 0;
   GLint triangleClipLocation = -1;
   GLint clipLocation = -1, referenceFromClipLocation = -1, viewportLocation = -1, drawingPointsLocation = -1,
@@ -330,14 +329,15 @@ struct GlMeshRenderer::Impl {
   }
 
   // Uploads `bytes` into `buffer`: storage is reallocated only when it grows, so from the second frame
-  // on a mesh of similar size is written into the buffer the driver already has.
+  // on a mesh of similar size is written into the buffer the driver already has. Null `data`: the
+  // storage only (bound to `target`), for the caller to write.
   void upload(GLenum target, GLuint buffer, GLsizeiptr bytes, const void* data, GLsizeiptr& capacity) {
     gl.BindBuffer(target, buffer);
     if (bytes > capacity) {
       capacity = bytes + bytes / 8;
       gl.BufferData(target, capacity, nullptr, GL_DYNAMIC_DRAW);
     }
-    if (bytes > 0) gl.BufferSubData(target, 0, bytes, data);
+    if (bytes > 0 && data) gl.BufferSubData(target, 0, bytes, data);
   }
 
   void ensureFramebuffer(int width, int height) {
@@ -430,11 +430,17 @@ void GlMeshRenderer::uploadMesh(const DepthMesh& mesh) {
   s.upload(GL_ARRAY_BUFFER, s.vertexBuffer, GLsizeiptr(mesh.vertices.size() * sizeof(float)), mesh.vertices.data(),
            s.vertexBytes);
   s.mesh = &mesh;
-  s.indices = mesh.triangles;
-  s.indices.insert(s.indices.end(), mesh.points.begin(), mesh.points.end());
-  s.indices.insert(s.indices.end(), mesh.farthestOrphans.begin(), mesh.farthestOrphans.end());
-  s.upload(GL_ELEMENT_ARRAY_BUFFER, s.indexBuffer, GLsizeiptr(s.indices.size() * sizeof(uint32_t)), s.indices.data(),
-           s.indexBytes);
+  // Triangles, then points, then locally farthest orphans, each written into the index buffer where it
+  // goes (no copy of the three lists into one on this side).
+  const std::vector<uint32_t>* lists[3] = {&mesh.triangles, &mesh.points, &mesh.farthestOrphans};
+  const size_t indexCount = mesh.triangles.size() + mesh.points.size() + mesh.farthestOrphans.size();
+  s.upload(GL_ELEMENT_ARRAY_BUFFER, s.indexBuffer, GLsizeiptr(indexCount * sizeof(uint32_t)), nullptr, s.indexBytes);
+  GLintptr offset = 0;
+  for (const std::vector<uint32_t>* list : lists) {
+    const GLsizeiptr bytes = GLsizeiptr(list->size() * sizeof(uint32_t));
+    if (bytes > 0) gl.BufferSubData(GL_ELEMENT_ARRAY_BUFFER, offset, bytes, list->data());
+    offset += bytes;
+  }
   s.triangleIndexCount = GLsizei(mesh.triangles.size());
   s.pointCount = GLsizei(mesh.points.size());
   s.orphanCount = GLsizei(mesh.farthestOrphans.size());
@@ -553,6 +559,15 @@ void GlMeshRenderer::finishRender(const RenderGrid& grid, const TexelMap& texelM
 }
 
 void GlMeshRenderer::setReferenceSphere(const SphereEdges& edges) { impl_->sphere = edges; }
+
+void GlMeshRenderer::releaseRenderBuffers() {
+  Impl& s = *impl_;
+  std::vector<float>().swap(s.readBack);
+  std::vector<uint8_t>().swap(s.edges);
+  std::vector<Plane>().swap(s.planes);
+  s.mesh = nullptr;
+  s.renderedWidth = s.renderedHeight = 0;
+}
 
 void GlMeshRenderer::uploadProjectedMesh(const ProjectedMesh& mesh) {
   Impl& s = *impl_;

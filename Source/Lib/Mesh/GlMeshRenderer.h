@@ -86,6 +86,10 @@ public:
   // when all four are on that surface, else the front sample's, moved half a luma pixel along the
   // reference positions of its neighbours on that surface. U and V are sampled there.
   void sampleChroma420(const std::vector<const Plane*>& planes, double sameSurface, WarpedLayer& layer) const;
+  // Frees what the last render left on this side (its read-back samples, their edge flags, the texture's
+  // copy) and forgets the uploaded mesh, for a run that renders nothing more: its later steps reuse the
+  // memory instead of touching fresh pages. The next render needs uploadMesh and uploadTexture again.
+  void releaseRenderBuffers();
 
 private:
   // Reads the drawn framebuffer back and colours it into `layer` (both passes).

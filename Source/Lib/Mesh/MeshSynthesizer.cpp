@@ -16,10 +16,36 @@ namespace vs {
 
 namespace {
 
+template <typename T>
+void release(std::vector<T>& buffer) {
+  std::vector<T>().swap(buffer);
+}
+
+// Frees a drawn mesh's arrays (releaseBuffersAfterEachStep); its sizes and counts stay.
+void releaseMeshArrays(DepthMesh& mesh) {
+  release(mesh.gridU);
+  release(mesh.gridV);
+  release(mesh.vertices);
+  release(mesh.boundary);
+  release(mesh.cellSplit);
+  release(mesh.valid);
+  release(mesh.triangles);
+  release(mesh.points);
+  release(mesh.farthestOrphans);
+}
+
+void releaseLayer(WarpedLayer& layer) {
+  release(layer.inverseDepth);
+  for (std::vector<float>& colour : layer.colour) release(colour);
+  release(layer.edge);
+}
+
 class MeshFrameRenderer : public FrameRenderer {
 public:
   MeshFrameRenderer(const Scene& scene, const Plan& plan, const MeshSettings& settings)
-      : scene_(scene), synthesizer_(scene_, plan, settings) {}
+      : scene_(scene), synthesizer_(scene_, plan, settings) {
+    if (scene_.settings.frameCount <= 1) synthesizer_.releaseBuffersAfterEachStep();
+  }
   void render(const std::vector<ReferenceFrame>& references, Frame& output, StageTimes& times) override {
     synthesizer_.synthesize(references, output, times);
   }
@@ -236,6 +262,8 @@ void MeshSynthesizer::synthesize(const std::vector<ReferenceFrame>& references, 
       planes = view.depthRangeBounded ? view.planes
                                       : clipPlanes(meshInverseDepthRange(view.mesh, reference.camera, scene_.virtualCamera));
     }
+    // The vertices are in the driver's buffer now; the colour steps read the mesh's edge flags only.
+    if (releaseSpent_ && settings_.plyPath.empty()) release(view.mesh.vertices);
     times.depthWarp += secondsSince(start);
 
     start = std::chrono::steady_clock::now();
@@ -265,6 +293,10 @@ void MeshSynthesizer::synthesize(const std::vector<ReferenceFrame>& references, 
                                                            s.inputPaths(), "MeshPlyOutput"));
       writeMeshPly(*plyFiles_.back(), view.mesh, reference.camera, texture);
     }
+    if (releaseSpent_) {
+      releaseMeshArrays(view.mesh);  // drawn and coloured: the next view's layers reuse its memory
+      if (k + 1 == views_.size()) renderer.releaseRenderBuffers();
+    }
   }
   plyWritten_ = true;
 
@@ -277,6 +309,11 @@ void MeshSynthesizer::synthesize(const std::vector<ReferenceFrame>& references, 
   blendLayers(lumaLayers, plan_.blending, blendedLuma_);
   if (hasChroma_ && !rgb_) blendLayers(chromaLayers, plan_.blending, blendedChroma_);
   holesAfterBlend_ = blendedLuma_.holeCount();
+  if (releaseSpent_)
+    for (ViewState& view : views_) {  // blended: hole filling reuses their memory
+      releaseLayer(view.luma);
+      releaseLayer(view.chroma);
+    }
   times.blend += secondsSince(start);
 
   start = std::chrono::steady_clock::now();
@@ -316,6 +353,10 @@ void MeshSynthesizer::buildMeshesNow(const std::vector<ReferenceFrame>& referenc
             depth = &view.filledDepth;
           }
           view.builder.build(aligner_.align(k, *depth, lumas, moved[k]), view.mesh, lumas[k]);
+          if (releaseSpent_) {  // read by the build only
+            release(view.filledDepth.samples);
+            release(view.filledSamples);
+          }
         }
       },
       double(views_.size()));

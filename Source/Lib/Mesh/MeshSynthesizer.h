@@ -70,6 +70,13 @@ public:
   // it; a MissingDepthLevel auto decision already taken is kept. Nothing changes for the same pose.
   void virtualCameraMoved(const Plan& plan);
 
+  // A run of one frame: each step frees what the later steps do not read (a view's mesh vertices once
+  // uploaded, its mesh once drawn and coloured, the render's read-back after the last view, the views'
+  // layers once blended), so that the later steps reuse that memory instead of touching fresh pages
+  // (as ViewSyn's Synthesizer::releaseBuffersAfterEachStep). mesh(), lumaLayer() and chromaLayer() are
+  // then empty after synthesize(); meshSizeLine() and meshSizeFields() belong before it.
+  void releaseBuffersAfterEachStep() { releaseSpent_ = true; }
+
   // Builds the meshes of these references now; the next synthesize() uses them (and counts their time).
   void buildMeshes(const std::vector<ReferenceFrame>& references);
   // The triangles of each view's last mesh, after and before the adaptive merge: a line for the plan,
@@ -135,6 +142,7 @@ private:
   size_t alignedDepthSamples_ = 0;
   bool plyWritten_ = false;
   bool meshesPrebuilt_ = false;  // buildMeshes() ran for the next frame
+  bool releaseSpent_ = false;    // releaseBuffersAfterEachStep()
   double prebuildSeconds_ = 0.0;
   std::vector<std::unique_ptr<SafeOutputFile>> plyFiles_;  // temporary until commitPlyFiles()
 };
