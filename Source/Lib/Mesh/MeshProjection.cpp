@@ -77,36 +77,12 @@ VertexToPixel vertexToPixel(const Camera& reference, const Camera& virtualCamera
 
 DisplacementRate pinholeDisplacementRate(const Camera& reference, const Camera& virtualCamera, const RenderGrid& grid) {
   const auto [H, e] = vertexToPixel(reference, virtualCamera, grid);
-  return [H = H, e = e](double u, double v, double q) {
-    const Vec3 h = H * Vec3(u, v, 1.0) + q * e;
-    if (!(h.z > 0.0)) return std::numeric_limits<double>::infinity();
-    const double dx = (e.x * h.z - h.x * e.z) / (h.z * h.z), dy = (e.y * h.z - h.y * e.z) / (h.z * h.z);
-    return std::sqrt(dx * dx + dy * dy);
-  };
+  return DisplacementRate::pinhole(H, e);
 }
 
 ReferenceShift pinholeReferenceShift(const Camera& reference, const Camera& virtualCamera, const RenderGrid& grid) {
   const auto [H, e] = vertexToPixel(reference, virtualCamera, grid);
-  return [H = H, e = e](double u, double v, double q, double& du, double& dv) {
-    const Vec3 h = H * Vec3(u, v, 1.0) + q * e;
-    if (!(h.z > 0.0)) return false;
-    // d pixel / d u, d pixel / d v and d pixel / d q are each (b_xy h_z - h_xy b_z) / h_z^2 for their
-    // column b; the common 1 / h_z^2 cancels in J^-1 (d pixel / d q), so it is left out.
-    auto derivative = [&h](const Vec3& b, double& x, double& y) {
-      x = b.x * h.z - h.x * b.z;
-      y = b.y * h.z - h.y * b.z;
-    };
-    double xu, yu, xv, yv, xq, yq;
-    derivative(Vec3(H[0][0], H[1][0], H[2][0]), xu, yu);
-    derivative(Vec3(H[0][1], H[1][1], H[2][1]), xv, yv);
-    derivative(e, xq, yq);
-    const double det = xu * yv - xv * yu;
-    if (!(std::fabs(det) > 0.0)) return false;
-    const double inverse = 1.0 / det;
-    du = (yv * xq - xv * yq) * inverse;  // (du, dv) = J_uv^-1 (d pixel / d q)
-    dv = (xu * yq - yu * xq) * inverse;
-    return std::isfinite(du) && std::isfinite(dv);
-  };
+  return ReferenceShift::pinhole(H, e);
 }
 
 Mat4 projectionMatrix(const RenderGrid& grid, const InverseDepthRange& planes) {
