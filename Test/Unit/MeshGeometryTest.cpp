@@ -356,6 +356,42 @@ TEST(MeshProjection, ReferenceShiftIsWhereTheVirtualPixelMeetsTheMovedSurface) {
   }
 }
 
+// pinholeDisplacementRate against the geometry: how far the virtual pixel of reference pixel (u, v)
+// moves per unit of inverse depth q, from the point's projections at q - dq and q + dq (central
+// difference); infinite where the point is behind the virtual camera.
+TEST(MeshProjection, DisplacementRateIsHowFarTheVirtualPixelMovesPerUnitOfInverseDepth) {
+  std::mt19937 random(12);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  const vs::Vec3 farAway(2.5e6, -1.2e6, 7.0e5);
+  for (int trial = 0; trial < 20; ++trial) {
+    const vs::Camera reference = skewedCamera(farAway + vs::Vec3(unit(random), unit(random), unit(random)) * 10.0,
+                                              0.1 * unit(random), 0.1 * unit(random), 0.1 * unit(random));
+    vs::Camera virtualCamera = skewedCamera(farAway + vs::Vec3(unit(random), unit(random), unit(random)) * 10.0,
+                                            0.1 * unit(random), 0.1 * unit(random), 0.1 * unit(random));
+    virtualCamera.K[0][0] = 430.0;
+    const vs::RenderGrid grid = vs::lumaGrid(virtualCamera, 160, 120);
+    const vs::DisplacementRate rate = vs::pinholeDisplacementRate(reference, virtualCamera, grid);
+    ASSERT_TRUE(rate);
+    for (int k = 0; k < 20; ++k) {
+      const double u = 80 + 70 * unit(random), v = 60 + 55 * unit(random), z = 60 + 40 * unit(random);
+      const double q = 1.0 / z, dq = 1e-4 * q;
+      double xa, ya, xb, yb, zv;
+      ASSERT_TRUE(virtualCamera.project(reference.backProject(u, v, 1.0 / (q + dq)), xa, ya, zv));
+      ASSERT_TRUE(virtualCamera.project(reference.backProject(u, v, 1.0 / (q - dq)), xb, yb, zv));
+      const double expected = std::hypot(xa - xb, ya - yb) / (2.0 * dq);
+      EXPECT_GT(expected, 0.0);
+      EXPECT_NEAR(rate(u, v, q), expected, 1e-5 * expected) << "trial " << trial;
+    }
+    // A point behind the virtual camera (a reference at its centre looking the other way): no finite rate.
+    const vs::Camera behind = skewedCamera(virtualCamera.t, 0.0, std::acos(-1.0), 0.0);
+    double x = 0.0, y = 0.0, zv = 0.0;
+    virtualCamera.project(behind.backProject(80.0, 60.0, 50.0), x, y, zv);
+    ASSERT_LT(zv, 0.0);
+    const vs::DisplacementRate away = vs::pinholeDisplacementRate(behind, virtualCamera, grid);
+    EXPECT_FALSE(away(80.0, 60.0, 1.0 / 50.0) < std::numeric_limits<double>::infinity()) << "trial " << trial;
+  }
+}
+
 TEST(MeshProjection, PixelCentresAndDepthPlanesMapToTheirNdc) {
   vs::Camera camera = skewedCamera({0, 0, 0}, 0, 0, 0);
   const vs::RenderGrid grid = vs::lumaGrid(camera, 100, 80);

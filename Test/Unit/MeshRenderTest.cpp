@@ -405,6 +405,33 @@ TEST(MeshRenderGl, TwoViewSynthesisMatchesTheTruth) {
   }
 }
 
+// A run of one frame frees each step's spent buffers (releaseBuffersAfterEachStep): the frame is the
+// same to the bit as from a synthesizer that keeps them, and the meshes and layers are given back.
+TEST(MeshRenderGl, FreeingSpentBuffersLeavesTheFrameAsItWas) {
+  REQUIRE_GL();
+  for (int depthType : {0, 1}) {
+    const PlaneScene s = makePlaneScene(depthType);
+    vs::StageTimes times;
+    vs::Frame kept, freed;
+    vs::MeshSynthesizer keeping(s.scene, vs::makePlan(s.scene, vs::Tool::MeshRender), vs::MeshSettings{});
+    keeping.synthesize(s.frames(), kept, times);
+    vs::MeshSynthesizer freeing(s.scene, vs::makePlan(s.scene, vs::Tool::MeshRender), vs::MeshSettings{});
+    freeing.releaseBuffersAfterEachStep();
+    freeing.synthesize(s.frames(), freed, times);
+    for (size_t p = 0; p < 3; ++p)
+      EXPECT_TRUE(kept.planes[p].samples == freed.planes[p].samples) << "DepthType " << depthType << ", plane " << p;
+    EXPECT_EQ(keeping.holesAfterBlend(), freeing.holesAfterBlend());
+    for (size_t k = 0; k < 2; ++k) {
+      EXPECT_FALSE(keeping.mesh(k).vertices.empty());
+      EXPECT_FALSE(keeping.lumaLayer(k).inverseDepth.empty());
+      EXPECT_TRUE(freeing.mesh(k).vertices.empty() && freeing.mesh(k).triangles.empty() && freeing.mesh(k).boundary.empty())
+          << "DepthType " << depthType << ", view " << k;
+      EXPECT_TRUE(freeing.lumaLayer(k).inverseDepth.empty() && freeing.chromaLayer(k).inverseDepth.empty())
+          << "DepthType " << depthType << ", view " << k;
+    }
+  }
+}
+
 // --- The executable -------------------------------------------------------------------------------
 
 using vs::test::ToolResult;
