@@ -91,4 +91,4 @@ for c in cases:
     for k, name in enumerate(['wall', 'cpu', 'system cpu', 'frame']):
         cold = statistics.median(x[k] for x in results[c]['cold'])
         warm = statistics.median(x[k] for x in results[c]['warm'])
-        print(f"{c} {name}: cold {cold:.4f} warm {warm:.4f} cold/warm {cold / warm:.2f}")
+        print(f"{c} {name}: cold {cold:.4f} warm {warm:.4f} cold/warm {cold / warm if warm else float('nan'):.2f}")
