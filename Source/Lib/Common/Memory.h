@@ -20,7 +20,11 @@ void keepFreedMemoryForReuse();
 // about a third of its time in the kernel's page faults. The memory is only reserved (address space):
 // none of it is touched here, and resident memory grows only as the run uses it. Does nothing unless
 // keepFreedMemoryForReuse() set the heap up (the reservation would otherwise be unmapped when freed),
-// or outside glibc on Linux; where transparent huge pages are off, the advice has no effect.
+// or outside glibc on Linux; where transparent huge pages are off, the advice has no effect. Kept
+// after measuring the first run after 30 s idle too (doc/speed.md, "Cold starts and the pool's
+// wake-ups"): on 4 KiB pages a warm one-frame run of Art costs about 30 % more CPU and a cold one no
+// less in the median, though huge pages alone show the cold runs that pay the host's faults.
+// VS_HUGE_PAGES=0 in the environment skips the advice, for such measurements.
 void reserveHugePageHeap(size_t bytes);
 
 // Buffers written only here and there (Synth/ScratchPool.h: UntouchedBuffer, the hole filling's
