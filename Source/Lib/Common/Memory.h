@@ -14,17 +14,17 @@ namespace vs {
 // (or under a sanitizer's allocator).
 void keepFreedMemoryForReuse();
 
-// Grows the heap by `bytes` (at most 768 MiB) and asks Linux for transparent huge pages over it, so
-// that the frame buffers a run then allocates there are faulted in 2 MiB at a time instead of 4 KiB:
-// the first frame of a run touches all of its memory for the first time, and a one-frame run spent
-// about a third of its time in the kernel's page faults. The memory is only reserved (address space):
-// none of it is touched here, and resident memory grows only as the run uses it. Does nothing unless
-// keepFreedMemoryForReuse() set the heap up (the reservation would otherwise be unmapped when freed),
-// or outside glibc on Linux; where transparent huge pages are off, the advice has no effect. Kept
-// after measuring the first run after 30 s idle too (doc/speed.md, "Cold starts and the pool's
-// wake-ups"): on 4 KiB pages a warm one-frame run of Art costs about 30 % more CPU and a cold one no
-// less in the median, though huge pages alone show the cold runs that pay the host's faults.
-// VS_HUGE_PAGES=0 in the environment skips the advice, for such measurements.
+// Given VS_HUGE_PAGES=1 in the environment, grows the heap by `bytes` (at most 768 MiB) and asks
+// Linux for transparent huge pages over it, so that the frame buffers a run then allocates there are
+// faulted in 2 MiB at a time instead of 4 KiB. The memory is only reserved (address space): none of it
+// is touched here, and resident memory grows only as the run uses it. Off by default since measuring
+// the first run after 30 s idle (doc/speed.md, "Cold starts and the pool's wake-ups"): on a virtual
+// machine whose host takes back free memory, a huge page is cleared on memory the host must fault in
+// again, and a cold one-frame run paid up to 0.06 s of system CPU more than a warm one (Art), none on
+// 4 KiB pages; a warm one-frame run of Art costs about 30 % more CPU on 4 KiB pages (7500 page faults
+// against 500), a 30-frame 1080p sequence the same CPU either way. Does nothing unless keepFreedMemoryForReuse() set the heap up
+// (the reservation would otherwise be unmapped when freed), or outside glibc on Linux; where
+// transparent huge pages are off, the advice has no effect.
 void reserveHugePageHeap(size_t bytes);
 
 // Buffers written only here and there (Synth/ScratchPool.h: UntouchedBuffer, the hole filling's
