@@ -19,12 +19,12 @@ void keepFreedMemoryForReuse();
 // faulted in 2 MiB at a time instead of 4 KiB. The memory is only reserved (address space): none of it
 // is touched here, and resident memory grows only as the run uses it. Off by default since measuring
 // the first run after 30 s idle (doc/speed.md, "Cold starts and the pool's wake-ups"): on a virtual
-// machine whose host takes back free memory, a huge page is cleared on memory the host must fault in
-// again, and a cold one-frame run paid up to 0.06 s of system CPU more than a warm one (Art), none on
-// 4 KiB pages; a warm one-frame run of Art costs about 30 % more CPU on 4 KiB pages (7500 page faults
-// against 500), a 30-frame 1080p sequence the same CPU either way. Does nothing unless keepFreedMemoryForReuse() set the heap up
-// (the reservation would otherwise be unmapped when freed), or outside glibc on Linux; where
-// transparent huge pages are off, the advice has no effect.
+// machine whose host takes back free memory, a huge page may be cleared on memory the host must fault
+// in again, and cold one-frame runs paid up to 0.08 s of system CPU more than warm ones (Art), none on
+// 4 KiB pages; a warm one-frame run of Art costs about a third more CPU on 4 KiB pages (7500 page
+// faults against 500), a 30-frame 1080p sequence the same either way. Does nothing unless
+// keepFreedMemoryForReuse() set the heap up (the reservation would otherwise be unmapped when freed),
+// or outside glibc on Linux; where transparent huge pages are off, the advice has no effect.
 void reserveHugePageHeap(size_t bytes);
 
 // Buffers written only here and there (Synth/ScratchPool.h: UntouchedBuffer, the hole filling's

@@ -94,7 +94,9 @@ public:
     }
     wake_.notify_all();  // no system call unless a worker sleeps
     work(body, count, stripes);
-    spinUntil([&] { return done_.load(std::memory_order_acquire) == stripes && active_.load(std::memory_order_acquire) == 0; });
+    spinUntil([&] {
+      return done_.load(std::memory_order_acquire) == stripes && active_.load(std::memory_order_acquire) == 0;
+    });
     std::unique_lock<std::mutex> lock(mutex_);
     // Every stripe done, and no worker still inside this loop (one that woke late and found no stripe
     // left must not read the next loop's counter with this loop's body).
