@@ -1,6 +1,7 @@
 // keepFreedMemoryForReuse (Common/Memory.h): frame-sized blocks come from the heap, not from a
 // mapping of their own that is unmapped (and re-faulted page by page) on every frame; and
-// reserveHugePageHeap: the blocks allocated after it lie where transparent huge pages are allowed.
+// reserveHugePageHeap, given VS_HUGE_PAGES=1: the blocks allocated after it lie where transparent huge
+// pages are allowed.
 #include <gtest/gtest.h>
 
 #include <cstdint>
@@ -71,7 +72,9 @@ TEST(Memory, BlocksAfterTheReservationMayUseHugePages) {
   std::string first;
   if (!std::getline(self, first)) GTEST_SKIP() << "no /proc/self/smaps";
   keepFreedMemoryForReuse();
+  setenv("VS_HUGE_PAGES", "1", 1);  // the advice is given only when asked for (off by default)
   reserveHugePageHeap(size_t(96) << 20);
+  unsetenv("VS_HUGE_PAGES");
   char* block = static_cast<char*>(std::malloc(size_t(32) << 20));
   ASSERT_NE(block, nullptr);
   // "always" makes every mapping eligible; "madvise" only those advised, which is what is tested.

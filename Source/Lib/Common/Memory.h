@@ -14,11 +14,15 @@ namespace vs {
 // (or under a sanitizer's allocator).
 void keepFreedMemoryForReuse();
 
-// Grows the heap by `bytes` (at most 768 MiB) and asks Linux for transparent huge pages over it, so
-// that the frame buffers a run then allocates there are faulted in 2 MiB at a time instead of 4 KiB:
-// the first frame of a run touches all of its memory for the first time, and a one-frame run spent
-// about a third of its time in the kernel's page faults. The memory is only reserved (address space):
-// none of it is touched here, and resident memory grows only as the run uses it. Does nothing unless
+// Given VS_HUGE_PAGES=1 in the environment, grows the heap by `bytes` (at most 768 MiB) and asks
+// Linux for transparent huge pages over it, so that the frame buffers a run then allocates there are
+// faulted in 2 MiB at a time instead of 4 KiB. The memory is only reserved (address space): none of it
+// is touched here, and resident memory grows only as the run uses it. Off by default since measuring
+// the first run after 30 s idle (doc/speed.md, "Cold starts and the pool's wake-ups"): on a virtual
+// machine whose host takes back free memory, a huge page may be cleared on memory the host must fault
+// in again, and cold one-frame runs paid up to 0.08 s of system CPU more than warm ones (Art), none on
+// 4 KiB pages; a warm one-frame run of Art costs about a third more CPU on 4 KiB pages (7500 page
+// faults against 500), a 30-frame 1080p sequence the same either way. Does nothing unless
 // keepFreedMemoryForReuse() set the heap up (the reservation would otherwise be unmapped when freed),
 // or outside glibc on Linux; where transparent huge pages are off, the advice has no effect.
 void reserveHugePageHeap(size_t bytes);
