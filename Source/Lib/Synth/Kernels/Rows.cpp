@@ -109,7 +109,29 @@ void rowTargets(const uint16_t* levels, int width, const double* table, size_t b
 }
 
 void rowPoints(const double* xs, const double* ws, int width, double* z, int outWidth) {
-  for (int x = 0; x < width; ++x) {
+  int x = 0;
+#if defined(__SSE4_1__)
+  // A register of samples at a time, as Raster.h's points: their centres and whether each lands in
+  // lanes (the same double operations per lane), then every lane raised without a branch, one that does
+  // not land with -0 at cell 0, the least value in the z-buffer's order, which changes nothing. (A
+  // sample with ws >= 0 has a finite position: rowTargets.)
+  using L = QuadLanes<kQuadsAtOnce>;
+  using Doubles = typename L::Doubles;
+  using Mask = typename L::Mask;
+  const Doubles half = L::splat(0.5), zero = L::splat(0.0), right = L::splat(double(outWidth)),
+                nothing = L::splat(-0.0);
+  for (; x + L::kLanes <= width; x += L::kLanes) {
+    Doubles px, pw;
+    std::memcpy(&px, xs + x, sizeof px);
+    std::memcpy(&pw, ws + x, sizeof pw);
+    px = L::floor(px + half);
+    const Mask lands = ~((pw < zero) | (px < zero) | (px >= right));
+    const Mask cells = __builtin_convertvector(lands ? px : zero, Mask);
+    const Doubles values = lands ? pw : nothing;
+    for (int k = 0; k < L::kLanes; ++k) raiseCell(z[size_t(cells[k])], values[k]);
+  }
+#endif
+  for (; x < width; ++x) {
     if (ws[x] < 0) continue;
     const double px = std::floor(xs[x] + 0.5);
     if (px < 0 || px >= outWidth) continue;
@@ -613,6 +635,58 @@ void chromaBlocks(const double* top, const double* bottom, const uint8_t* edgeTo
   }
 }
 
+void isolatedSamples(const double* row, int width, uint8_t* isolated) {
+  for (int x = 1; x + 1 < width; ++x) isolated[x] = uint8_t((row[x] >= 0) & (row[x - 1] < 0) & (row[x + 1] < 0));
+}
+
+bool soleViewOfTwo(const double* d0, const double* d1, size_t n, uint8_t first, uint8_t second, uint8_t none,
+                   uint8_t* sole) {
+  // Byte masks instead of branches: the loop vectorises.
+  uint8_t any = 0;
+  for (size_t i = 0; i < n; ++i) {
+    const uint8_t v0 = uint8_t(d0[i] >= 0.0), v1 = uint8_t(d1[i] >= 0.0);
+    const uint8_t only0 = uint8_t(-uint8_t(v0 & (v1 ^ 1))), only1 = uint8_t(-uint8_t(v1 & (v0 ^ 1)));
+    const uint8_t view = uint8_t((first & only0) | (second & only1) | (none & uint8_t(~(only0 | only1))));
+    sole[i] = view;
+    any |= uint8_t(view != none);
+  }
+  return any != 0;
+}
+
+// __restrict: the rows, the lasts and the up samples are distinct arrays, which GCC would otherwise
+// have to check at run time, pair by pair, before it vectorises.
+void occlusionDown(const uint8_t* __restrict sole, const double* __restrict row0, const double* __restrict row1,
+                   double* __restrict last0, double* __restrict last1, double* __restrict up, int n) {
+  if (up)
+    for (int x = 0; x < n; ++x) up[x] = sole[x] == 1 ? last0[x] : last1[x];
+  for (int x = 0; x < n; ++x) {
+    last0[x] = row0[x] >= 0.0 ? row0[x] : last0[x];
+    last1[x] = row1[x] >= 0.0 ? row1[x] : last1[x];
+  }
+}
+
+void occlusionUp(const uint8_t* __restrict sole, double* __restrict row0, double* __restrict row1,
+                 double* __restrict last0, double* __restrict last1, const double* __restrict up,
+                 const double* __restrict around, double steps, int n) {
+  // Every sample decided without a branch (a non-candidate's row written back as it was).
+  for (int x = 0; x < n; ++x) {
+    const double below0 = last0[x], below1 = last1[x];
+    const double value0 = row0[x], value1 = row1[x];
+    last0[x] = value0 >= 0.0 ? value0 : below0;
+    last1[x] = value1 >= 0.0 ? value1 : below1;
+    const uint8_t k = sole[x];
+    const bool second = k == 1;
+    const double below = second ? below0 : below1, own = second ? value1 : value0, above = up[x];
+    double farthest = k <= 1 ? around[x] : HUGE_VAL;  // read at the candidates only (its pages are touched there)
+    const double nearer = above < below ? above : below;   // std::min(below, above)
+    const double lowered = nearer < farthest ? nearer : farthest;  // std::min(farthest, nearer)
+    farthest = (below >= 0.0) & (above >= 0.0) ? lowered : farthest;
+    const bool drop = (k <= 1) & (farthest != HUGE_VAL) & (own < farthest - steps);
+    row0[x] = drop & !second ? kKernelNoDepth : value0;
+    row1[x] = drop & second ? kKernelNoDepth : value1;
+  }
+}
+
 }  // namespace
 
 extern const RowKernels rowKernelsOfLevel;
@@ -640,6 +714,10 @@ const RowKernels rowKernelsOfLevel = {forwardRow,
                                        {blendTwoViews<3, false>, blendTwoViews<3, true>}},
                                       chromaBlocks,
                                       chromaTableRow,
+                                      isolatedSamples,
+                                      soleViewOfTwo,
+                                      occlusionDown,
+                                      occlusionUp,
                                       VS_KERNEL_LEVEL};
 
 }  // namespace VS_LEVEL_NS
