@@ -97,13 +97,15 @@ void rowSources(double offset, double shift, double inverse, double scale, const
   }
 }
 
-void rowTargets(const uint16_t* levels, int width, const double* table, size_t beyond, double scale, double offset,
-                double* xs, double* ws) {
+void rowTargets(const uint16_t* __restrict levels, int width, const double* __restrict table, size_t beyond,
+                double scale, double offset, double* __restrict xs, double* __restrict ws) {
+  // Finite as a comparison (NaN compares false) and __restrict, so that GCC vectorises the loop (the
+  // table read by gathers where the level has them).
   for (int x = 0; x < width; ++x) {
     const size_t level = size_t(levels[x]) < beyond ? size_t(levels[x]) : beyond;
     const double displacement = table[2 * level], depth = table[2 * level + 1];
     const double target = snap((scale * double(x) + offset) + displacement);
-    ws[x] = std::isfinite(target) ? depth : kKernelNoDepth;
+    ws[x] = std::fabs(target) <= kFarthest ? depth : kKernelNoDepth;
     xs[x] = target;
   }
 }
