@@ -661,35 +661,40 @@ TEST(RowKernels, RowPointsRaiseTheNearestCentre) {
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   for (const RowKernels* kernels : levels())
     for (const int n : kWidths)
-      for (const int outWidth : {1, 5, n, n + 9}) {
-        std::vector<double> xs(static_cast<size_t>(n)), ws(static_cast<size_t>(n));
-        for (int x = 0; x < n; ++x) {
-          const double u = unit(rng);
-          xs[size_t(x)] = u < 0.2 ? std::round(unit(rng) * (outWidth + 4) - 2) + 0.5  // ties
-                                  : unit(rng) * (outWidth + 4) - 2;
-          const double v = unit(rng);
-          ws[size_t(x)] = v < 0.2 ? kKernelNoDepth : v < 0.25 ? -0.0 : v < 0.3 ? 0.0 : v < 0.33 ? std::nan("")
-                                                                                     : unit(rng);
-          if (ws[size_t(x)] < 0) xs[size_t(x)] = v < 0.1 ? std::nan("") : kInf;  // not read
+      for (const int outWidth : {1, 5, n, n + 9})
+        for (const bool runs : {false, true}) {
+          // Scattered positions, or runs of one displacement (consecutive cells, as a level's run gives:
+          // shifts of whole, half and quarter pixels, some past either end of the row) with few holes.
+          const double shift = std::round(unit(rng) * 8 - 4) + 0.25 * std::round(unit(rng) * 3);
+          std::vector<double> xs(static_cast<size_t>(n)), ws(static_cast<size_t>(n));
+          for (int x = 0; x < n; ++x) {
+            const double u = unit(rng);
+            xs[size_t(x)] = runs       ? x + shift
+                            : u < 0.2 ? std::round(unit(rng) * (outWidth + 4) - 2) + 0.5  // ties
+                                      : unit(rng) * (outWidth + 4) - 2;
+            const double v = runs ? 0.2 + 0.8 * unit(rng) + (unit(rng) < 0.05 ? -1.0 : 0.0) : unit(rng);
+            ws[size_t(x)] = v < 0.2 ? kKernelNoDepth : v < 0.25 ? -0.0 : v < 0.3 ? 0.0 : v < 0.33 ? std::nan("")
+                                                                                       : unit(rng);
+            if (ws[size_t(x)] < 0) xs[size_t(x)] = v < 0.1 ? std::nan("") : kInf;  // not read
+          }
+          std::vector<double> z(static_cast<size_t>(outWidth));
+          for (double& v : z) {
+            const double u = unit(rng);
+            v = u < 0.5 ? kKernelNoDepth : u < 0.6 ? -unit(rng) : unit(rng);
+          }
+          std::vector<double> expected = z;
+          for (int x = 0; x < n; ++x) {
+            if (ws[size_t(x)] < 0) continue;
+            const double px = std::floor(xs[size_t(x)] + 0.5);
+            if (px < 0 || px >= outWidth) continue;
+            double& cell = expected[size_t(px)];
+            if (int64_t(bitsOf(ws[size_t(x)])) > int64_t(bitsOf(cell))) cell = ws[size_t(x)];
+          }
+          kernels->rowPoints(xs.data(), ws.data(), n, z.data(), outWidth);
+          for (int i = 0; i < outWidth; ++i)
+            ASSERT_EQ(bitsOf(z[size_t(i)]), bitsOf(expected[size_t(i)]))
+                << "level " << kernels->level << " n " << n << " out " << outWidth << " i " << i;
         }
-        std::vector<double> z(static_cast<size_t>(outWidth));
-        for (double& v : z) {
-          const double u = unit(rng);
-          v = u < 0.5 ? kKernelNoDepth : u < 0.6 ? -unit(rng) : unit(rng);
-        }
-        std::vector<double> expected = z;
-        for (int x = 0; x < n; ++x) {
-          if (ws[size_t(x)] < 0) continue;
-          const double px = std::floor(xs[size_t(x)] + 0.5);
-          if (px < 0 || px >= outWidth) continue;
-          double& cell = expected[size_t(px)];
-          if (int64_t(bitsOf(ws[size_t(x)])) > int64_t(bitsOf(cell))) cell = ws[size_t(x)];
-        }
-        kernels->rowPoints(xs.data(), ws.data(), n, z.data(), outWidth);
-        for (int i = 0; i < outWidth; ++i)
-          ASSERT_EQ(bitsOf(z[size_t(i)]), bitsOf(expected[size_t(i)]))
-              << "level " << kernels->level << " n " << n << " out " << outWidth << " i " << i;
-      }
 }
 
 // CleanNoiseOption's isolated samples against the rule written plainly, on rows with holes, NaN,
