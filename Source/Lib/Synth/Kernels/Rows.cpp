@@ -123,7 +123,8 @@ void rowPoints(const double* xs, const double* ws, int width, double* z, int out
     // floor (the zero-masking forms of the intrinsics: GCC 12's plain ones warn, as in Raster.h)
     const __m512d px = _mm512_maskz_roundscale_pd(0xff, _mm512_add_pd(_mm512_loadu_pd(xs + x), half8),
                                                   _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC);
-    const __mmask8 lands = __mmask8(~(_mm512_cmp_pd_mask(pw, zero8, _CMP_LT_OQ) | _mm512_cmp_pd_mask(px, zero8, _CMP_LT_OQ) |
+    const __mmask8 lands = __mmask8(~(_mm512_cmp_pd_mask(pw, zero8, _CMP_LT_OQ) |
+                                      _mm512_cmp_pd_mask(px, zero8, _CMP_LT_OQ) |
                                       _mm512_cmp_pd_mask(px, right8, _CMP_GE_OQ)));
     if (lands == 0xff) {
       const __m512i cells = _mm512_maskz_cvttpd_epi64(0xff, px);
@@ -587,6 +588,82 @@ struct TwoViewBlend {
     return lost;
   }
 #endif
+
+#if defined(__AVX512F__) && defined(__AVX512BW__) && defined(__AVX512VL__) && defined(__AVX512DQ__)
+  // Samples i to i + 7, as pair() does them, with the masks as bit masks (a set bit for true); the
+  // bits where blendViews finds no bestView come back set. The quiet forms of pair()'s comparisons
+  // (they differ in the exception flags only, which nothing reads); the zero-masking forms of the
+  // intrinsics, as GCC 12 warns of the plain ones' undefined operand.
+  template <bool Plain>
+  __mmask8 octet(size_t i) const {
+    const TwoViewBlendRows& b = rows;
+    const __m512d zero = _mm512_setzero_pd();
+    auto flag = [](bool f) { return __mmask8(f ? 0xff : 0); };
+    const __m512d d0 = _mm512_loadu_pd(b.depth0 + i), d1 = _mm512_loadu_pd(b.depth1 + i);
+    const __mmask8 valid0 = _mm512_cmp_pd_mask(d0, zero, _CMP_GE_OQ), valid1 = _mm512_cmp_pd_mask(d1, zero, _CMP_GE_OQ);
+    const __mmask8 hole = __mmask8(~(valid0 | valid1));
+    // pair()'s nearest: d1 > x0 ? d1 : x0, with x0 = -1 where the first view is not valid.
+    const __m512d nearest = _mm512_maskz_max_pd(0xff, d1, _mm512_mask_blend_pd(valid0, _mm512_set1_pd(-1.0), d0));
+    const __m512d gap0 = _mm512_sub_pd(nearest, d0), gap1 = _mm512_sub_pd(nearest, d1);
+    const __m512d surface = _mm512_set1_pd(b.tolerance);
+    const __m128i noEdge = _mm_setzero_si128();
+    auto edgeFree = [&](const uint8_t* edge) {
+      return __mmask8(_mm_cmpeq_epi8_mask(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(edge + i)), noEdge));
+    };
+    const __mmask8 clean0 = edgeFree(b.edge0), clean1 = edgeFree(b.edge1);
+    const __mmask8 anyClean = __mmask8((valid0 & _mm512_cmp_pd_mask(gap0, surface, _CMP_LE_OQ) & clean0) |
+                                       (valid1 & _mm512_cmp_pd_mask(gap1, surface, _CMP_LE_OQ) & clean1));
+    // use = valid & !(gap > tolerance) & !(anyClean & onEdge)
+    const __mmask8 use0 =
+        __mmask8(valid0 & ~_mm512_cmp_pd_mask(gap0, surface, _CMP_GT_OQ) & ~(anyClean & __mmask8(~clean0)));
+    const __mmask8 use1 =
+        __mmask8(valid1 & ~_mm512_cmp_pd_mask(gap1, surface, _CMP_GT_OQ) & ~(anyClean & __mmask8(~clean1)));
+    __mmask8 lost, copy, fromSecond;
+    if constexpr (Plain) {
+      lost = __mmask8(~(hole | use0 | use1));
+      copy = flag(NearestViewOnly);
+      fromSecond = __mmask8(use1 & (flag(b.pickSecondOfBoth) | __mmask8(~use0)));
+    } else {
+      const __mmask8 takeSecond =
+          __mmask8(use1 & ((use0 & flag(b.pickSecondOfBoth)) | (__mmask8(~use0) & flag(b.pickSecondAlone))));
+      const __mmask8 takeFirst = __mmask8(~takeSecond & use0 & flag(b.pickFirstAlone));
+      const __mmask8 dominantCopy = __mmask8((flag(b.dominantFirst) & valid0) | (flag(b.dominantSecond) & valid1));
+      lost = __mmask8(~(dominantCopy | hole | takeFirst | takeSecond));
+      copy = NearestViewOnly ? flag(true) : dominantCopy;
+      fromSecond = __mmask8((dominantCopy & flag(b.dominantSecond)) | (__mmask8(~dominantCopy) & takeSecond));
+    }
+    constexpr bool copies = NearestViewOnly || !Plain, mixes = !NearestViewOnly;
+    const __m512d w0 = _mm512_set1_pd(b.weight0), w1 = _mm512_set1_pd(b.weight1);
+    const __m512d weightSum =
+        _mm512_add_pd(_mm512_add_pd(zero, _mm512_maskz_mov_pd(use0, w0)), _mm512_maskz_mov_pd(use1, w1));
+    __m512d depth = zero;
+    if (copies) depth = _mm512_mask_blend_pd(fromSecond, d0, d1);
+    if (mixes) {
+      const __m512d depthSum = _mm512_add_pd(_mm512_add_pd(zero, _mm512_maskz_mov_pd(use0, _mm512_mul_pd(w0, d0))),
+                                             _mm512_maskz_mov_pd(use1, _mm512_mul_pd(w1, d1)));
+      const __m512d mixed = _mm512_div_pd(depthSum, weightSum);
+      depth = copies ? _mm512_mask_blend_pd(copy, mixed, depth) : mixed;
+    }
+    _mm512_storeu_pd(b.depthOut + i, _mm512_mask_blend_pd(hole, depth, _mm512_set1_pd(kKernelNoDepth)));
+    const __m256 fw0 = _mm256_set1_ps(b.floatWeight0), fw1 = _mm256_set1_ps(b.floatWeight1);
+    for (int c = 0; c < Channels; ++c) {
+      const __m256 x0 = _mm256_loadu_ps(b.colour0[c] + i), x1 = _mm256_loadu_ps(b.colour1[c] + i);
+      __m256 value = _mm256_setzero_ps();
+      if (copies) value = _mm256_mask_blend_ps(fromSecond, x0, x1);
+      if (mixes) {
+        const __m256 colourSum =
+            _mm256_add_ps(_mm256_add_ps(_mm256_setzero_ps(), _mm256_maskz_mov_ps(use0, _mm256_mul_ps(fw0, x0))),
+                          _mm256_maskz_mov_ps(use1, _mm256_mul_ps(fw1, x1)));
+        const __m256 mixed =
+            _mm512_maskz_cvtpd_ps(0xff, _mm512_div_pd(_mm512_maskz_cvtps_pd(0xff, colourSum), weightSum));
+        value = copies ? _mm256_mask_blend_ps(copy, mixed, value) : mixed;
+      }
+      _mm256_storeu_ps(b.colourOut[c] + i, _mm256_maskz_mov_ps(__mmask8(~hole), value));
+    }
+    _mm_storel_epi64(reinterpret_cast<__m128i*>(b.holeOut + i), _mm_maskz_set1_epi8(hole, 1));
+    return lost;
+  }
+#endif
 };
 
 template <int Channels, bool NearestViewOnly>
@@ -594,13 +671,21 @@ bool blendTwoViews(const TwoViewBlendRows& rows, size_t begin, size_t end) {
   const TwoViewBlend<Channels, NearestViewOnly> local{rows};  // a local: the stores cannot alias it
   size_t i = begin;
   bool lost = false;
+#if defined(__AVX512F__) && defined(__AVX512BW__) && defined(__AVX512VL__) && defined(__AVX512DQ__)
+  __mmask8 lostOctets = 0;
+  if (rows.plain)
+    for (; i + 8 <= end; i += 8) lostOctets = __mmask8(lostOctets | local.template octet<true>(i));
+  else
+    for (; i + 8 <= end; i += 8) lostOctets = __mmask8(lostOctets | local.template octet<false>(i));
+  lost = lostOctets != 0;
+#endif
 #if defined(__SSE4_1__)
   __m128d lostPairs = _mm_setzero_pd();
   if (rows.plain)
     for (; i + 2 <= end; i += 2) lostPairs = _mm_or_pd(lostPairs, local.template pair<true>(i));
   else
     for (; i + 2 <= end; i += 2) lostPairs = _mm_or_pd(lostPairs, local.template pair<false>(i));
-  lost = _mm_movemask_pd(lostPairs) != 0;
+  lost = lost || _mm_movemask_pd(lostPairs) != 0;
 #endif
   for (; i < end; ++i) lost |= local.sample(i);
   return lost;
