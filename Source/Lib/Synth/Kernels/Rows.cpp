@@ -784,7 +784,7 @@ void occlusionDown(const uint8_t* __restrict sole, const double* __restrict row0
 void occlusionUp(const uint8_t* __restrict sole, double* __restrict row0, double* __restrict row1,
                  double* __restrict last0, double* __restrict last1, const double* __restrict up,
                  const double* __restrict around, double steps, int n) {
-  // Every sample decided without a branch (a non-candidate's row written back as it was).
+  // Every sample decided without a branch.
   for (int x = 0; x < n; ++x) {
     const double below0 = last0[x], below1 = last1[x];
     const double value0 = row0[x], value1 = row1[x];
@@ -798,8 +798,9 @@ void occlusionUp(const uint8_t* __restrict sole, double* __restrict row0, double
     const double lowered = nearer < farthest ? nearer : farthest;  // std::min(farthest, nearer)
     farthest = (below >= 0.0) & (above >= 0.0) ? lowered : farthest;
     const bool drop = (k <= 1) & (farthest != HUGE_VAL) & (own < farthest - steps);
-    row0[x] = drop & !second ? kKernelNoDepth : value0;
-    row1[x] = drop & second ? kKernelNoDepth : value1;
+    // Stored where dropped only (masked stores where vectorised): the rows are not written back.
+    if (drop & !second) row0[x] = kKernelNoDepth;
+    if (drop & second) row1[x] = kKernelNoDepth;
   }
 }
 
