@@ -368,12 +368,21 @@ TEST(Raster, PointsEqualThePlainNearestCentreRule) {
     for (AtomicMaxBuffer& buffer : shared) buffer.reset(plain.size(), kEmpty);
     for (int t = 0; t < 400; ++t) {
       std::vector<double> x(static_cast<size_t>(width)), y = x, w = x;
+      // A quarter of the rows a run along one output row (consecutive cells, as a level's run gives on
+      // a rectified rig: shifts of whole, half and quarter pixels, some past the row's ends), few holes.
+      const bool run = t % 4 == 0;
+      const double shift = std::round(unit(rng) * 4 - 3) + 0.25 * std::round(unit(rng) * 3);
+      const double runRow = std::floor(unit(rng) * (outHeight + 2)) - 1.0 + 0.25 * std::round(unit(rng) * 3);
       for (int i = 0; i < width; ++i) {
         // -2 to outWidth + 1: outside on both sides; a third exactly between two centres (x.5).
         x[size_t(i)] = unit(rng) < 0.3 ? std::floor(unit(rng) * (outWidth + 3)) - 2.5 : unit(rng) * (outWidth + 3) - 2.0;
         y[size_t(i)] = unit(rng) < 0.3 ? std::floor(unit(rng) * (outHeight + 3)) - 2.5 : unit(rng) * (outHeight + 3) - 2.0;
-        const double u = unit(rng);
+        const double u = run ? 0.2 + 0.8 * unit(rng) + (unit(rng) < 0.05 ? -1.0 : 0.0) : unit(rng);
         w[size_t(i)] = u < 0.15 ? -1.0 : u < 0.2 ? std::nan("") : u < 0.25 ? 0.0 : unit(rng);
+        if (run) {
+          x[size_t(i)] = i + shift;
+          y[size_t(i)] = runRow;
+        }
       }
       for (int i = 0; i < width; ++i) {
         if (w[size_t(i)] < 0) continue;

@@ -651,5 +651,162 @@ TEST(RowKernels, TwoViewBlendIsThePlainRule) {
         }
 }
 
+// The 1D depth warp's points against the rule written plainly: a sample with depth not below 0 (NaN
+// included) raises the cell of its nearest pixel centre floor(x + 0.5) when that lies in [0, outWidth),
+// keeping the larger bits as a signed 64-bit integer. Positions are finite where the depth is not below
+// 0 (rowTargets makes them so), with ties at x.5 and centres just outside the row; z holds holes,
+// values and negative values already.
+TEST(RowKernels, RowPointsRaiseTheNearestCentre) {
+  std::mt19937 rng(21);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  for (const RowKernels* kernels : levels())
+    for (const int n : kWidths)
+      for (const int outWidth : {1, 5, n, n + 9})
+        for (const bool runs : {false, true}) {
+          // Scattered positions, or runs of one displacement (consecutive cells, as a level's run gives:
+          // shifts of whole, half and quarter pixels, some past either end of the row) with few holes.
+          const double shift = std::round(unit(rng) * 8 - 4) + 0.25 * std::round(unit(rng) * 3);
+          std::vector<double> xs(static_cast<size_t>(n)), ws(static_cast<size_t>(n));
+          for (int x = 0; x < n; ++x) {
+            const double u = unit(rng);
+            xs[size_t(x)] = runs       ? x + shift
+                            : u < 0.2 ? std::round(unit(rng) * (outWidth + 4) - 2) + 0.5  // ties
+                                      : unit(rng) * (outWidth + 4) - 2;
+            const double v = runs ? 0.2 + 0.8 * unit(rng) + (unit(rng) < 0.05 ? -1.0 : 0.0) : unit(rng);
+            ws[size_t(x)] = v < 0.2 ? kKernelNoDepth : v < 0.25 ? -0.0 : v < 0.3 ? 0.0 : v < 0.33 ? std::nan("")
+                                                                                       : unit(rng);
+            if (ws[size_t(x)] < 0) xs[size_t(x)] = v < 0.1 ? std::nan("") : kInf;  // not read
+          }
+          std::vector<double> z(static_cast<size_t>(outWidth));
+          for (double& v : z) {
+            const double u = unit(rng);
+            v = u < 0.5 ? kKernelNoDepth : u < 0.6 ? -unit(rng) : unit(rng);
+          }
+          std::vector<double> expected = z;
+          for (int x = 0; x < n; ++x) {
+            if (ws[size_t(x)] < 0) continue;
+            const double px = std::floor(xs[size_t(x)] + 0.5);
+            if (px < 0 || px >= outWidth) continue;
+            double& cell = expected[size_t(px)];
+            if (int64_t(bitsOf(ws[size_t(x)])) > int64_t(bitsOf(cell))) cell = ws[size_t(x)];
+          }
+          kernels->rowPoints(xs.data(), ws.data(), n, z.data(), outWidth);
+          for (int i = 0; i < outWidth; ++i)
+            ASSERT_EQ(bitsOf(z[size_t(i)]), bitsOf(expected[size_t(i)]))
+                << "level " << kernels->level << " n " << n << " out " << outWidth << " i " << i;
+        }
+}
+
+// CleanNoiseOption's isolated samples against the rule written plainly, on rows with holes, NaN,
+// infinities and -0; the row's first and last flags are left as they were.
+TEST(RowKernels, IsolatedSamplesAreThePlainRule) {
+  std::mt19937 rng(22);
+  for (const RowKernels* kernels : levels())
+    for (const int n : kWidths) {
+      const std::vector<double> row = awkwardRow(rng, n, 3.0);
+      std::vector<uint8_t> flags(static_cast<size_t>(n), 99);
+      kernels->isolatedSamples(row.data(), n, flags.data());
+      for (int x = 0; x < n; ++x) {
+        const bool inside = x >= 1 && x + 1 < n;
+        const uint8_t expected = inside ? uint8_t(row[size_t(x)] >= 0 && row[size_t(x) - 1] < 0 && row[size_t(x) + 1] < 0)
+                                        : 99;
+        ASSERT_EQ(flags[size_t(x)], expected) << "level " << kernels->level << " n " << n << " x " << x;
+      }
+    }
+}
+
+// The occlusion rule's candidates of two views against the rule written plainly, with either view
+// unable to hold candidates (its "view" is none).
+TEST(RowKernels, SoleViewOfTwoIsThePlainRule) {
+  std::mt19937 rng(23);
+  for (const RowKernels* kernels : levels())
+    for (const int n : kWidths)
+      for (const uint8_t first : {uint8_t(0), uint8_t(255)})
+        for (const uint8_t second : {uint8_t(1), uint8_t(255)}) {
+          const std::vector<double> d0 = awkwardRow(rng, n, 3.0), d1 = awkwardRow(rng, n, 3.0);
+          std::vector<uint8_t> sole(static_cast<size_t>(n), 77);
+          const bool any = kernels->soleViewOfTwo(d0.data(), d1.data(), size_t(n), first, second, 255, sole.data());
+          bool anyExpected = false;
+          for (int i = 0; i < n; ++i) {
+            const bool v0 = d0[size_t(i)] >= 0.0, v1 = d1[size_t(i)] >= 0.0;
+            const uint8_t view = v0 && !v1 ? first : v1 && !v0 ? second : 255;
+            ASSERT_EQ(sole[size_t(i)], view) << "level " << kernels->level << " n " << n << " i " << i;
+            anyExpected = anyExpected || view != 255;
+          }
+          ASSERT_EQ(any, anyExpected);
+        }
+}
+
+// The occlusion rule's column scans of two views against the loops written plainly (as
+// Synth/Occlusion.cpp had them, a candidate at a time): rows with holes and NaN, lasts with holes,
+// surroundings of HUGE_VAL (none) and NaN where no candidate lies (never to be read there).
+TEST(RowKernels, OcclusionColumnScansAreThePlainRule) {
+  std::mt19937 rng(24);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  for (const RowKernels* kernels : levels())
+    for (const int n : kWidths)
+      for (const double steps : {0.0, 0.1, 0.5}) {
+        std::vector<uint8_t> sole(static_cast<size_t>(n));
+        for (uint8_t& k : sole) k = unit(rng) < 0.3 ? 0 : unit(rng) < 0.4 ? 1 : 255;
+        auto depths = [&] {
+          std::vector<double> row(static_cast<size_t>(n));
+          for (double& d : row) {
+            const double u = unit(rng);
+            d = u < 0.3 ? kKernelNoDepth : u < 0.35 ? std::nan("") : u < 0.4 ? -0.0 : unit(rng);
+          }
+          return row;
+        };
+        const std::vector<double> row0 = depths(), row1 = depths(), last0 = depths(), last1 = depths();
+        std::vector<double> up = depths(), around(static_cast<size_t>(n));
+        for (int x = 0; x < n; ++x)
+          around[size_t(x)] = sole[size_t(x)] == 255 ? std::nan("") : unit(rng) < 0.2 ? HUGE_VAL : unit(rng);
+        // Down, with and without the samples above.
+        for (const bool withUp : {false, true}) {
+          std::vector<double> l0 = last0, l1 = last1, u = up, e0 = last0, e1 = last1, eu = up;
+          kernels->occlusionDown(sole.data(), row0.data(), row1.data(), l0.data(), l1.data(),
+                                 withUp ? u.data() : nullptr, n);
+          for (int x = 0; x < n; ++x) {
+            if (withUp) eu[size_t(x)] = sole[size_t(x)] == 1 ? e0[size_t(x)] : e1[size_t(x)];
+            if (row0[size_t(x)] >= 0.0) e0[size_t(x)] = row0[size_t(x)];
+            if (row1[size_t(x)] >= 0.0) e1[size_t(x)] = row1[size_t(x)];
+          }
+          for (int x = 0; x < n; ++x) {
+            ASSERT_EQ(bitsOf(l0[size_t(x)]), bitsOf(e0[size_t(x)])) << "level " << kernels->level << " x " << x;
+            ASSERT_EQ(bitsOf(l1[size_t(x)]), bitsOf(e1[size_t(x)])) << "level " << kernels->level << " x " << x;
+            ASSERT_EQ(bitsOf(u[size_t(x)]), bitsOf(eu[size_t(x)])) << "level " << kernels->level << " x " << x;
+          }
+        }
+        // Up.
+        std::vector<double> r0 = row0, r1 = row1, l0 = last0, l1 = last1;
+        std::vector<double> e0 = row0, e1 = row1, el0 = last0, el1 = last1;
+        kernels->occlusionUp(sole.data(), r0.data(), r1.data(), l0.data(), l1.data(), up.data(), around.data(), steps, n);
+        int dropped = 0;
+        for (int x = 0; x < n; ++x) {
+          const double below0 = el0[size_t(x)], below1 = el1[size_t(x)];
+          const double value0 = e0[size_t(x)], value1 = e1[size_t(x)];
+          if (value0 >= 0.0) el0[size_t(x)] = value0;
+          if (value1 >= 0.0) el1[size_t(x)] = value1;
+          const uint8_t k = sole[size_t(x)];
+          if (k == 255) continue;
+          const double below = k == 1 ? below0 : below1, own = k == 1 ? value1 : value0;
+          double farthest = around[size_t(x)];
+          if (below >= 0.0 && up[size_t(x)] >= 0.0) farthest = std::min(farthest, std::min(below, up[size_t(x)]));
+          if (farthest != HUGE_VAL && own < farthest - steps) {
+            (k == 1 ? e1 : e0)[size_t(x)] = kKernelNoDepth;
+            ++dropped;
+          }
+        }
+        for (int x = 0; x < n; ++x) {
+          ASSERT_EQ(bitsOf(r0[size_t(x)]), bitsOf(e0[size_t(x)])) << "level " << kernels->level << " x " << x;
+          ASSERT_EQ(bitsOf(r1[size_t(x)]), bitsOf(e1[size_t(x)])) << "level " << kernels->level << " x " << x;
+          ASSERT_EQ(bitsOf(l0[size_t(x)]), bitsOf(el0[size_t(x)])) << "level " << kernels->level << " x " << x;
+          ASSERT_EQ(bitsOf(l1[size_t(x)]), bitsOf(el1[size_t(x)])) << "level " << kernels->level << " x " << x;
+        }
+        if (n >= 33) {
+          EXPECT_GT(dropped, 0) << "the rows drop some candidates";
+        }
+      }
+}
+
 }  // namespace
 }  // namespace vs

@@ -7,6 +7,7 @@
 #include <cstring>
 
 #include "Common/Error.h"
+#include "Synth/Kernels/Rows.h"
 #include "Synth/Parallel.h"
 
 namespace vs {
@@ -14,6 +15,8 @@ namespace vs {
 namespace {
 
 constexpr uint8_t kNone = 255;  // no candidate: no view, or more than one, covers the sample
+
+static_assert(kKernelNoDepth == kNoDepth, "the row kernels' hole is the layers' hole");
 
 // rejectMisplacedSamples' last steps for two views, whose candidates each have one other view: the
 // candidates of view 0 are decided on view 1's surroundings and those of view 1 on view 0's, so both
@@ -76,41 +79,20 @@ void rejectBetweenTwoViews(WarpedLayer& view0, WarpedLayer& view1, double behind
     const double steps = behind;
     std::fill(last0 + x0, last0 + x1, kNoDepth);
     std::fill(last1 + x0, last1 + x1, kNoDepth);
+    // A row of the thread's columns at a time, in loops compiled for the CPU's x86-64 level
+    // (Synth/Kernels/Rows.h; the rule is written out there): down, a candidate of view 1 needs view 0's
+    // sample above and one of view 0 view 1's; up, the candidates are decided.
+    const RowKernels& kernels = rowKernels();
+    const int n = x1 - x0;
     for (int y = 0; y <= bottom; ++y) {
-      const size_t rowStart = size_t(y) * width;
-      if (y >= top) {
-        // A candidate of view 1 needs view 0's sample above, one of view 0 view 1's.
-        const uint8_t* sole = soleView + rowStart;
-        double* upRow = up + rowStart;
-        for (int x = x0; x < x1; ++x) upRow[x] = sole[x] == 1 ? last0[x] : last1[x];
-      }
-      const double* row0 = d0 + rowStart;
-      const double* row1 = d1 + rowStart;
-      for (int x = x0; x < x1; ++x) {
-        last0[x] = row0[x] >= 0.0 ? row0[x] : last0[x];
-        last1[x] = row1[x] >= 0.0 ? row1[x] : last1[x];
-      }
+      const size_t at = size_t(y) * width + size_t(x0);
+      kernels.occlusionDown(soleView + at, d0 + at, d1 + at, last0 + x0, last1 + x0, y >= top ? up + at : nullptr, n);
     }
     std::fill(last0 + x0, last0 + x1, kNoDepth);
     std::fill(last1 + x0, last1 + x1, kNoDepth);
     for (int y = height - 1; y >= top; --y) {
-      const size_t rowStart = size_t(y) * width;
-      double* row0 = d0 + rowStart;
-      double* row1 = d1 + rowStart;
-      const uint8_t* sole = soleView + rowStart;
-      for (int x = x0; x < x1; ++x) {
-        const double below0 = last0[x], below1 = last1[x];
-        const double value0 = row0[x], value1 = row1[x];
-        last0[x] = value0 >= 0.0 ? value0 : below0;
-        last1[x] = value1 >= 0.0 ? value1 : below1;
-        const uint8_t k = sole[x];
-        if (k == kNone) continue;
-        const size_t s = rowStart + size_t(x);
-        const double below = k == 1 ? below0 : below1, own = k == 1 ? value1 : value0;
-        double around = rowFarthest[s];
-        if (below >= 0.0 && up[s] >= 0.0) around = std::min(around, std::min(below, up[s]));
-        if (around != HUGE_VAL && own < around - steps) (k == 1 ? row1 : row0)[x] = kNoDepth;
-      }
+      const size_t at = size_t(y) * width + size_t(x0);
+      kernels.occlusionUp(soleView + at, d0 + at, d1 + at, last0 + x0, last1 + x0, up + at, rowFarthest + at, steps, n);
     }
   });
 }
@@ -145,17 +127,15 @@ void rejectMisplacedSamples(const std::vector<WarpedLayer*>& views, const std::v
     // Two views (nearly every run): which one covers the sample alone, without branches.
     const bool two = viewCount == 2;
     const uint8_t first = weights[0] < 1.0 ? 0 : kNone, second = weights[1] < 1.0 ? 1 : kNone;
+    const RowKernels& kernels = rowKernels();
     for (int y = y0; y < y1; ++y) {
       uint8_t any = 0;
       const size_t begin = size_t(y) * width, end = size_t(y + 1) * width;
       if (two) {
-        const double *d0 = depth[0], *d1 = depth[1];
-        for (size_t i = begin; i < end; ++i) {
-          const bool v0 = d0[i] >= 0.0, v1 = d1[i] >= 0.0;
-          const uint8_t view = v0 == v1 ? kNone : v0 ? first : second;
-          out[i] = view;  // (rejectBetweenTwoViews decides each candidate once: no stillBehind flags)
-          any |= uint8_t(view != kNone);
-        }
+        // Which one covers the sample alone (rejectBetweenTwoViews decides each candidate once: no
+        // stillBehind flags), in a loop compiled for the CPU's x86-64 level (Synth/Kernels/Rows.h).
+        any = uint8_t(kernels.soleViewOfTwo(depth[0] + begin, depth[1] + begin, end - begin, first, second, kNone,
+                                            out + begin));
       } else {
         for (size_t i = begin; i < end; ++i) {
           size_t count = 0, only = 0;

@@ -20,11 +20,12 @@ namespace {
 // CleanNoiseOption on one row of a layer's depth: a sample with holes on both sides along its row is
 // a stray point of a surface seen elsewhere, removed before it picks up colour. Removing a sample
 // never changes the decision for the next one (it is removed only when the next is a hole, which is
-// then not removed either), so the decisions are taken on the row as it was: a branch-free pass that
-// vectorises flags the samples (in `isolated`, width bytes), and only those are then cleared.
+// then not removed either), so the decisions are taken on the row as it was: a branch-free pass
+// compiled for the CPU's x86-64 level (Synth/Kernels/Rows.h) flags the samples (in `isolated`, width
+// bytes), and only those are then cleared.
 void cleanIsolatedSamples(double* row, int width, uint8_t* isolated) {
   if (width < 3) return;
-  for (int x = 1; x + 1 < width; ++x) isolated[x] = uint8_t((row[x] >= 0) & (row[x - 1] < 0) & (row[x + 1] < 0));
+  rowKernels().isolatedSamples(row, width, isolated);
   forEachFlag(isolated + 1, width - 2, [&](int x) { row[x + 1] = kNoDepth; });
 }
 

@@ -97,19 +97,73 @@ void rowSources(double offset, double shift, double inverse, double scale, const
   }
 }
 
-void rowTargets(const uint16_t* levels, int width, const double* table, size_t beyond, double scale, double offset,
-                double* xs, double* ws) {
+void rowTargets(const uint16_t* __restrict levels, int width, const double* __restrict table, size_t beyond,
+                double scale, double offset, double* __restrict xs, double* __restrict ws) {
+  // Finite as a comparison (NaN compares false) and __restrict, so that GCC vectorises the loop (the
+  // table read by gathers where the level has them).
   for (int x = 0; x < width; ++x) {
     const size_t level = size_t(levels[x]) < beyond ? size_t(levels[x]) : beyond;
     const double displacement = table[2 * level], depth = table[2 * level + 1];
     const double target = snap((scale * double(x) + offset) + displacement);
-    ws[x] = std::isfinite(target) ? depth : kKernelNoDepth;
+    ws[x] = std::fabs(target) <= kFarthest ? depth : kKernelNoDepth;
     xs[x] = target;
   }
 }
 
 void rowPoints(const double* xs, const double* ws, int width, double* z, int outWidth) {
-  for (int x = 0; x < width; ++x) {
+  int x = 0;
+#if defined(__AVX512F__) && defined(__AVX512DQ__)
+  // Eight samples at a time. Where all eight land on consecutive cells (a run of one level, as most
+  // samples of a row are), each cell is raised once, by its own sample: one load, a max of the bits as
+  // signed 64-bit integers in every lane, one store. Otherwise the samples that land are raised one by one.
+  const __m512d half8 = _mm512_set1_pd(0.5), zero8 = _mm512_setzero_pd(), right8 = _mm512_set1_pd(double(outWidth));
+  const __m512i iota = _mm512_setr_epi64(0, 1, 2, 3, 4, 5, 6, 7);
+  for (; x + 8 <= width; x += 8) {
+    const __m512d pw = _mm512_loadu_pd(ws + x);
+    // floor (the zero-masking forms of the intrinsics: GCC 12's plain ones warn, as in Raster.h)
+    const __m512d px = _mm512_maskz_roundscale_pd(0xff, _mm512_add_pd(_mm512_loadu_pd(xs + x), half8),
+                                                  _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC);
+    const __mmask8 lands = __mmask8(~(_mm512_cmp_pd_mask(pw, zero8, _CMP_LT_OQ) |
+                                      _mm512_cmp_pd_mask(px, zero8, _CMP_LT_OQ) |
+                                      _mm512_cmp_pd_mask(px, right8, _CMP_GE_OQ)));
+    if (lands == 0xff) {
+      const __m512i cells = _mm512_maskz_cvttpd_epi64(0xff, px);
+      const long long firstCell = (long long)std::floor(xs[x] + 0.5);  // lane 0's cell
+      if (_mm512_cmpeq_epi64_mask(cells, _mm512_add_epi64(_mm512_set1_epi64(firstCell), iota)) == 0xff) {
+        double* at = z + firstCell;
+        _mm512_storeu_si512(at, _mm512_maskz_max_epi64(0xff, _mm512_loadu_si512(at), _mm512_castpd_si512(pw)));
+        continue;
+      }
+    }
+    alignas(64) double centres[8];
+    _mm512_store_pd(centres, px);
+    for (unsigned m = lands; m; m &= m - 1) {
+      const int k = __builtin_ctz(m);
+      raiseCell(z[size_t(centres[k])], ws[x + k]);
+    }
+  }
+#elif defined(__SSE4_1__)
+  // A register of samples at a time, as Raster.h's points: their centres and whether each lands in
+  // lanes (the same double operations per lane), then every lane raised without a branch, one that does
+  // not land with -0 at cell 0, the least value in the z-buffer's order, which changes nothing. (A
+  // sample with ws >= 0 has a finite position: rowTargets.)
+  using L = QuadLanes<kQuadsAtOnce>;
+  using Doubles = typename L::Doubles;
+  using Mask = typename L::Mask;
+  const Doubles half = L::splat(0.5), zero = L::splat(0.0), right = L::splat(double(outWidth)),
+                nothing = L::splat(-0.0);
+  for (; x + L::kLanes <= width; x += L::kLanes) {
+    Doubles px, pw;
+    std::memcpy(&px, xs + x, sizeof px);
+    std::memcpy(&pw, ws + x, sizeof pw);
+    px = L::floor(px + half);
+    const Mask lands = ~((pw < zero) | (px < zero) | (px >= right));
+    const Mask cells = __builtin_convertvector(lands ? px : zero, Mask);
+    const Doubles values = lands ? pw : nothing;
+    for (int k = 0; k < L::kLanes; ++k) raiseCell(z[size_t(cells[k])], values[k]);
+  }
+#endif
+  for (; x < width; ++x) {
     if (ws[x] < 0) continue;
     const double px = std::floor(xs[x] + 0.5);
     if (px < 0 || px >= outWidth) continue;
@@ -534,6 +588,82 @@ struct TwoViewBlend {
     return lost;
   }
 #endif
+
+#if defined(__AVX512F__) && defined(__AVX512BW__) && defined(__AVX512VL__) && defined(__AVX512DQ__)
+  // Samples i to i + 7, as pair() does them, with the masks as bit masks (a set bit for true); the
+  // bits where blendViews finds no bestView come back set. The quiet forms of pair()'s comparisons
+  // (they differ in the exception flags only, which nothing reads); the zero-masking forms of the
+  // intrinsics, as GCC 12 warns of the plain ones' undefined operand.
+  template <bool Plain>
+  __mmask8 octet(size_t i) const {
+    const TwoViewBlendRows& b = rows;
+    const __m512d zero = _mm512_setzero_pd();
+    auto flag = [](bool f) { return __mmask8(f ? 0xff : 0); };
+    const __m512d d0 = _mm512_loadu_pd(b.depth0 + i), d1 = _mm512_loadu_pd(b.depth1 + i);
+    const __mmask8 valid0 = _mm512_cmp_pd_mask(d0, zero, _CMP_GE_OQ), valid1 = _mm512_cmp_pd_mask(d1, zero, _CMP_GE_OQ);
+    const __mmask8 hole = __mmask8(~(valid0 | valid1));
+    // pair()'s nearest: d1 > x0 ? d1 : x0, with x0 = -1 where the first view is not valid.
+    const __m512d nearest = _mm512_maskz_max_pd(0xff, d1, _mm512_mask_blend_pd(valid0, _mm512_set1_pd(-1.0), d0));
+    const __m512d gap0 = _mm512_sub_pd(nearest, d0), gap1 = _mm512_sub_pd(nearest, d1);
+    const __m512d surface = _mm512_set1_pd(b.tolerance);
+    const __m128i noEdge = _mm_setzero_si128();
+    auto edgeFree = [&](const uint8_t* edge) {
+      return __mmask8(_mm_cmpeq_epi8_mask(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(edge + i)), noEdge));
+    };
+    const __mmask8 clean0 = edgeFree(b.edge0), clean1 = edgeFree(b.edge1);
+    const __mmask8 anyClean = __mmask8((valid0 & _mm512_cmp_pd_mask(gap0, surface, _CMP_LE_OQ) & clean0) |
+                                       (valid1 & _mm512_cmp_pd_mask(gap1, surface, _CMP_LE_OQ) & clean1));
+    // use = valid & !(gap > tolerance) & !(anyClean & onEdge)
+    const __mmask8 use0 =
+        __mmask8(valid0 & ~_mm512_cmp_pd_mask(gap0, surface, _CMP_GT_OQ) & ~(anyClean & __mmask8(~clean0)));
+    const __mmask8 use1 =
+        __mmask8(valid1 & ~_mm512_cmp_pd_mask(gap1, surface, _CMP_GT_OQ) & ~(anyClean & __mmask8(~clean1)));
+    __mmask8 lost, copy, fromSecond;
+    if constexpr (Plain) {
+      lost = __mmask8(~(hole | use0 | use1));
+      copy = flag(NearestViewOnly);
+      fromSecond = __mmask8(use1 & (flag(b.pickSecondOfBoth) | __mmask8(~use0)));
+    } else {
+      const __mmask8 takeSecond =
+          __mmask8(use1 & ((use0 & flag(b.pickSecondOfBoth)) | (__mmask8(~use0) & flag(b.pickSecondAlone))));
+      const __mmask8 takeFirst = __mmask8(~takeSecond & use0 & flag(b.pickFirstAlone));
+      const __mmask8 dominantCopy = __mmask8((flag(b.dominantFirst) & valid0) | (flag(b.dominantSecond) & valid1));
+      lost = __mmask8(~(dominantCopy | hole | takeFirst | takeSecond));
+      copy = NearestViewOnly ? flag(true) : dominantCopy;
+      fromSecond = __mmask8((dominantCopy & flag(b.dominantSecond)) | (__mmask8(~dominantCopy) & takeSecond));
+    }
+    constexpr bool copies = NearestViewOnly || !Plain, mixes = !NearestViewOnly;
+    const __m512d w0 = _mm512_set1_pd(b.weight0), w1 = _mm512_set1_pd(b.weight1);
+    const __m512d weightSum =
+        _mm512_add_pd(_mm512_add_pd(zero, _mm512_maskz_mov_pd(use0, w0)), _mm512_maskz_mov_pd(use1, w1));
+    __m512d depth = zero;
+    if (copies) depth = _mm512_mask_blend_pd(fromSecond, d0, d1);
+    if (mixes) {
+      const __m512d depthSum = _mm512_add_pd(_mm512_add_pd(zero, _mm512_maskz_mov_pd(use0, _mm512_mul_pd(w0, d0))),
+                                             _mm512_maskz_mov_pd(use1, _mm512_mul_pd(w1, d1)));
+      const __m512d mixed = _mm512_div_pd(depthSum, weightSum);
+      depth = copies ? _mm512_mask_blend_pd(copy, mixed, depth) : mixed;
+    }
+    _mm512_storeu_pd(b.depthOut + i, _mm512_mask_blend_pd(hole, depth, _mm512_set1_pd(kKernelNoDepth)));
+    const __m256 fw0 = _mm256_set1_ps(b.floatWeight0), fw1 = _mm256_set1_ps(b.floatWeight1);
+    for (int c = 0; c < Channels; ++c) {
+      const __m256 x0 = _mm256_loadu_ps(b.colour0[c] + i), x1 = _mm256_loadu_ps(b.colour1[c] + i);
+      __m256 value = _mm256_setzero_ps();
+      if (copies) value = _mm256_mask_blend_ps(fromSecond, x0, x1);
+      if (mixes) {
+        const __m256 colourSum =
+            _mm256_add_ps(_mm256_add_ps(_mm256_setzero_ps(), _mm256_maskz_mov_ps(use0, _mm256_mul_ps(fw0, x0))),
+                          _mm256_maskz_mov_ps(use1, _mm256_mul_ps(fw1, x1)));
+        const __m256 mixed =
+            _mm512_maskz_cvtpd_ps(0xff, _mm512_div_pd(_mm512_maskz_cvtps_pd(0xff, colourSum), weightSum));
+        value = copies ? _mm256_mask_blend_ps(copy, mixed, value) : mixed;
+      }
+      _mm256_storeu_ps(b.colourOut[c] + i, _mm256_maskz_mov_ps(__mmask8(~hole), value));
+    }
+    _mm_storel_epi64(reinterpret_cast<__m128i*>(b.holeOut + i), _mm_maskz_set1_epi8(hole, 1));
+    return lost;
+  }
+#endif
 };
 
 template <int Channels, bool NearestViewOnly>
@@ -541,13 +671,21 @@ bool blendTwoViews(const TwoViewBlendRows& rows, size_t begin, size_t end) {
   const TwoViewBlend<Channels, NearestViewOnly> local{rows};  // a local: the stores cannot alias it
   size_t i = begin;
   bool lost = false;
+#if defined(__AVX512F__) && defined(__AVX512BW__) && defined(__AVX512VL__) && defined(__AVX512DQ__)
+  __mmask8 lostOctets = 0;
+  if (rows.plain)
+    for (; i + 8 <= end; i += 8) lostOctets = __mmask8(lostOctets | local.template octet<true>(i));
+  else
+    for (; i + 8 <= end; i += 8) lostOctets = __mmask8(lostOctets | local.template octet<false>(i));
+  lost = lostOctets != 0;
+#endif
 #if defined(__SSE4_1__)
   __m128d lostPairs = _mm_setzero_pd();
   if (rows.plain)
     for (; i + 2 <= end; i += 2) lostPairs = _mm_or_pd(lostPairs, local.template pair<true>(i));
   else
     for (; i + 2 <= end; i += 2) lostPairs = _mm_or_pd(lostPairs, local.template pair<false>(i));
-  lost = _mm_movemask_pd(lostPairs) != 0;
+  lost = lost || _mm_movemask_pd(lostPairs) != 0;
 #endif
   for (; i < end; ++i) lost |= local.sample(i);
   return lost;
@@ -613,6 +751,59 @@ void chromaBlocks(const double* top, const double* bottom, const uint8_t* edgeTo
   }
 }
 
+void isolatedSamples(const double* row, int width, uint8_t* isolated) {
+  for (int x = 1; x + 1 < width; ++x) isolated[x] = uint8_t((row[x] >= 0) & (row[x - 1] < 0) & (row[x + 1] < 0));
+}
+
+bool soleViewOfTwo(const double* d0, const double* d1, size_t n, uint8_t first, uint8_t second, uint8_t none,
+                   uint8_t* sole) {
+  // Byte masks instead of branches: the loop vectorises.
+  uint8_t any = 0;
+  for (size_t i = 0; i < n; ++i) {
+    const uint8_t v0 = uint8_t(d0[i] >= 0.0), v1 = uint8_t(d1[i] >= 0.0);
+    const uint8_t only0 = uint8_t(-uint8_t(v0 & (v1 ^ 1))), only1 = uint8_t(-uint8_t(v1 & (v0 ^ 1)));
+    const uint8_t view = uint8_t((first & only0) | (second & only1) | (none & uint8_t(~(only0 | only1))));
+    sole[i] = view;
+    any |= uint8_t(view != none);
+  }
+  return any != 0;
+}
+
+// __restrict: the rows, the lasts and the up samples are distinct arrays, which GCC would otherwise
+// have to check at run time, pair by pair, before it vectorises.
+void occlusionDown(const uint8_t* __restrict sole, const double* __restrict row0, const double* __restrict row1,
+                   double* __restrict last0, double* __restrict last1, double* __restrict up, int n) {
+  if (up)
+    for (int x = 0; x < n; ++x) up[x] = sole[x] == 1 ? last0[x] : last1[x];
+  for (int x = 0; x < n; ++x) {
+    last0[x] = row0[x] >= 0.0 ? row0[x] : last0[x];
+    last1[x] = row1[x] >= 0.0 ? row1[x] : last1[x];
+  }
+}
+
+void occlusionUp(const uint8_t* __restrict sole, double* __restrict row0, double* __restrict row1,
+                 double* __restrict last0, double* __restrict last1, const double* __restrict up,
+                 const double* __restrict around, double steps, int n) {
+  // Every sample decided without a branch.
+  for (int x = 0; x < n; ++x) {
+    const double below0 = last0[x], below1 = last1[x];
+    const double value0 = row0[x], value1 = row1[x];
+    last0[x] = value0 >= 0.0 ? value0 : below0;
+    last1[x] = value1 >= 0.0 ? value1 : below1;
+    const uint8_t k = sole[x];
+    const bool second = k == 1;
+    const double below = second ? below0 : below1, own = second ? value1 : value0, above = up[x];
+    double farthest = k <= 1 ? around[x] : HUGE_VAL;  // read at the candidates only (its pages are touched there)
+    const double nearer = above < below ? above : below;   // std::min(below, above)
+    const double lowered = nearer < farthest ? nearer : farthest;  // std::min(farthest, nearer)
+    farthest = (below >= 0.0) & (above >= 0.0) ? lowered : farthest;
+    const bool drop = (k <= 1) & (farthest != HUGE_VAL) & (own < farthest - steps);
+    // Stored where dropped only (masked stores where vectorised): the rows are not written back.
+    if (drop & !second) row0[x] = kKernelNoDepth;
+    if (drop & second) row1[x] = kKernelNoDepth;
+  }
+}
+
 }  // namespace
 
 extern const RowKernels rowKernelsOfLevel;
@@ -640,6 +831,10 @@ const RowKernels rowKernelsOfLevel = {forwardRow,
                                        {blendTwoViews<3, false>, blendTwoViews<3, true>}},
                                       chromaBlocks,
                                       chromaTableRow,
+                                      isolatedSamples,
+                                      soleViewOfTwo,
+                                      occlusionDown,
+                                      occlusionUp,
                                       VS_KERNEL_LEVEL};
 
 }  // namespace VS_LEVEL_NS
