@@ -333,7 +333,8 @@ void planInpaint(const BlendedLayer& layer, const std::vector<uint8_t>& mask, in
 }
 
 // Inpaints one group of `layer`'s mask samples in its crop, all channels in one march, into `result`.
-void inpaintGroup(const BlendedLayer& layer, const std::vector<uint8_t>& mask, int radius, const BlockGroups& groups,
+void inpaintGroup(const BlendedLayer& layer, const std::vector<uint8_t>& mask, int radius, bool likeOpenCv,
+                  const BlockGroups& groups,
                   const HoleFillScratch::InpaintTask& task, UntouchedBuffer<float> result[3],
                   ScratchPool<HoleFillScratch::InpaintBuffers>& buffers) {
   const auto scratch = buffers.take();
@@ -396,7 +397,7 @@ void inpaintGroup(const BlendedLayer& layer, const std::vector<uint8_t>& mask, i
       }
     }
   }
-  teleaInpaint(groupMask.data(), cw, c.width, c.height, samples.data(), cw, radius, telea);
+  teleaInpaint(groupMask.data(), cw, c.width, c.height, samples.data(), cw, radius, telea, likeOpenCv);
   // Every mask sample is in one group: one writer.
   float* out[3] = {result[0].data(), result[1].data(), result[2].data()};
   for (int y = 0; y < c.height; ++y) {
@@ -430,7 +431,7 @@ void inpaintAll(const std::vector<LayerFill>& fills) {
     for (int j = begin; j < end; ++j) {
       const LayerFill& f = fills[jobs[size_t(j)].fill];
       HoleFillScratch& s = *f.scratch;
-      inpaintGroup(*f.layer, s.mask, f.options->inpaintRadius, s.inpaintGroups, s.tasks[jobs[size_t(j)].task], s.inpainted,
+      inpaintGroup(*f.layer, s.mask, f.options->inpaintRadius, f.options->inpaintLikeOpenCv, s.inpaintGroups, s.tasks[jobs[size_t(j)].task], s.inpainted,
                    s.inpaintBuffers);
     }
   });
