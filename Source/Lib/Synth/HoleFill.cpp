@@ -309,7 +309,7 @@ void groupBlocks(const std::vector<uint8_t>& mask, int width, int height, int li
 // in a crop reaching at least that far around it (or to the picture's edge) with the other groups'
 // samples left out of the mask: the result is exactly the whole-picture one, at a cost that follows
 // each group's size instead of all the holes'. Each group's channels are filled in one march
-// (Synth/Telea.h: the same result as OpenCV's cv::inpaint with INPAINT_TELEA, channel by channel).
+// (Synth/Telea.h: OpenCV's result channel by channel, or the cheaper weighted mean for luma).
 void planInpaint(const BlendedLayer& layer, const std::vector<uint8_t>& mask, int radius, UntouchedBuffer<float> result[3],
                  HoleFillScratch& scratch) {
   const int reach = radius + 2;
