@@ -265,6 +265,15 @@ void groupBlocks(const std::vector<uint8_t>& mask, int width, int height, int li
       int* row = label.data() + size_t(y / kBlock) * bw;
       for (int bx = 0; bx < bw; ++bx) {
         const int x0 = bx * kBlock, x1 = std::min(width, x0 + kBlock);
+        if (x0 + 4 * kBlock <= width) {  // four blocks' row without a mask sample, at once
+          uint64_t first, second;
+          std::memcpy(&first, m + x0, sizeof first);
+          std::memcpy(&second, m + x0 + 8, sizeof second);
+          if ((first | second) == 0) {
+            bx += 3;
+            continue;
+          }
+        }
         bool any = false;
         if (x1 - x0 == kBlock) {  // a whole block's row: its bytes at once
           uint32_t bytes;
@@ -431,7 +440,7 @@ void inpaintAll(const std::vector<LayerFill>& fills) {
     for (int j = begin; j < end; ++j) {
       const LayerFill& f = fills[jobs[size_t(j)].fill];
       HoleFillScratch& s = *f.scratch;
-      inpaintGroup(*f.layer, s.mask, f.options->inpaintRadius, f.options->inpaintLikeOpenCv, s.inpaintGroups, s.tasks[jobs[size_t(j)].task], s.inpainted,
+      inpaintGroup(*f.layer, *s.inpaintMask, f.options->inpaintRadius, f.options->inpaintLikeOpenCv, s.inpaintGroups, s.tasks[jobs[size_t(j)].task], s.inpainted,
                    s.inpaintBuffers);
     }
   });
@@ -452,17 +461,17 @@ void fillHoles(const std::vector<HoleFillJob>& jobs) {
       std::fill(layer.hole.begin(), layer.hole.end(), uint8_t(0));
       continue;
     }
-    if (!options.backgroundFirst) {
-      s.mask = layer.hole;
-    } else {
+    // The inpainting's mask: the holes themselves (not copied) or the background-only mask.
+    s.inpaintMask = &layer.hole;
+    if (options.backgroundFirst) {
       directionalFill(layer, options, s.directional, s.background, s.found, s.columnRows);
       rowRunFill(layer, options, s.runs, s.runBackground, s.runFound);
-      if (options.inpaintNearerSurface)
+      if (options.inpaintNearerSurface) {
         backgroundOnlyMask(layer, s.background, options.depthTolerance, options.inpaintRadius + 1, s.mask, s.thresholdRows);
-      else
-        s.mask = layer.hole;
+        s.inpaintMask = &s.mask;
+      }
     }
-    planInpaint(layer, s.mask, options.inpaintRadius, s.inpainted, s);
+    planInpaint(layer, *s.inpaintMask, options.inpaintRadius, s.inpainted, s);
     fills.push_back({&layer, &options, &s});
   }
   inpaintAll(fills);

@@ -42,7 +42,8 @@ struct HoleFillScratch {
   UntouchedBuffer<float> directional[3], runs[3], inpainted[3];
   UntouchedBuffer<double> background, runBackground;
   UntouchedBuffer<uint8_t> found, runFound;
-  std::vector<uint8_t> mask;
+  std::vector<uint8_t> mask;                   // the background-only mask (inpaintNearerSurface)
+  const std::vector<uint8_t>* inpaintMask = nullptr;  // what is inpainted: `mask` or the layer's holes
   struct InpaintGroups {  // the inpainting's groups of holes, by blocks (HoleFill.cpp)
     int columns = 0, rows = 0;
     std::vector<int> label;
