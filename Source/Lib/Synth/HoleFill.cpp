@@ -88,13 +88,14 @@ void directionalFill(const BlendedLayer& layer, const HoleFillOptions& options, 
       if (below[x] < h) take(x, below[x], below[x] - y, false);
       if (above[x] >= 0) take(x, above[x], y - above[x], false);
       for (const auto& d : diagonals) {
-        int px = x, py = y;
-        for (int step = 1; step <= maxReach; ++step) {
-          px += d[0];
-          py += d[1];
-          if (px < 0 || py < 0 || px >= w || py >= h) break;
-          if (hole[size_t(py) * w + px]) continue;
-          take(px, py, step, true);
+        // The steps that stay within the picture and the reach, then no bound to test per step.
+        const int steps = std::min({maxReach, d[0] > 0 ? w - 1 - x : x, d[1] > 0 ? h - 1 - y : y});
+        const ptrdiff_t stride = ptrdiff_t(d[1]) * w + d[0];
+        const uint8_t* p = hole + i;
+        for (int step = 1; step <= steps; ++step) {
+          p += stride;
+          if (*p) continue;
+          take(x + step * d[0], y + step * d[1], step, true);
           break;
         }
       }
