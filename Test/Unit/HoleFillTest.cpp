@@ -1,8 +1,10 @@
 // fillHoles with IvsrsInpaint 1 against a plain reference: the three estimates and the mix written
 // as HoleFill.h describes them, one sample at a time over the whole picture, and the inpainting of
 // the whole picture (of the holes, or of the holes and the nearer surface beside them): OpenCV's,
-// or without its colour-gradient term the plain one of TeleaReference.h. fillHoles skips samples without holes eight at a time, reads through local pointers, runs
-// rows in parallel and inpaints group by group in crops; none of that may change a bit of its output.
+// or luma's (inpaintLikeOpenCv off) the plain one of TeleaReference.h. fillHoles skips samples without
+// holes eight at a time, reads through local pointers, runs rows in parallel and inpaints group by
+// group in crops; none of that may change a bit of its output (with luma's inpainting, up to the
+// order of its float sums).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -137,7 +139,7 @@ BlendedLayer referenceFill(const BlendedLayer& in, const HoleFillOptions& o) {
           if (!hole[k] && depth[k] > background[i] + o.depthTolerance) mask[k] = 1;
         }
     }
-  // OpenCV's, or without its colour-gradient term a plain implementation (TeleaReference.h).
+  // OpenCV's, or luma's, a plain implementation of it (TeleaReference.h).
   cv::Mat maskMat(h, w, CV_8UC1, mask.data());
   for (int k = 0; k < channels; ++k) {
     if (!o.inpaintLikeOpenCv) {

@@ -1,8 +1,9 @@
 #pragma once
-// A plain Telea inpainting of one float plane without OpenCV's colour-gradient term, written from
-// Synth/Telea.h's description, one sample at a time and without any of Telea.cpp's shortcuts (no
-// seed list, no heap keys, no known-side bytes, no lanes, no interior fast path): the reference that
-// teleaInpaint(..., likeOpenCv = false) and the hole filling's luma are tested against.
+// A plain Telea inpainting of one float plane without OpenCV's outward march and colour-gradient term
+// (luma's), written from Synth/Telea.h's description, one sample at a time and without any of
+// Telea.cpp's shortcuts (no seed list, no heap keys, no known-side bytes, no lanes, no interior fast
+// path): the reference that teleaInpaint(..., likeOpenCv = false) and the hole filling's luma are
+// tested against.
 //   - A grid one sample wider on every side; mask samples are "inside", the rest known. The band:
 //     known samples of the picture beside (4-neighbours) a mask sample. Every known sample of the
 //     picture is at time 0 (OpenCV's outward march, which gives those near the mask negative

@@ -1,7 +1,9 @@
 // Synth/Telea.h against OpenCV's cv::inpaint(..., INPAINT_TELEA): the same floats, bit for bit, for
 // each of the four interleaved planes, on random pictures and masks of every shape we meet (thin
 // strips as the 1D path leaves, blobs, scattered samples, masks on the picture's edges), radii 1 to
-// 8 and radii OpenCV rounds.
+// 8 and radii OpenCV rounds. Luma's cheaper inpainting (likeOpenCv off) against a plain
+// implementation of it (TeleaReference.h) on the same cases, and against what a weighted mean must
+// satisfy.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -148,9 +150,9 @@ TEST(Telea, EachPlaneIsFilledAsIfAlone) {
   }
 }
 
-// Without OpenCV's colour-gradient term (the hole filling's luma): each plane equals a plain
-// implementation of the weighted mean (TeleaReference.h), up to the order of the float sums.
-TEST(Telea, WithoutTheGradientTermEqualsAPlainImplementation) {
+// Luma's inpainting (likeOpenCv off: no outward march, no colour-gradient term): each plane equals
+// a plain implementation of it (TeleaReference.h), up to the order of the float sums.
+TEST(Telea, LumasInpaintingEqualsAPlainImplementation) {
   std::mt19937 random(2031);
   TeleaScratch scratch;
   for (int trial = 0; trial < 150; ++trial) {
@@ -179,7 +181,7 @@ TEST(Telea, WithoutTheGradientTermEqualsAPlainImplementation) {
 // A weighted mean whose weights do not depend on the colours, plus 0.5 (OpenCV's, meant for rounding
 // to 8 bits; on floats it adds up as filled samples feed later ones): a plane shifted by a constant
 // is filled shifted by that constant, and no filled value is below the least known one plus 0.5.
-TEST(Telea, WithoutTheGradientTermFillsAWeightedMeanPlusAHalf) {
+TEST(Telea, LumasInpaintingIsAWeightedMeanPlusAHalf) {
   std::mt19937 random(5);
   TeleaScratch scratch;
   for (int trial = 0; trial < 60; ++trial) {
@@ -201,7 +203,8 @@ TEST(Telea, WithoutTheGradientTermFillsAWeightedMeanPlusAHalf) {
           const float v = got[size_t(p)].at<float>(y, x);
           ASSERT_NEAR(gotShifted[size_t(p)].at<float>(y, x) - v, 37.0f, 1e-3f * (1.0f + std::fabs(v)))
               << "trial " << trial << " plane " << p;
-          ASSERT_GE(v, float(least) + 0.5f - 1e-4f * (1.0f + std::fabs(float(least)))) << "trial " << trial << " plane " << p;
+          ASSERT_GE(v, float(least) + 0.5f - 1e-4f * (1.0f + std::fabs(float(least))))
+              << "trial " << trial << " plane " << p;
         }
     }
   }

@@ -441,8 +441,8 @@ void inpaintAll(const std::vector<LayerFill>& fills) {
     for (int j = begin; j < end; ++j) {
       const LayerFill& f = fills[jobs[size_t(j)].fill];
       HoleFillScratch& s = *f.scratch;
-      inpaintGroup(*f.layer, *s.inpaintMask, f.options->inpaintRadius, f.options->inpaintLikeOpenCv, s.inpaintGroups, s.tasks[jobs[size_t(j)].task], s.inpainted,
-                   s.inpaintBuffers);
+      inpaintGroup(*f.layer, *s.inpaintMask, f.options->inpaintRadius, f.options->inpaintLikeOpenCv, s.inpaintGroups,
+                   s.tasks[jobs[size_t(j)].task], s.inpainted, s.inpaintBuffers);
     }
   });
 }
