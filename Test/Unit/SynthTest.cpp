@@ -774,6 +774,7 @@ TEST(HoleFill, InpaintingGroupByGroupEqualsInpaintingTheWholePicture) {
     HoleFillOptions options;
     options.backgroundFirst = false;
     options.inpaintRadius = radius;
+    options.inpaintLikeOpenCv = true;  // OpenCV's (without it: Test/Unit/HoleFillTest.cpp)
     ASSERT_GT(fillHoles(layer, options), 0u);
     for (int c = 0; c < channels; ++c)
       for (size_t i = 0; i < expected[c].size(); ++i)

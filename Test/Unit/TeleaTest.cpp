@@ -1,9 +1,13 @@
 // Synth/Telea.h against OpenCV's cv::inpaint(..., INPAINT_TELEA): the same floats, bit for bit, for
 // each of the four interleaved planes, on random pictures and masks of every shape we meet (thin
 // strips as the 1D path leaves, blobs, scattered samples, masks on the picture's edges), radii 1 to
-// 8 and radii OpenCV rounds.
+// 8 and radii OpenCV rounds. Luma's cheaper inpainting (likeOpenCv off) against a plain
+// implementation of it (TeleaReference.h) on the same cases, and against what a weighted mean must
+// satisfy.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <random>
 #include <utility>
@@ -13,6 +17,7 @@
 #include <opencv2/photo.hpp>
 
 #include "Synth/Telea.h"
+#include "TeleaReference.h"
 
 namespace vs {
 namespace {
@@ -70,13 +75,13 @@ Case randomCase(std::mt19937& random, int kind) {
 }
 
 // Runs teleaInpaint on the case's four planes interleaved and returns them apart.
-std::vector<cv::Mat> ours(const Case& c, TeleaScratch& scratch) {
+std::vector<cv::Mat> ours(const Case& c, TeleaScratch& scratch, bool likeOpenCv = true) {
   const int w = c.width, h = c.height;
   std::vector<float> samples(size_t(w) * h * 4);
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x)
       for (int p = 0; p < 4; ++p) samples[(size_t(y) * w + x) * 4 + p] = c.planes[size_t(p)].at<float>(y, x);
-  teleaInpaint(c.mask.ptr<uint8_t>(), c.mask.step, w, h, samples.data(), size_t(w), c.radius, scratch);
+  teleaInpaint(c.mask.ptr<uint8_t>(), c.mask.step, w, h, samples.data(), size_t(w), c.radius, scratch, likeOpenCv);
   std::vector<cv::Mat> out;
   for (int p = 0; p < 4; ++p) {
     cv::Mat plane(h, w, CV_32FC1);
@@ -142,6 +147,66 @@ TEST(Telea, EachPlaneIsFilledAsIfAlone) {
     for (int p = 1; p < 4; ++p) c.planes[size_t(p)].setTo(0);
     const std::vector<cv::Mat> alone = ours(c, scratch);
     ASSERT_EQ(differing(together[0], alone[0]), 0) << "trial " << trial;
+  }
+}
+
+// Luma's inpainting (likeOpenCv off: no outward march, no colour-gradient term): each plane equals
+// a plain implementation of it (TeleaReference.h), up to the order of the float sums.
+TEST(Telea, LumasInpaintingEqualsAPlainImplementation) {
+  std::mt19937 random(2031);
+  TeleaScratch scratch;
+  for (int trial = 0; trial < 150; ++trial) {
+    const Case c = randomCase(random, trial);
+    const std::vector<cv::Mat> got = ours(c, scratch, false);
+    const int w = c.width, h = c.height;
+    const int radius = std::min(std::max(int(std::lrint(c.radius)), 1), 100);
+    std::vector<uint8_t> mask(size_t(w) * h);
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) mask[size_t(y) * w + x] = c.mask.at<uint8_t>(y, x);
+    for (int p = 0; p < 4; ++p) {
+      std::vector<float> plane(size_t(w) * h);
+      for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) plane[size_t(y) * w + x] = c.planes[size_t(p)].at<float>(y, x);
+      const std::vector<float> expected = reference::plainTeleaMean(mask, w, h, plane, radius);
+      for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+          const float e = expected[size_t(y) * w + x];
+          ASSERT_NEAR(got[size_t(p)].at<float>(y, x), e, 1e-4f * (1.0f + std::fabs(e)))
+              << "trial " << trial << " plane " << p << " " << w << "x" << h << " at " << x << "," << y;
+        }
+    }
+  }
+}
+
+// A weighted mean whose weights do not depend on the colours, plus 0.5 (OpenCV's, meant for rounding
+// to 8 bits; on floats it adds up as filled samples feed later ones): a plane shifted by a constant
+// is filled shifted by that constant, and no filled value is below the least known one plus 0.5.
+TEST(Telea, LumasInpaintingIsAWeightedMeanPlusAHalf) {
+  std::mt19937 random(5);
+  TeleaScratch scratch;
+  for (int trial = 0; trial < 60; ++trial) {
+    Case c = randomCase(random, trial);
+    if (cv::countNonZero(c.mask == 0) == 0) continue;
+    const std::vector<cv::Mat> got = ours(c, scratch, false);
+    Case shifted = c;
+    for (int p = 0; p < 4; ++p) {
+      cv::Mat plane = c.planes[size_t(p)] + 37.0;  // a new buffer (the copied Case shares c's)
+      shifted.planes[size_t(p)] = plane;
+    }
+    const std::vector<cv::Mat> gotShifted = ours(shifted, scratch, false);
+    for (int p = 0; p < 4; ++p) {
+      double least;
+      cv::minMaxLoc(c.planes[size_t(p)], &least, nullptr, nullptr, nullptr, c.mask == 0);
+      for (int y = 0; y < c.height; ++y)
+        for (int x = 0; x < c.width; ++x) {
+          if (!c.mask.at<uint8_t>(y, x)) continue;
+          const float v = got[size_t(p)].at<float>(y, x);
+          ASSERT_NEAR(gotShifted[size_t(p)].at<float>(y, x) - v, 37.0f, 1e-3f * (1.0f + std::fabs(v)))
+              << "trial " << trial << " plane " << p;
+          ASSERT_GE(v, float(least) + 0.5f - 1e-4f * (1.0f + std::fabs(float(least))))
+              << "trial " << trial << " plane " << p;
+        }
+    }
   }
 }
 

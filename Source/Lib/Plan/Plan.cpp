@@ -119,6 +119,7 @@ void decideHoleFilling(const Scene& scene, Plan& plan) {
   fill.emptyValue[1] = fill.emptyValue[2] = mid;
   plan.chromaFill = fill;
   plan.chromaFill.inpaintNearerSurface = true;
+  plan.chromaFill.inpaintLikeOpenCv = true;
   plan.chromaFill.emptyValue[0] = plan.chromaFill.emptyValue[1] = mid;
 }
 

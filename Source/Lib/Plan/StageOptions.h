@@ -22,6 +22,9 @@ struct HoleFillOptions {
   // IvsrsInpaint 1: the inpainting also fills the nearer surface beside each hole (chroma), or only
   // the holes (luma: better on the Middlebury scenes, and less work; doc/algorithms.md).
   bool inpaintNearerSurface = false;
+  // The inpainting adds OpenCV's colour-gradient term to its weighted mean (chroma: U and V score
+  // higher with it), or not (luma: as good without it, and cheaper; Synth/Telea.h).
+  bool inpaintLikeOpenCv = false;
 };
 
 // Baseline weights for views at distances d_k from the virtual camera: proportional to 1 / d_k

@@ -88,13 +88,14 @@ void directionalFill(const BlendedLayer& layer, const HoleFillOptions& options, 
       if (below[x] < h) take(x, below[x], below[x] - y, false);
       if (above[x] >= 0) take(x, above[x], y - above[x], false);
       for (const auto& d : diagonals) {
-        int px = x, py = y;
-        for (int step = 1; step <= maxReach; ++step) {
-          px += d[0];
-          py += d[1];
-          if (px < 0 || py < 0 || px >= w || py >= h) break;
-          if (hole[size_t(py) * w + px]) continue;
-          take(px, py, step, true);
+        // The steps that stay within the picture and the reach, then no bound to test per step.
+        const int steps = std::min({maxReach, d[0] > 0 ? w - 1 - x : x, d[1] > 0 ? h - 1 - y : y});
+        const ptrdiff_t stride = ptrdiff_t(d[1]) * w + d[0];
+        const uint8_t* p = hole + i;
+        for (int step = 1; step <= steps; ++step) {
+          p += stride;
+          if (*p) continue;
+          take(x + step * d[0], y + step * d[1], step, true);
           break;
         }
       }
@@ -265,6 +266,15 @@ void groupBlocks(const std::vector<uint8_t>& mask, int width, int height, int li
       int* row = label.data() + size_t(y / kBlock) * bw;
       for (int bx = 0; bx < bw; ++bx) {
         const int x0 = bx * kBlock, x1 = std::min(width, x0 + kBlock);
+        if (x0 + 4 * kBlock <= width) {  // four blocks' row without a mask sample, at once
+          uint64_t first, second;
+          std::memcpy(&first, m + x0, sizeof first);
+          std::memcpy(&second, m + x0 + 8, sizeof second);
+          if ((first | second) == 0) {
+            bx += 3;
+            continue;
+          }
+        }
         bool any = false;
         if (x1 - x0 == kBlock) {  // a whole block's row: its bytes at once
           uint32_t bytes;
@@ -309,7 +319,7 @@ void groupBlocks(const std::vector<uint8_t>& mask, int width, int height, int li
 // in a crop reaching at least that far around it (or to the picture's edge) with the other groups'
 // samples left out of the mask: the result is exactly the whole-picture one, at a cost that follows
 // each group's size instead of all the holes'. Each group's channels are filled in one march
-// (Synth/Telea.h: the same result as OpenCV's cv::inpaint with INPAINT_TELEA, channel by channel).
+// (Synth/Telea.h: OpenCV's result channel by channel, or the cheaper weighted mean for luma).
 void planInpaint(const BlendedLayer& layer, const std::vector<uint8_t>& mask, int radius, UntouchedBuffer<float> result[3],
                  HoleFillScratch& scratch) {
   const int reach = radius + 2;
@@ -333,7 +343,8 @@ void planInpaint(const BlendedLayer& layer, const std::vector<uint8_t>& mask, in
 }
 
 // Inpaints one group of `layer`'s mask samples in its crop, all channels in one march, into `result`.
-void inpaintGroup(const BlendedLayer& layer, const std::vector<uint8_t>& mask, int radius, const BlockGroups& groups,
+void inpaintGroup(const BlendedLayer& layer, const std::vector<uint8_t>& mask, int radius, bool likeOpenCv,
+                  const BlockGroups& groups,
                   const HoleFillScratch::InpaintTask& task, UntouchedBuffer<float> result[3],
                   ScratchPool<HoleFillScratch::InpaintBuffers>& buffers) {
   const auto scratch = buffers.take();
@@ -396,7 +407,7 @@ void inpaintGroup(const BlendedLayer& layer, const std::vector<uint8_t>& mask, i
       }
     }
   }
-  teleaInpaint(groupMask.data(), cw, c.width, c.height, samples.data(), cw, radius, telea);
+  teleaInpaint(groupMask.data(), cw, c.width, c.height, samples.data(), cw, radius, telea, likeOpenCv);
   // Every mask sample is in one group: one writer.
   float* out[3] = {result[0].data(), result[1].data(), result[2].data()};
   for (int y = 0; y < c.height; ++y) {
@@ -430,8 +441,8 @@ void inpaintAll(const std::vector<LayerFill>& fills) {
     for (int j = begin; j < end; ++j) {
       const LayerFill& f = fills[jobs[size_t(j)].fill];
       HoleFillScratch& s = *f.scratch;
-      inpaintGroup(*f.layer, s.mask, f.options->inpaintRadius, s.inpaintGroups, s.tasks[jobs[size_t(j)].task], s.inpainted,
-                   s.inpaintBuffers);
+      inpaintGroup(*f.layer, *s.inpaintMask, f.options->inpaintRadius, f.options->inpaintLikeOpenCv, s.inpaintGroups,
+                   s.tasks[jobs[size_t(j)].task], s.inpainted, s.inpaintBuffers);
     }
   });
 }
@@ -451,17 +462,17 @@ void fillHoles(const std::vector<HoleFillJob>& jobs) {
       std::fill(layer.hole.begin(), layer.hole.end(), uint8_t(0));
       continue;
     }
-    if (!options.backgroundFirst) {
-      s.mask = layer.hole;
-    } else {
+    // The inpainting's mask: the holes themselves (not copied) or the background-only mask.
+    s.inpaintMask = &layer.hole;
+    if (options.backgroundFirst) {
       directionalFill(layer, options, s.directional, s.background, s.found, s.columnRows);
       rowRunFill(layer, options, s.runs, s.runBackground, s.runFound);
-      if (options.inpaintNearerSurface)
+      if (options.inpaintNearerSurface) {
         backgroundOnlyMask(layer, s.background, options.depthTolerance, options.inpaintRadius + 1, s.mask, s.thresholdRows);
-      else
-        s.mask = layer.hole;
+        s.inpaintMask = &s.mask;
+      }
     }
-    planInpaint(layer, s.mask, options.inpaintRadius, s.inpainted, s);
+    planInpaint(layer, *s.inpaintMask, options.inpaintRadius, s.inpainted, s);
     fills.push_back({&layer, &options, &s});
   }
   inpaintAll(fills);

@@ -9,12 +9,15 @@
 //   - row runs (after iVSRS in VSRS 4.x): each run of holes along a row takes the mean colour of the
 //     candidates on the farthest surface among its ends and the first samples along seven rays up
 //     and down from its middle; one colour per run;
-//   - inpainting: Telea's inpainting (Synth/Telea.h: OpenCV's result, bit for bit) of the holes;
-//     with HoleFillOptions::inpaintNearerSurface (the plan's chroma setting) the nearer surface
-//     around each hole is masked and inpainted too, so that only background propagates. Luma
-//     inpaints the holes alone: a higher PSNR on the Middlebury scenes, and less to fill.
+//   - inpainting: Telea's inpainting (Synth/Telea.h) of the holes; with
+//     HoleFillOptions::inpaintNearerSurface (the plan's chroma setting) the nearer surface around
+//     each hole is masked and inpainted too, so that only background propagates. Luma inpaints the
+//     holes alone: a higher PSNR on the Middlebury scenes, and less to fill. With
+//     HoleFillOptions::inpaintLikeOpenCv (chroma) it is OpenCV's result bit for bit; without it
+//     (luma) the cheaper weighted mean from the inward march alone.
 // The mix has a lower error than any one of them on the Middlebury scenes (doc/algorithms.md).
-// IvsrsInpaint 0: Telea inpainting of the holes alone, as VSRS does (VSRS calls OpenCV's). A layer
+// IvsrsInpaint 0: Telea inpainting of the holes alone, as VSRS does (VSRS calls OpenCV's; luma
+// here the weighted mean without OpenCV's outward march and colour-gradient term). A layer
 // without any valid sample is filled with `emptyValue`.
 #include <cstddef>
 #include <cstdint>
@@ -39,7 +42,8 @@ struct HoleFillScratch {
   UntouchedBuffer<float> directional[3], runs[3], inpainted[3];
   UntouchedBuffer<double> background, runBackground;
   UntouchedBuffer<uint8_t> found, runFound;
-  std::vector<uint8_t> mask;
+  std::vector<uint8_t> mask;                   // the background-only mask (inpaintNearerSurface)
+  const std::vector<uint8_t>* inpaintMask = nullptr;  // what is inpainted: `mask` or the layer's holes
   struct InpaintGroups {  // the inpainting's groups of holes, by blocks (HoleFill.cpp)
     int columns = 0, rows = 0;
     std::vector<int> label;

@@ -266,7 +266,8 @@ void interiorSums(const float* centre, const GradientRule* rules, const uint8_t*
 }  // namespace
 
 void teleaInpaint(const uint8_t* mask, size_t maskStride, int width, int height, float* samples,
-                  size_t rowStride, double radius, TeleaScratch& scratch) {
+                  size_t rowStride, double radius, TeleaScratch& scratch, bool likeOpenCv) {
+  const bool outwardMarch = likeOpenCv;
   if (width <= 0 || height <= 0) return;
   const int range = std::min(std::max(int(std::lrint(radius)), 1), 100);
   // Grids one sample wider on every side (row and column 0 and the last ones are a border).
@@ -338,82 +339,90 @@ void teleaInpaint(const uint8_t* mask, size_t maskStride, int width, int height,
       }
     }
   }
-  // The outer ring: known interior samples within `range` (Chebyshev) of a mask sample, band left
-  // out. Row-wise counts of mask samples in the window, then, row by row, the count of rows of the
-  // window that hold one, per column. Counts of at most 2 range + 1 <= 201 rows are bytes: a quarter
-  // of the memory traffic of ints, sixteen columns to a vector.
-  outer.resize(n);
-  {
-    std::vector<uint8_t>& rowCount = scratch.rowCount;  // rows 0..rows-1: whether the row's window
-    rowCount.resize(n + cols);                          // holds mask samples; then the column counts
-    uint8_t* near = rowCount.data();
-    // A row's window of `span` samples is the union of two of `covered` samples, the largest power of
-    // two not above it, and those come from doubling: log(span) passes of byte ORs that vectorise,
-    // where a running count along the row waits on itself sample by sample. spanBytes[range + c] is
-    // column c's flag, zero around the row.
-    const int span = 2 * range + 1;
-    std::vector<uint8_t>& spanBytes = scratch.rowSpan;
-    const size_t length = size_t(cols) + 2 * size_t(span);
-    spanBytes.assign(length, 0);
-    uint8_t* e = spanBytes.data();
-    for (int r = 0; r < rows; ++r) {
-      const uint8_t* f = fl + at(r, 0);
-      uint8_t* to = near + at(r, 0);
-      for (int c = 0; c < cols; ++c) e[range + c] = f[c] == kInside;
-      std::fill(e + range + cols, e + length, uint8_t(0));  // the doubling's last row left its ORs
-      int covered = 1;  // e[k]: some flag in k..k+covered-1
-      for (; 2 * covered <= span; covered *= 2)
-        for (size_t k = 0; k + covered < length; ++k) e[k] |= e[k + covered];
-      // Window of column c: e's flags c..c+span-1.
-      for (int c = 0; c < cols; ++c) to[c] = e[c] | e[c + span - covered];
-      std::fill(e, e + range, uint8_t(0));
-    }
-    uint8_t* columnCount = near + n;
-    std::fill(columnCount, columnCount + cols, uint8_t(0));
-    for (int r = 0; r < std::min(range, rows); ++r) {
-      const uint8_t* from = near + at(r, 0);
-      for (int c = 0; c < cols; ++c) columnCount[c] += from[c];
-    }
-    for (int r = 0; r < rows; ++r) {
-      if (r + range < rows) {
-        const uint8_t* from = near + at(r + range, 0);
+  Queue queue(scratch.queue, scratch.positions);
+  if (!outwardMarch) {
+    // Every known sample at time 0.
+    float* tm = time.data();
+    for (int r = 1; r < rows - 1; ++r)
+      for (int c = 1; c < cols - 1; ++c) tm[at(r, c)] = fl[at(r, c)] == kInside ? 1.0e6f : 0.0f;
+  } else {
+    // The outer ring: known interior samples within `range` (Chebyshev) of a mask sample, band left
+    // out. Row-wise counts of mask samples in the window, then, row by row, the count of rows of the
+    // window that hold one, per column. Counts of at most 2 range + 1 <= 201 rows are bytes: a quarter
+    // of the memory traffic of ints, sixteen columns to a vector.
+    outer.resize(n);
+    {
+      std::vector<uint8_t>& rowCount = scratch.rowCount;  // rows 0..rows-1: whether the row's window
+      rowCount.resize(n + cols);                          // holds mask samples; then the column counts
+      uint8_t* near = rowCount.data();
+      // A row's window of `span` samples is the union of two of `covered` samples, the largest power of
+      // two not above it, and those come from doubling: log(span) passes of byte ORs that vectorise,
+      // where a running count along the row waits on itself sample by sample. spanBytes[range + c] is
+      // column c's flag, zero around the row.
+      const int span = 2 * range + 1;
+      std::vector<uint8_t>& spanBytes = scratch.rowSpan;
+      const size_t length = size_t(cols) + 2 * size_t(span);
+      spanBytes.assign(length, 0);
+      uint8_t* e = spanBytes.data();
+      for (int r = 0; r < rows; ++r) {
+        const uint8_t* f = fl + at(r, 0);
+        uint8_t* to = near + at(r, 0);
+        for (int c = 0; c < cols; ++c) e[range + c] = f[c] == kInside;
+        std::fill(e + range + cols, e + length, uint8_t(0));  // the doubling's last row left its ORs
+        int covered = 1;  // e[k]: some flag in k..k+covered-1
+        for (; 2 * covered <= span; covered *= 2)
+          for (size_t k = 0; k + covered < length; ++k) e[k] |= e[k + covered];
+        // Window of column c: e's flags c..c+span-1.
+        for (int c = 0; c < cols; ++c) to[c] = e[c] | e[c + span - covered];
+        std::fill(e, e + range, uint8_t(0));
+      }
+      uint8_t* columnCount = near + n;
+      std::fill(columnCount, columnCount + cols, uint8_t(0));
+      for (int r = 0; r < std::min(range, rows); ++r) {
+        const uint8_t* from = near + at(r, 0);
         for (int c = 0; c < cols; ++c) columnCount[c] += from[c];
       }
-      const uint8_t* f = fl + at(r, 0);
-      uint8_t* to = outer.data() + at(r, 0);
-      if (r == 0 || r == rows - 1) {
-        std::memset(to, kKnown, cols);
-      } else {
-        to[0] = to[cols - 1] = kKnown;
-        // Without a branch, so that it vectorises.
-        static_assert(kKnown == 0, "known is 0");
-        for (int c = 1; c < cols - 1; ++c) to[c] = uint8_t(kInside * ((columnCount[c] != 0) & (f[c] != kInside)));
-      }
-      if (r - range >= 0) {
-        const uint8_t* from = near + at(r - range, 0);
-        for (int c = 0; c < cols; ++c) columnCount[c] -= from[c];
+      for (int r = 0; r < rows; ++r) {
+        if (r + range < rows) {
+          const uint8_t* from = near + at(r + range, 0);
+          for (int c = 0; c < cols; ++c) columnCount[c] += from[c];
+        }
+        const uint8_t* f = fl + at(r, 0);
+        uint8_t* to = outer.data() + at(r, 0);
+        if (r == 0 || r == rows - 1) {
+          std::memset(to, kKnown, cols);
+        } else {
+          to[0] = to[cols - 1] = kKnown;
+          // Without a branch, so that it vectorises.
+          static_assert(kKnown == 0, "known is 0");
+          for (int c = 1; c < cols - 1; ++c) to[c] = uint8_t(kInside * ((columnCount[c] != 0) & (f[c] != kInside)));
+        }
+        if (r - range >= 0) {
+          const uint8_t* from = near + at(r - range, 0);
+          for (int c = 0; c < cols; ++c) columnCount[c] -= from[c];
+        }
       }
     }
-  }
-  Queue queue(scratch.queue, scratch.positions);
-  for (size_t b = 0; b < bandCount; ++b) {
-    time[band[b]] = 0;
-    outer[band[b]] = kKnown;
-  }
-  queue.seed(band.data(), bandCount);
+    for (size_t b = 0; b < bandCount; ++b) {
+      time[band[b]] = 0;
+      outer[band[b]] = kKnown;
+    }
+    queue.seed(band.data(), bandCount);
 
-  // Outward march over the outer ring from the band; what it passes gets the negated time.
-  march(queue, outer.data(), kChanged, size_t(cols), [&](size_t s) {
-    const float t = arrival(outer.data(), time.data(), s, size_t(cols));
-    time[s] = t;
-    outer[s] = kBand;
-    queue.push(s, t);
-  });
-  // It passed the band and every sample it pushed (the queue ends empty), and nothing else.
-  {
-    float* tm = time.data();
-    for (size_t b = 0; b < bandCount; ++b) tm[band[b]] = -tm[band[b]];
-    for (const uint32_t s : scratch.positions) tm[s] = -tm[s];
+    // Outward march over the outer ring from the band; what it passes gets the negated time.
+    march(queue, outer.data(), kChanged, size_t(cols), [&](size_t s) {
+      const float t = arrival(outer.data(), time.data(), s, size_t(cols));
+      time[s] = t;
+      outer[s] = kBand;
+      queue.push(s, t);
+    });
+    // It passed the band and every sample it pushed (the queue ends empty), and nothing else.
+    {
+      float* tm = time.data();
+      for (size_t b = 0; b < bandCount; ++b) tm[band[b]] = -tm[band[b]];
+      for (const uint32_t s : scratch.positions) tm[s] = -tm[s];
+    }
+
   }
 
   // The neighbours within the radius, in OpenCV's order (row by row).
@@ -477,7 +486,7 @@ void teleaInpaint(const uint8_t* mask, size_t maskStride, int width, int height,
     const Lanes gradT = (pick(own.after, after, here) - pick(own.before, before, here)) * own.scale;
     const float gradTx = gradT[0], gradTy = gradT[1];
     float* centre = samples + (size_t(i - 1) * rowStride + (j - 1)) * 4;
-    float ia[4], jx[4], jy[4], sum = 1.0e-20f;
+    float ia[4], jx[4] = {}, jy[4] = {}, sum = 1.0e-20f;
     if (i - range >= 2 && i + range <= rows - 3 && j - range >= 2 && j + range <= cols - 3) {
       // Away from the grid's edges: the neighbours that are known, then their sums.
       // Every neighbour's weight, known or not, lane by lane four at a time (the same float
@@ -492,13 +501,35 @@ void teleaInpaint(const uint8_t* mask, size_t maskStride, int width, int height,
       }
       for (size_t m = 0; m < offsetCount; ++m)
         weight[m] = neighbourWeight(rx[m], ry[m], distance[m], neighbourTime[m], t, gradTx, gradTy);
-      Lanes a, x, y;
-      interiorSums(centre, gradientRule, sides + s, offsets.data(), gridOffset.data(), sampleOffset.data(), weight,
-                   known.data(), knownCount, a, x, y, sum);
-      for (int p = 0; p < 4; ++p) {
-        ia[p] = a[p];
-        jx[p] = x[p];
-        jy[p] = y[p];
+      if (likeOpenCv) {
+        Lanes a, x, y;
+        interiorSums(centre, gradientRule, sides + s, offsets.data(), gridOffset.data(), sampleOffset.data(), weight,
+                     known.data(), knownCount, a, x, y, sum);
+        std::memcpy(ia, &a, sizeof a);
+        std::memcpy(jx, &x, sizeof x);
+        std::memcpy(jy, &y, sizeof y);
+      } else {
+        // The weighted mean alone: one multiply-add of the neighbour's four planes.
+        Lanes a = {};
+        float total = sum;
+        for (size_t e = 0; e < knownCount; ++e) {
+          const size_t m = known[e];
+          a += weight[m] * load(centre + sampleOffset[m]);
+          total += weight[m];
+        }
+        std::memcpy(ia, &a, sizeof a);
+        sum = total;
+      }
+    } else if (!likeOpenCv) {
+      for (int p = 0; p < 4; ++p) ia[p] = 0;
+      for (const Offset& o : offsets) {
+        const int k = i + o.dRow, l = j + o.dCol;
+        if (!interior(k, l)) continue;
+        const size_t sn = at(k, l);
+        if (f[sn] == kInside) continue;
+        const float w = neighbourWeight(o, tm[sn], t, gradTx, gradTy);
+        for (int p = 0; p < 4; ++p) ia[p] += w * value(k - 1, l - 1, p);
+        sum += w;
       }
     } else {
       for (int p = 0; p < 4; ++p) ia[p] = jx[p] = jy[p] = 0;
@@ -532,6 +563,10 @@ void teleaInpaint(const uint8_t* mask, size_t maskStride, int width, int height,
         sum += w;
       }
     }
+    if (!likeOpenCv) {
+      const Lanes filled = load(ia) / sum + 0.5f;
+      std::memcpy(centre, &filled, sizeof filled);
+    } else {
 #if defined(__SSE2__)
     // Lane by lane the float expression below (a square root and divisions are correctly rounded
     // in either form): one square root and two divisions for all planes instead of four each.
@@ -542,6 +577,7 @@ void teleaInpaint(const uint8_t* mask, size_t maskStride, int width, int height,
     for (int p = 0; p < 4; ++p)
       centre[p] = float(ia[p] / sum + (jx[p] + jy[p]) / (std::sqrt(jx[p] * jx[p] + jy[p] * jy[p]) + 1.0e-20f) + 0.5f);
 #endif
+    }
     flags[s] = kBand;
     // s is known now: its neighbours' bits (s is the right one of s - 1, and so on).
     sides[s - 1] |= 1;

@@ -1,8 +1,10 @@
 #pragma once
 // Telea's fast-marching inpainting (A. Telea, "An image inpainting technique based on the fast
-// marching method", J. Graphics Tools 9(1), 2004), computing exactly what OpenCV 4.6's (Debian 12's)
+// marching method", J. Graphics Tools 9(1), 2004), in two forms (doc/algorithms.md, "Hole filling"):
+//
+// likeOpenCv (the hole filling's chroma): exactly what OpenCV 4.6's (Debian 12's)
 // cv::inpaint(src, mask, dst, radius, cv::INPAINT_TELEA) computes for a CV_32FC1 image, bit for bit,
-// for several planes in one march (doc/algorithms.md, "Hole filling"):
+// for several planes in one march:
 //   - the same arrival times: a march outwards over the known samples within `radius` of the mask
 //     (their times are negative), then the inward march that fills;
 //   - the same order: samples leave the queue by arrival time, equal times in the order they entered
@@ -16,6 +18,14 @@
 //   - the weights of a neighbour depend only on the mask and the arrival times, so one march serves
 //     every plane: each plane's sums are accumulated in OpenCV's order.
 // Test/Unit/TeleaTest.cpp compares it with cv::inpaint on random pictures and masks.
+//
+// Otherwise (the hole filling's luma, and R, G, B): the inward march alone, every known sample at
+// time 0 (no outward march), and the filled value the weighted mean of the known neighbours, with
+// the same weights (distance, level set, direction) and order, plus the same 0.5; OpenCV's
+// colour-gradient term (J_x + J_y) / |J|, a value within +-sqrt(2) from the neighbours' colour
+// gradients, is left out. Cheaper (no ring to find and march, no gradient read per neighbour), and
+// as good or better in the hole filling's mix (doc/speed.md, 2026-11-26, "Luma's inpainting without
+// OpenCV's outward march"). Test/Unit/TeleaReference.h is its plain implementation, the tests' truth.
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -47,11 +57,12 @@ struct TeleaScratch {
 
 // Inpaints, in place, four float planes of width x height, interleaved: sample (row, col) of plane p
 // is samples[(row * rowStride + col) * 4 + p]. The planes are filled where `mask` (row stride
-// `maskStride` bytes) is non-zero, each as cv::inpaint would fill it alone (the planes are computed
-// side by side, lane by lane: a plane not needed can hold zeros). `radius` as cv::inpaint's
+// `maskStride` bytes) is non-zero, each as if it were filled alone (the planes are computed side by
+// side, lane by lane: a plane not needed can hold zeros). `radius` as cv::inpaint's
 // (rounded, clamped to 1..100). A picture one sample high or wide, where OpenCV reads outside its
 // image, is filled from its own samples.
+// likeOpenCv: cv::inpaint's result bit for bit; otherwise the cheaper weighted mean (above).
 void teleaInpaint(const uint8_t* mask, size_t maskStride, int width, int height, float* samples, size_t rowStride,
-                  double radius, TeleaScratch& scratch);
+                  double radius, TeleaScratch& scratch, bool likeOpenCv = true);
 
 }  // namespace vs
