@@ -145,9 +145,22 @@ void Synthesizer::releaseSpentBuffers(Spent spent) {
   }
 }
 
+void Synthesizer::takeBackFirstViewLayers() {
+  if (!blendedInFirstView_) return;
+  blendedInFirstView_ = false;
+  const bool yuvChroma = !plan_.rgb && plan_.chroma;  // blended as in synthesize
+  for (auto [layer, blended] : {std::pair{&views_[0].luma, &blendedLuma_}, std::pair{&views_[0].chroma, &blendedChroma_}}) {
+    if (blended == &blendedChroma_ && !yuvChroma) continue;
+    std::swap(layer->inverseDepth, blended->inverseDepth);
+    for (int c = 0; c < 3; ++c) std::swap(layer->colour[c], blended->colour[c]);
+    std::swap(layer->edge, blended->hole);
+  }
+}
+
 void Synthesizer::synthesize(const std::vector<ReferenceFrame>& references, Frame& output, StageTimes& times) {
   VS_CHECK(references.size() == views_.size());
   auto start = std::chrono::steady_clock::now();
+  takeBackFirstViewLayers();
   const bool rgb = plan_.rgb, yuvChroma = !plan_.rgb && plan_.chroma;
   std::vector<const Plane*> lumas, depths;
   for (const ReferenceFrame& reference : references) {
@@ -208,13 +221,16 @@ void Synthesizer::synthesize(const std::vector<ReferenceFrame>& references, Fram
   times.textureWarp += secondsSince(start);
 
   start = std::chrono::steady_clock::now();
-  std::vector<const WarpedLayer*> lumaLayers, chromaLayers;
-  for (const ViewState& view : views_) {
+  // Blended over the first view's layers: the blended layers take their memory (Layer.h), and give it
+  // back at the next frame's start.
+  std::vector<WarpedLayer*> lumaLayers, chromaLayers;
+  for (ViewState& view : views_) {
     lumaLayers.push_back(&view.luma);
     chromaLayers.push_back(&view.chroma);
   }
-  blendLayers(lumaLayers, plan_.blending, blendedLuma_);
-  if (yuvChroma) blendLayers(chromaLayers, plan_.blending, blendedChroma_);
+  blendLayersIntoFirst(lumaLayers, plan_.blending, blendedLuma_);
+  if (yuvChroma) blendLayersIntoFirst(chromaLayers, plan_.blending, blendedChroma_);
+  blendedInFirstView_ = true;
   stats_.holesAfterBlend = blendedLuma_.holeCount();
   if (plan_.virtualMaskOutput) uncovered_ = blendedLuma_.hole;  // hole filling clears the flags
   if (releaseSpent_) releaseSpentBuffers(Spent::viewLayers);

@@ -115,6 +115,9 @@ private:
 
   enum class Spent { depthSteps, textureSteps, viewLayers };
   void releaseSpentBuffers(Spent spent);
+  // The blended layers hold the first view's planes since the last frame's blend (blendLayersIntoFirst):
+  // they go back to the view, the view's former planes to the blended layers, for the view's warp.
+  void takeBackFirstViewLayers();
   bool reuseFirstFrameFill(size_t k, const Plane& depth);  // view k's fill from firstFrameFill_; false: none fits
   void markReferenceEdges(ViewState& view, const Plane& depth);               // ReferenceEdges.cpp
   void warpDepth(ViewState& view, const Plane& depth);                        // DepthWarp.cpp
@@ -135,6 +138,7 @@ private:
   const Plan plan_;
   const bool rowPath_;  // the 1D path: rows warp into rows (plan_.mode == Parallel1D)
   bool releaseSpent_ = false;  // releaseBuffersAfterEachStep()
+  bool blendedInFirstView_ = false;  // the blended layers hold views_[0]'s planes (takeBackFirstViewLayers)
   FrameFormat outputFormat_;
   SubPixelSampler sampler_;
   DepthEdgeAligner aligner_;
