@@ -111,8 +111,10 @@ void Synthesizer::forEachView(const Step& step) {
   for (size_t k = 0; k < count; ++k) step(k);
 }
 
-// Frees what the steps before `spent` used and nothing after reads (a run of one frame): the later
-// steps' buffers then take that memory from the heap again instead of fresh pages (doc/speed.md).
+// Frees what the steps before `spent` used and nothing after reads: the later steps' buffers then take
+// that memory from the heap again instead of fresh pages (doc/speed.md). A sequence frees the depth
+// and texture steps' (keepAheadOfSpentBuffers placed what it keeps below them) but keeps the occlusion
+// rule's sparse mapping; a run of one frame frees the views' layers too.
 void Synthesizer::releaseSpentBuffers(Spent spent) {
   for (ViewState& view : views_) {
     switch (spent) {
@@ -141,7 +143,7 @@ void Synthesizer::releaseSpentBuffers(Spent spent) {
     releaseMemory(occlusionScratch_.soleView);
     releaseMemory(occlusionScratch_.stillBehind);
     releaseMemory(occlusionScratch_.above);
-    occlusionScratch_.around.release();
+    if (releaseSpent_) occlusionScratch_.around.release();  // a sequence keeps its mapping
   }
 }
 
@@ -157,6 +159,18 @@ void Synthesizer::takeBackFirstViewLayers() {
   }
 }
 
+void Synthesizer::keepAheadOfSpentBuffers(const std::vector<ReferenceFrame>& references) {
+  const bool yuvChroma = !plan_.rgb && plan_.chroma;
+  for (size_t k = 0; k < views_.size(); ++k) {
+    ViewState& view = views_[k];
+    view.luma.resize(outputFormat_.width, outputFormat_.height, plan_.rgb ? 3 : 1);
+    if (yuvChroma)
+      view.chroma.resize(chromaWidth(outputFormat_.width, outputFormat_.chroma),
+                         chromaHeight(outputFormat_.height, outputFormat_.chroma), 2);
+    view.referenceEdge.resize(references[k].depth->samples.size());
+  }
+}
+
 void Synthesizer::synthesize(const std::vector<ReferenceFrame>& references, Frame& output, StageTimes& times) {
   VS_CHECK(references.size() == views_.size());
   auto start = std::chrono::steady_clock::now();
@@ -167,6 +181,7 @@ void Synthesizer::synthesize(const std::vector<ReferenceFrame>& references, Fram
     lumas.push_back(&reference.texture->planes[0]);
     depths.push_back(reference.depth);
   }
+  if (!releaseSpent_) keepAheadOfSpentBuffers(references);
   auto depthSteps = [&](size_t k) {
     ViewState& view = views_[k];
     const Plane* depth = references[k].depth;
@@ -194,7 +209,7 @@ void Synthesizer::synthesize(const std::vector<ReferenceFrame>& references, Fram
   };
   forEachView(depthSteps);
   firstFrameFill_.clear();
-  if (releaseSpent_) releaseSpentBuffers(Spent::depthSteps);
+  releaseSpentBuffers(Spent::depthSteps);
   stats_.alignedDepthSamples = 0;
   for (const ViewState& view : views_) stats_.alignedDepthSamples += view.alignedSamples;
   times.depthWarp += secondsSince(start);
@@ -217,7 +232,7 @@ void Synthesizer::synthesize(const std::vector<ReferenceFrame>& references, Fram
   if (views_.size() > 1) rejectOccludedInOtherViews();
   // Chroma follows the luma decisions: it is warped from the final luma depth.
   if (yuvChroma) forEachView([&](size_t k) { warpChroma(views_[k], *references[k].texture); });
-  if (releaseSpent_) releaseSpentBuffers(Spent::textureSteps);
+  releaseSpentBuffers(Spent::textureSteps);
   times.textureWarp += secondsSince(start);
 
   start = std::chrono::steady_clock::now();
