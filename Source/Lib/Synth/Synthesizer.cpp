@@ -116,6 +116,10 @@ void Synthesizer::forEachView(const Step& step) {
 // and texture steps' (keepAheadOfSpentBuffers placed what it keeps below them) but keeps the occlusion
 // rule's sparse mapping; a run of one frame frees the views' layers too.
 void Synthesizer::releaseSpentBuffers(Spent spent) {
+  auto releaseLayer = [](auto& layer) {
+    releaseMemory(layer.inverseDepth);
+    for (std::vector<float>& channel : layer.colour) releaseMemory(channel);
+  };
   for (ViewState& view : views_) {
     switch (spent) {
       case Spent::depthSteps:
@@ -129,14 +133,21 @@ void Synthesizer::releaseSpentBuffers(Spent spent) {
         releaseMemory(view.dropScratch);
         releaseMemory(view.rowHoleScratch);
         break;
+      case Spent::chromaLayers:
+        releaseLayer(view.chroma);
+        releaseMemory(view.chroma.edge);
+        break;
       case Spent::viewLayers:
         for (WarpedLayer* layer : {&view.luma, &view.chroma}) {
-          releaseMemory(layer->inverseDepth);
-          for (std::vector<float>& channel : layer->colour) releaseMemory(channel);
+          releaseLayer(*layer);
           releaseMemory(layer->edge);
         }
         break;
     }
+  }
+  if (spent == Spent::chromaLayers) {  // the first view's chroma planes, blended (blendLayersIntoFirst)
+    releaseLayer(blendedChroma_);
+    releaseMemory(blendedChroma_.hole);
   }
   if (spent == Spent::depthSteps) aligner_.releaseMemory();
   if (spent == Spent::textureSteps) {
@@ -160,13 +171,9 @@ void Synthesizer::takeBackFirstViewLayers() {
 }
 
 void Synthesizer::keepAheadOfSpentBuffers(const std::vector<ReferenceFrame>& references) {
-  const bool yuvChroma = !plan_.rgb && plan_.chroma;
   for (size_t k = 0; k < views_.size(); ++k) {
     ViewState& view = views_[k];
     view.luma.resize(outputFormat_.width, outputFormat_.height, plan_.rgb ? 3 : 1);
-    if (yuvChroma)
-      view.chroma.resize(chromaWidth(outputFormat_.width, outputFormat_.chroma),
-                         chromaHeight(outputFormat_.height, outputFormat_.chroma), 2);
     view.referenceEdge.resize(references[k].depth->samples.size());
   }
 }
@@ -230,9 +237,11 @@ void Synthesizer::synthesize(const std::vector<ReferenceFrame>& references, Fram
     if (plan_.crowdedHoles) flagCrowdedHoles(view);
   });
   if (views_.size() > 1) rejectOccludedInOtherViews();
+  // Before the chroma warp, which reads the luma layers and the references only: its layers take
+  // this memory.
+  releaseSpentBuffers(Spent::textureSteps);
   // Chroma follows the luma decisions: it is warped from the final luma depth.
   if (yuvChroma) forEachView([&](size_t k) { warpChroma(views_[k], *references[k].texture); });
-  releaseSpentBuffers(Spent::textureSteps);
   times.textureWarp += secondsSince(start);
 
   start = std::chrono::steady_clock::now();
@@ -264,6 +273,7 @@ void Synthesizer::synthesize(const std::vector<ReferenceFrame>& references, Fram
   // Sized here, not before the steps: a run of one frame then takes the memory the steps freed.
   output.reset(outputFormat_);
   roundLayersToFrame(blendedLuma_, blendedChroma_, rgb, rgbOutput_, output);
+  if (!releaseSpent_ && yuvChroma) releaseSpentBuffers(Spent::chromaLayers);
 }
 
 }  // namespace vs

@@ -114,7 +114,7 @@ private:
     std::vector<uint8_t> blockEdge, sourceOk;
   };
 
-  enum class Spent { depthSteps, textureSteps, viewLayers };
+  enum class Spent { depthSteps, textureSteps, viewLayers, chromaLayers };
   void releaseSpentBuffers(Spent spent);
   // The blended layers hold the first view's planes since the last frame's blend (blendLayersIntoFirst):
   // they go back to the view, the view's former planes to the blended layers, for the view's warp.
