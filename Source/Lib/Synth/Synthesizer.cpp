@@ -114,7 +114,8 @@ void Synthesizer::forEachView(const Step& step) {
 // Frees what the steps before `spent` used and nothing after reads: the later steps' buffers then take
 // that memory from the heap again instead of fresh pages (doc/speed.md). A sequence frees the depth
 // and texture steps' (keepAheadOfSpentBuffers placed what it keeps below them) but keeps the occlusion
-// rule's sparse mapping; a run of one frame frees the views' layers too.
+// rule's sparse mapping, and the chroma layers once the frame is rounded; a run of one frame frees
+// the views' layers after the blend.
 void Synthesizer::releaseSpentBuffers(Spent spent) {
   auto releaseLayer = [](auto& layer) {
     releaseMemory(layer.inverseDepth);

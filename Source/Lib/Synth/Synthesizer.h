@@ -69,7 +69,8 @@ public:
   // For a run of one frame: each step's buffers are freed once the step is over, so that the later
   // steps take that memory from the heap again instead of first-touching fresh pages (doc/speed.md).
   // By default (a sequence) the depth steps' and the occlusion rule's buffers are freed after their
-  // steps, each taking the other's memory at the heap's top, and the rest is kept for the next frame.
+  // steps and the chroma layers once the frame is rounded, each taking the others' memory at the
+  // heap's top, and the rest is kept for the next frame.
   void releaseBuffersAfterEachStep() { releaseSpent_ = true; }
 
 private:
@@ -120,8 +121,8 @@ private:
   // they go back to the view, the view's former planes to the blended layers, for the view's warp.
   void takeBackFirstViewLayers();
   // A sequence: the buffers kept from frame to frame that the steps would first allocate among
-  // those they free (the views' layers, the reference edges) are sized before the steps, so that
-  // what the steps free lies together at the heap's top for the next steps (no-op after frame 0).
+  // those they free (the views' luma layers, the reference edges) are sized before the steps, so
+  // that what the steps free lies together at the heap's top for the next steps.
   void keepAheadOfSpentBuffers(const std::vector<ReferenceFrame>& references);
   bool reuseFirstFrameFill(size_t k, const Plane& depth);  // view k's fill from firstFrameFill_; false: none fits
   void markReferenceEdges(ViewState& view, const Plane& depth);               // ReferenceEdges.cpp
