@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <cstring>
 #include <limits>
 #include <random>
@@ -122,6 +123,44 @@ TEST(Blend, ReusedOutputMatchesAFreshOne) {
     }
     EXPECT_GT(holes, 0u);
   }
+}
+
+// Blending over the first view's planes (what ViewSyn's frames do) gives blendLayers' result bit for
+// bit on both paths (two views, and three), every weight set and channel count, with the blended
+// layer taking the first view's memory; the first view gets the blended layer's former planes.
+TEST(Blend, BlendingOverTheFirstViewMatchesBlendingIntoALayerOfItsOwn) {
+  std::mt19937 random(4242);
+  const int w = 53, h = 37;
+  const std::vector<std::vector<double>> weightSets = {{0.5, 0.5, 0.0}, {0.3, 0.7, 0.2}, {1.0, 0.0, 0.0},
+                                                       {0.0, 1.0, 0.5}, {0.0, 0.0, 1.0}};
+  for (size_t viewCount : {size_t(2), size_t(3)})
+    for (int channels = 1; channels <= 3; ++channels)
+      for (const std::vector<double>& weights : weightSets)
+        for (bool nearestViewOnly : {false, true}) {
+          SCOPED_TRACE(testing::Message() << viewCount << " views, " << channels << " channels, weights " << weights[0]
+                                          << " " << weights[1] << ", nearestViewOnly " << nearestViewOnly);
+          BlendOptions options;
+          options.weights.assign(weights.begin(), weights.begin() + std::ptrdiff_t(viewCount));
+          options.depthTolerance = 0.005;
+          options.nearestViewOnly = nearestViewOnly;
+          std::vector<WarpedLayer> layers;
+          for (size_t k = 0; k < viewCount; ++k) layers.push_back(randomLayer(w, h, channels, random));
+          std::vector<const WarpedLayer*> in;
+          for (const WarpedLayer& layer : layers) in.push_back(&layer);
+          BlendedLayer apart;
+          blendLayers(in, options, apart);
+          std::vector<WarpedLayer> copies = layers;
+          std::vector<WarpedLayer*> over;
+          for (WarpedLayer& layer : copies) over.push_back(&layer);
+          const double* firstDepth = copies[0].inverseDepth.data();
+          BlendedLayer blended;
+          blended.reset(5, 4, 1);  // former planes of another size: they go to the first view
+          blendLayersIntoFirst(over, options, blended);
+          expectSameBits(blended, apart);
+          EXPECT_EQ(blended.inverseDepth.data(), firstDepth);
+          EXPECT_EQ(copies[0].inverseDepth.size(), 20u);
+          for (size_t k = 1; k < viewCount; ++k) EXPECT_TRUE(sameBits(copies[k].inverseDepth, layers[k].inverseDepth));
+        }
 }
 
 TEST(Blend, HoleCountCountsTheFlagsThatAreOne) {

@@ -40,6 +40,17 @@ SequenceInputs::SequenceInputs(const SynthesisSettings& settings) : settings_(se
     slot.textures.resize(textures_.size());
     slot.depths.resize(depths_.size());
   }
+  // The slot read ahead is sized now, before the first frame's buffers: its planes then lie below
+  // them on the heap instead of among them, where the reading thread would otherwise place them
+  // while the first frame allocates (a run of one frame reads nothing ahead).
+  if (available_ > 1) {
+    Slot& ahead = slots_[1];
+    for (size_t k = 0; k < textures_.size(); ++k) {
+      ahead.textures[k].reset(textures_[k]->format());
+      ahead.depths[k].resize(depths_[k]->format().width, depths_[k]->format().height);
+    }
+    if (truth_) ahead.truth.reset(truth_->format());
+  }
   // The first frame is read when the loop asks for it, on the calling thread and beside it; each next
   // one on the reading thread while the frame before is rendered.
 }

@@ -1,5 +1,6 @@
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 #include "Common/Error.h"
 #include "Synth/Kernels/Rows.h"
@@ -175,11 +176,14 @@ void blendTwoViews(const ViewPlanes& first, const ViewPlanes& second, int domina
 
 }  // namespace
 
-void blendLayers(const std::vector<const WarpedLayer*>& views, const BlendOptions& options, BlendedLayer& out) {
+namespace {
+
+// blendLayers' work; `inFirst`: out takes the first view's planes and the blend writes over them.
+void blend(const std::vector<const WarpedLayer*>& views, const BlendOptions& options, BlendedLayer& out,
+           WarpedLayer* inFirst) {
   VS_CHECK(!views.empty() && views.size() == options.weights.size());
   const int width = views[0]->width, height = views[0]->height, channels = views[0]->channels;
   for (const WarpedLayer* view : views) VS_CHECK(view->width == width && view->height == height && view->channels == channels);
-  out.resize(width, height, channels);  // the blend writes every sample, holes included
   const size_t viewCount = views.size();
   int dominant = -1;
   for (size_t k = 0; k < viewCount; ++k)
@@ -192,10 +196,32 @@ void blendLayers(const std::vector<const WarpedLayer*>& views, const BlendOption
     planes[k].edge = views[k]->edge.data();
     planes[k].weight = std::max(options.weights[k], 1e-9);
   }
+  if (inFirst) {
+    // The planes' pointers stay valid: swapping vectors moves their memory, it does not copy it.
+    std::swap(out.inverseDepth, inFirst->inverseDepth);
+    for (int c = 0; c < 3; ++c) std::swap(out.colour[c], inFirst->colour[c]);
+    std::swap(out.hole, inFirst->edge);
+    out.width = width;
+    out.height = height;
+    out.channels = channels;
+  } else {
+    out.resize(width, height, channels);  // the blend writes every sample, holes included
+  }
   if (viewCount != 2 || channels < 1 || channels > 3) blendViews(planes, dominant, options, out);
   else if (channels == 1) blendTwoViews<1>(planes[0], planes[1], dominant, options, out);
   else if (channels == 2) blendTwoViews<2>(planes[0], planes[1], dominant, options, out);
   else blendTwoViews<3>(planes[0], planes[1], dominant, options, out);
+}
+
+}  // namespace
+
+void blendLayers(const std::vector<const WarpedLayer*>& views, const BlendOptions& options, BlendedLayer& out) {
+  blend(views, options, out, nullptr);
+}
+
+void blendLayersIntoFirst(const std::vector<WarpedLayer*>& views, const BlendOptions& options, BlendedLayer& out) {
+  VS_CHECK(!views.empty());
+  blend(std::vector<const WarpedLayer*>(views.begin(), views.end()), options, out, views[0]);
 }
 
 }  // namespace vs

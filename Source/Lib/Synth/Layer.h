@@ -56,5 +56,10 @@ struct BlendedLayer {
 // are mixed by weight, leaving out those whose sample lies on a reference depth edge when another
 // agreeing view has a clean one.
 void blendLayers(const std::vector<const WarpedLayer*>& views, const BlendOptions& options, BlendedLayer& out);
+// The same blend written over the first view's planes, which `out` takes (its own planes go to the
+// first view in exchange): every blend reads a sample's inputs before it writes that sample's output,
+// and reads and writes nothing else of it, so the result is blendLayers' bit for bit, without a third
+// layer's memory. The first view's layer holds out's former planes afterwards (contents unspecified).
+void blendLayersIntoFirst(const std::vector<WarpedLayer*>& views, const BlendOptions& options, BlendedLayer& out);
 
 }  // namespace vs

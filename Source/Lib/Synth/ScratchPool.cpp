@@ -23,6 +23,15 @@ void* untouchedAllocate(size_t bytes, bool& mapped) {
   return ::operator new(bytes == 0 ? 1 : bytes);
 }
 
+void untouchedForget(void* data, size_t bytes) {
+#if defined(__linux__)
+  if (data) madvise(data, bytes, MADV_DONTNEED);
+#else
+  (void)data;
+  (void)bytes;
+#endif
+}
+
 void untouchedFree(void* data, size_t bytes, bool mapped) {
   if (!data) return;
 #if defined(__linux__)

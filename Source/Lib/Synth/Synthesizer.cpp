@@ -111,9 +111,16 @@ void Synthesizer::forEachView(const Step& step) {
   for (size_t k = 0; k < count; ++k) step(k);
 }
 
-// Frees what the steps before `spent` used and nothing after reads (a run of one frame): the later
-// steps' buffers then take that memory from the heap again instead of fresh pages (doc/speed.md).
+// Frees what the steps before `spent` used and nothing after reads: the later steps' buffers then take
+// that memory from the heap again instead of fresh pages (doc/speed.md). A sequence frees the depth
+// and texture steps' (keepAheadOfSpentBuffers placed what it keeps below them) but keeps the occlusion
+// rule's sparse mapping, and the chroma layers once the frame is rounded; a run of one frame frees
+// the views' layers after the blend.
 void Synthesizer::releaseSpentBuffers(Spent spent) {
+  auto releaseLayer = [](auto& layer) {
+    releaseMemory(layer.inverseDepth);
+    for (std::vector<float>& channel : layer.colour) releaseMemory(channel);
+  };
   for (ViewState& view : views_) {
     switch (spent) {
       case Spent::depthSteps:
@@ -127,33 +134,62 @@ void Synthesizer::releaseSpentBuffers(Spent spent) {
         releaseMemory(view.dropScratch);
         releaseMemory(view.rowHoleScratch);
         break;
+      case Spent::chromaLayers:
+        releaseLayer(view.chroma);
+        releaseMemory(view.chroma.edge);
+        break;
       case Spent::viewLayers:
         for (WarpedLayer* layer : {&view.luma, &view.chroma}) {
-          releaseMemory(layer->inverseDepth);
-          for (std::vector<float>& channel : layer->colour) releaseMemory(channel);
+          releaseLayer(*layer);
           releaseMemory(layer->edge);
         }
         break;
     }
+  }
+  if (spent == Spent::chromaLayers) {  // the first view's chroma planes, blended (blendLayersIntoFirst)
+    releaseLayer(blendedChroma_);
+    releaseMemory(blendedChroma_.hole);
   }
   if (spent == Spent::depthSteps) aligner_.releaseMemory();
   if (spent == Spent::textureSteps) {
     releaseMemory(occlusionScratch_.soleView);
     releaseMemory(occlusionScratch_.stillBehind);
     releaseMemory(occlusionScratch_.above);
-    occlusionScratch_.around.release();
+    if (releaseSpent_) occlusionScratch_.around.release();  // a sequence keeps its mapping
+  }
+}
+
+void Synthesizer::takeBackFirstViewLayers() {
+  if (!blendedInFirstView_) return;
+  blendedInFirstView_ = false;
+  const bool yuvChroma = !plan_.rgb && plan_.chroma;  // blended as in synthesize
+  for (auto [layer, blended] : {std::pair{&views_[0].luma, &blendedLuma_}, std::pair{&views_[0].chroma, &blendedChroma_}}) {
+    if (blended == &blendedChroma_ && !yuvChroma) continue;
+    std::swap(layer->inverseDepth, blended->inverseDepth);
+    for (int c = 0; c < 3; ++c) std::swap(layer->colour[c], blended->colour[c]);
+    std::swap(layer->edge, blended->hole);
+  }
+}
+
+void Synthesizer::keepAheadOfSpentBuffers(const std::vector<ReferenceFrame>& references) {
+  for (size_t k = 0; k < views_.size(); ++k) {
+    ViewState& view = views_[k];
+    view.luma.resize(outputFormat_.width, outputFormat_.height, plan_.rgb ? 3 : 1);
+    view.referenceEdge.resize(references[k].depth->samples.size());
   }
 }
 
 void Synthesizer::synthesize(const std::vector<ReferenceFrame>& references, Frame& output, StageTimes& times) {
   VS_CHECK(references.size() == views_.size());
   auto start = std::chrono::steady_clock::now();
+  takeBackFirstViewLayers();
   const bool rgb = plan_.rgb, yuvChroma = !plan_.rgb && plan_.chroma;
   std::vector<const Plane*> lumas, depths;
   for (const ReferenceFrame& reference : references) {
     lumas.push_back(&reference.texture->planes[0]);
     depths.push_back(reference.depth);
   }
+  if (!releaseSpent_) keepAheadOfSpentBuffers(references);
   auto depthSteps = [&](size_t k) {
     ViewState& view = views_[k];
     const Plane* depth = references[k].depth;
@@ -181,7 +217,7 @@ void Synthesizer::synthesize(const std::vector<ReferenceFrame>& references, Fram
   };
   forEachView(depthSteps);
   firstFrameFill_.clear();
-  if (releaseSpent_) releaseSpentBuffers(Spent::depthSteps);
+  releaseSpentBuffers(Spent::depthSteps);
   stats_.alignedDepthSamples = 0;
   for (const ViewState& view : views_) stats_.alignedDepthSamples += view.alignedSamples;
   times.depthWarp += secondsSince(start);
@@ -202,19 +238,24 @@ void Synthesizer::synthesize(const std::vector<ReferenceFrame>& references, Fram
     if (plan_.crowdedHoles) flagCrowdedHoles(view);
   });
   if (views_.size() > 1) rejectOccludedInOtherViews();
+  // Before the chroma warp, which reads the luma layers and the references only: its layers take
+  // this memory.
+  releaseSpentBuffers(Spent::textureSteps);
   // Chroma follows the luma decisions: it is warped from the final luma depth.
   if (yuvChroma) forEachView([&](size_t k) { warpChroma(views_[k], *references[k].texture); });
-  if (releaseSpent_) releaseSpentBuffers(Spent::textureSteps);
   times.textureWarp += secondsSince(start);
 
   start = std::chrono::steady_clock::now();
-  std::vector<const WarpedLayer*> lumaLayers, chromaLayers;
-  for (const ViewState& view : views_) {
+  // Blended over the first view's layers: the blended layers take their memory (Layer.h), and give it
+  // back at the next frame's start.
+  std::vector<WarpedLayer*> lumaLayers, chromaLayers;
+  for (ViewState& view : views_) {
     lumaLayers.push_back(&view.luma);
     chromaLayers.push_back(&view.chroma);
   }
-  blendLayers(lumaLayers, plan_.blending, blendedLuma_);
-  if (yuvChroma) blendLayers(chromaLayers, plan_.blending, blendedChroma_);
+  blendLayersIntoFirst(lumaLayers, plan_.blending, blendedLuma_);
+  if (yuvChroma) blendLayersIntoFirst(chromaLayers, plan_.blending, blendedChroma_);
+  blendedInFirstView_ = true;
   stats_.holesAfterBlend = blendedLuma_.holeCount();
   if (plan_.virtualMaskOutput) uncovered_ = blendedLuma_.hole;  // hole filling clears the flags
   if (releaseSpent_) releaseSpentBuffers(Spent::viewLayers);
@@ -233,6 +274,7 @@ void Synthesizer::synthesize(const std::vector<ReferenceFrame>& references, Fram
   // Sized here, not before the steps: a run of one frame then takes the memory the steps freed.
   output.reset(outputFormat_);
   roundLayersToFrame(blendedLuma_, blendedChroma_, rgb, rgbOutput_, output);
+  if (!releaseSpent_ && yuvChroma) releaseSpentBuffers(Spent::chromaLayers);
 }
 
 }  // namespace vs

@@ -68,7 +68,9 @@ public:
   void takeFirstFrameFill(std::vector<FilledDepth> fills) { firstFrameFill_ = std::move(fills); }
   // For a run of one frame: each step's buffers are freed once the step is over, so that the later
   // steps take that memory from the heap again instead of first-touching fresh pages (doc/speed.md).
-  // By default they are kept for the next frame, which then allocates nothing.
+  // By default (a sequence) the depth steps' and the occlusion rule's buffers are freed after their
+  // steps and the chroma layers once the frame is rounded, each taking the others' memory at the
+  // heap's top, and the rest is kept for the next frame.
   void releaseBuffersAfterEachStep() { releaseSpent_ = true; }
 
 private:
@@ -113,8 +115,15 @@ private:
     std::vector<uint8_t> blockEdge, sourceOk;
   };
 
-  enum class Spent { depthSteps, textureSteps, viewLayers };
+  enum class Spent { depthSteps, textureSteps, viewLayers, chromaLayers };
   void releaseSpentBuffers(Spent spent);
+  // The blended layers hold the first view's planes since the last frame's blend (blendLayersIntoFirst):
+  // they go back to the view, the view's former planes to the blended layers, for the view's warp.
+  void takeBackFirstViewLayers();
+  // A sequence: the buffers kept from frame to frame that the steps would first allocate among
+  // those they free (the views' luma layers, the reference edges) are sized before the steps, so
+  // that what the steps free lies together at the heap's top for the next steps.
+  void keepAheadOfSpentBuffers(const std::vector<ReferenceFrame>& references);
   bool reuseFirstFrameFill(size_t k, const Plane& depth);  // view k's fill from firstFrameFill_; false: none fits
   void markReferenceEdges(ViewState& view, const Plane& depth);               // ReferenceEdges.cpp
   void warpDepth(ViewState& view, const Plane& depth);                        // DepthWarp.cpp
@@ -135,6 +144,7 @@ private:
   const Plan plan_;
   const bool rowPath_;  // the 1D path: rows warp into rows (plan_.mode == Parallel1D)
   bool releaseSpent_ = false;  // releaseBuffersAfterEachStep()
+  bool blendedInFirstView_ = false;  // the blended layers hold views_[0]'s planes (takeBackFirstViewLayers)
   FrameFormat outputFormat_;
   SubPixelSampler sampler_;
   DepthEdgeAligner aligner_;
