@@ -1,6 +1,6 @@
 // keepFreedMemoryForReuse (Common/Memory.h): frame-sized blocks come from the heap, not from a
 // mapping of their own that is unmapped (and re-faulted page by page) on every frame; and
-// reserveHugePageHeap, given VS_HUGE_PAGES=1: the blocks allocated after it lie where transparent huge
+// reserveHugePageHeap, asked for huge pages: the blocks allocated after it lie where transparent huge
 // pages are allowed.
 #include <gtest/gtest.h>
 
@@ -72,15 +72,24 @@ TEST(Memory, BlocksAfterTheReservationMayUseHugePages) {
   std::string first;
   if (!std::getline(self, first)) GTEST_SKIP() << "no /proc/self/smaps";
   keepFreedMemoryForReuse();
-  setenv("VS_HUGE_PAGES", "1", 1);  // the advice is given only when asked for (off by default)
-  reserveHugePageHeap(size_t(96) << 20);
-  unsetenv("VS_HUGE_PAGES");
+  reserveHugePageHeap(size_t(96) << 20, true);
   char* block = static_cast<char*>(std::malloc(size_t(32) << 20));
   ASSERT_NE(block, nullptr);
   // "always" makes every mapping eligible; "madvise" only those advised, which is what is tested.
   EXPECT_EQ(hugePageEligible(block + (size_t(16) << 20)), 1) << "transparent huge pages: " << modes;
   std::free(block);
 #endif
+}
+
+// VS_HUGE_PAGES overrides the caller's default both ways; anything but 1 or 0 leaves it.
+TEST(Memory, HugePagesEnvironmentVariableOverridesTheDefault) {
+  for (const bool byDefault : {false, true}) {
+    EXPECT_TRUE(hugePagesWanted("1", byDefault));
+    EXPECT_FALSE(hugePagesWanted("0", byDefault));
+    EXPECT_EQ(hugePagesWanted(nullptr, byDefault), byDefault);
+    EXPECT_EQ(hugePagesWanted("", byDefault), byDefault);
+    EXPECT_EQ(hugePagesWanted("yes", byDefault), byDefault);
+  }
 }
 
 // Whether `address` lies in the mapping /proc/self/smaps names [heap] (the main arena's).

@@ -4,6 +4,7 @@
 #include <atomic>
 #include <cstdint>
 #include <cstdlib>  // brings in the C library's feature macros (__GLIBC__)
+#include <string_view>
 #if defined(__GLIBC__)
 #include <malloc.h>
 #endif
@@ -33,14 +34,17 @@ void keepFreedMemoryForReuse() {
 #endif
 }
 
-void reserveHugePageHeap(size_t bytes) {
+bool hugePagesWanted(const char* variable, bool byDefault) {
+  if (variable && std::string_view(variable) == "1") return true;
+  if (variable && std::string_view(variable) == "0") return false;
+  return byDefault;
+}
+
+void reserveHugePageHeap(size_t bytes, bool byDefault) {
 #if defined(__GLIBC__) && defined(__linux__) && defined(MADV_HUGEPAGE) && !defined(__SANITIZE_ADDRESS__)
   if (!heapKept) return;
-  // Only when asked for (VS_HUGE_PAGES=1 in the environment): measured, a first run after some idle
-  // time may pay the host's faults on the huge pages it touches, while 4 KiB pages cost a cold run no
-  // more than a warm one (doc/speed.md, "Cold starts and the pool's wake-ups"). The output is the
-  // same either way.
-  if (const char* e = std::getenv("VS_HUGE_PAGES"); !e || e[0] != '1') return;
+  // The output is the same either way; only the time differs (Memory.h).
+  if (!hugePagesWanted(std::getenv("VS_HUGE_PAGES"), byDefault)) return;
   // Blocks below the mmap threshold come from the top of the heap, one after the other; freed, they
   // return to it and stay (below the trim threshold). Only their headers are written.
   constexpr size_t kChunk = size_t(192) << 20, kHugePage = size_t(2) << 20;
@@ -57,6 +61,7 @@ void reserveHugePageHeap(size_t bytes) {
   for (void* chunk : chunks) std::free(chunk);
 #else
   (void)bytes;
+  (void)byDefault;
 #endif
 }
 

@@ -14,18 +14,24 @@ namespace vs {
 // (or under a sanitizer's allocator).
 void keepFreedMemoryForReuse();
 
-// Given VS_HUGE_PAGES=1 in the environment, grows the heap by `bytes` (at most 768 MiB) and asks
-// Linux for transparent huge pages over it, so that the frame buffers a run then allocates there are
-// faulted in 2 MiB at a time instead of 4 KiB. The memory is only reserved (address space): none of it
-// is touched here, and resident memory grows only as the run uses it. Off by default since measuring
-// the first run after 30 s idle (doc/speed.md, "Cold starts and the pool's wake-ups"): on a virtual
-// machine whose host takes back free memory, a huge page may be cleared on memory the host must fault
-// in again, and cold one-frame runs paid up to 0.08 s of system CPU more than warm ones (Art), none on
-// 4 KiB pages; a warm one-frame run of Art costs about a third more CPU on 4 KiB pages (7500 page
-// faults against 500), a 30-frame 1080p sequence the same either way. Does nothing unless
-// keepFreedMemoryForReuse() set the heap up (the reservation would otherwise be unmapped when freed),
-// or outside glibc on Linux; where transparent huge pages are off, the advice has no effect.
-void reserveHugePageHeap(size_t bytes);
+// Whether a run asks for huge pages: VS_HUGE_PAGES=1 in the environment yes, =0 no, unset (or any
+// other value) `byDefault`. `variable` is the variable's value (nullptr: unset).
+bool hugePagesWanted(const char* variable, bool byDefault);
+
+// Where hugePagesWanted(getenv("VS_HUGE_PAGES"), byDefault) holds, grows the heap by `bytes` (at most
+// 768 MiB) and asks Linux for transparent huge pages over it, so that the frame buffers a run then
+// allocates there are faulted in 2 MiB at a time instead of 4 KiB. The memory is only reserved
+// (address space): none of it is touched here, and resident memory grows only as the run uses it.
+// What the frame loop passes as the default was decided by measuring warm runs and the first run
+// after 30 s idle (doc/speed.md, "Cold starts and the pool's wake-ups"): on a virtual machine whose
+// host takes back free memory, a huge page may be cleared on memory the host must fault in again, and
+// a cold one-frame run of Art took about twice a warm one (none of that on 4 KiB pages), while a warm
+// one-frame run costs about a quarter more CPU on 4 KiB pages (7500 page faults against 500) and a
+// 30-frame 1080p sequence about a tenth more user CPU (the TLB): so huge pages for sequences, 4 KiB
+// pages for a single frame. Does nothing unless keepFreedMemoryForReuse() set the heap up (the
+// reservation would otherwise be unmapped when freed), or outside glibc on Linux; where transparent
+// huge pages are off, the advice has no effect.
+void reserveHugePageHeap(size_t bytes, bool byDefault);
 
 // Buffers written only here and there (Synth/ScratchPool.h: UntouchedBuffer, the hole filling's
 // estimates) of at least this many bytes are mapped apart on 4 KiB pages instead of coming from the

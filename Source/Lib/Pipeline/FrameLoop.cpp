@@ -20,7 +20,9 @@ void checkBeforeOpening(const Scene& scene, FrameRenderer& renderer, RunReport& 
   // Room on huge pages for what the frames will allocate: about 200 bytes per output sample with two
   // views (measured on Middlebury), about 60 more per further view; half as much again to spare.
   const size_t samples = size_t(s.virtualFormat().width) * size_t(s.virtualFormat().height);
-  reserveHugePageHeap(samples * (144 + 96 * s.references.size()));
+  // Huge pages for a sequence, 4 KiB pages for a single frame, whose first run after some idle time
+  // would pay the host's faults on fresh huge pages (Common/Memory.h; VS_HUGE_PAGES decides instead).
+  reserveHugePageHeap(samples * (144 + 96 * s.references.size()), s.frameCount > 1);
   // Sparse buffers on 4 KiB pages from 1 MiB for pictures of a megapixel or more (1920x1080: 23 MiB
   // less resident than from 4 MiB), from 4 MiB below (Art, 688x554: 5 ms more CPU of 60 in page faults
   // with its 1.5 to 3 MB estimates on 4 KiB pages); doc/speed.md.
