@@ -47,6 +47,14 @@ vs::Camera skewedCamera(const vs::Vec3& centre, double ax, double ay, double az)
   return camera;
 }
 
+// A skewed camera within 10 units of `near` on each axis, turned by up to 0.1 radian about each axis.
+vs::Camera skewedCameraNear(const vs::Vec3& near, std::mt19937& random) {
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  const vs::Vec3 offset{unit(random), unit(random), unit(random)};
+  const double ax = 0.1 * unit(random), ay = 0.1 * unit(random), az = 0.1 * unit(random);
+  return skewedCamera(near + offset * 10.0, ax, ay, az);
+}
+
 vs::DepthRange range8(double znear, double zfar) {
   vs::DepthRange range;
   range.znear = znear;
@@ -286,10 +294,8 @@ TEST(MeshProjection, ClipMatrixPutsVerticesWhereThePinholeModelDoes) {
   std::uniform_real_distribution<double> unit(-1.0, 1.0);
   const vs::Vec3 farAway(2.5e6, -1.2e6, 7.0e5);  // large common world offset
   for (int trial = 0; trial < 20; ++trial) {
-    const vs::Camera reference = skewedCamera(farAway + vs::Vec3(unit(random), unit(random), unit(random)) * 10.0,
-                                              0.1 * unit(random), 0.1 * unit(random), 0.1 * unit(random));
-    vs::Camera virtualCamera = skewedCamera(farAway + vs::Vec3(unit(random), unit(random), unit(random)) * 10.0,
-                                            0.1 * unit(random), 0.1 * unit(random), 0.1 * unit(random));
+    const vs::Camera reference = skewedCameraNear(farAway, random);
+    vs::Camera virtualCamera = skewedCameraNear(farAway, random);
     virtualCamera.K[0][1] = -2.0;
     const vs::RenderGrid grid = vs::lumaGrid(virtualCamera, 160, 120);
     const vs::Mat4 clip = vs::meshClipMatrix(reference, virtualCamera, grid, {0.001, 0.05});
@@ -320,10 +326,8 @@ TEST(MeshProjection, ReferenceShiftIsWhereTheVirtualPixelMeetsTheMovedSurface) {
   std::uniform_real_distribution<double> unit(-1.0, 1.0);
   const vs::Vec3 farAway(2.5e6, -1.2e6, 7.0e5);
   for (int trial = 0; trial < 20; ++trial) {
-    const vs::Camera reference = skewedCamera(farAway + vs::Vec3(unit(random), unit(random), unit(random)) * 10.0,
-                                              0.1 * unit(random), 0.1 * unit(random), 0.1 * unit(random));
-    vs::Camera virtualCamera = skewedCamera(farAway + vs::Vec3(unit(random), unit(random), unit(random)) * 10.0,
-                                            0.1 * unit(random), 0.1 * unit(random), 0.1 * unit(random));
+    const vs::Camera reference = skewedCameraNear(farAway, random);
+    vs::Camera virtualCamera = skewedCameraNear(farAway, random);
     virtualCamera.K[0][0] = 430.0;  // another focal length: the shift is not the virtual displacement
     const vs::RenderGrid grid = vs::lumaGrid(virtualCamera, 160, 120);
     const vs::ReferenceShift shift = vs::pinholeReferenceShift(reference, virtualCamera, grid);
@@ -364,10 +368,8 @@ TEST(MeshProjection, DisplacementRateIsHowFarTheVirtualPixelMovesPerUnitOfInvers
   std::uniform_real_distribution<double> unit(-1.0, 1.0);
   const vs::Vec3 farAway(2.5e6, -1.2e6, 7.0e5);
   for (int trial = 0; trial < 20; ++trial) {
-    const vs::Camera reference = skewedCamera(farAway + vs::Vec3(unit(random), unit(random), unit(random)) * 10.0,
-                                              0.1 * unit(random), 0.1 * unit(random), 0.1 * unit(random));
-    vs::Camera virtualCamera = skewedCamera(farAway + vs::Vec3(unit(random), unit(random), unit(random)) * 10.0,
-                                            0.1 * unit(random), 0.1 * unit(random), 0.1 * unit(random));
+    const vs::Camera reference = skewedCameraNear(farAway, random);
+    vs::Camera virtualCamera = skewedCameraNear(farAway, random);
     virtualCamera.K[0][0] = 430.0;
     const vs::RenderGrid grid = vs::lumaGrid(virtualCamera, 160, 120);
     const vs::DisplacementRate rate = vs::pinholeDisplacementRate(reference, virtualCamera, grid);
