@@ -11,7 +11,8 @@
 
 namespace vs {
 
-// Working buffers, kept between frames so that a sequence allocates nothing once they have grown.
+// Working buffers. The synthesizer frees the per-sample ones after the texture steps, so that the next
+// step reuses their memory (Synthesizer.cpp); a sequence keeps `around`'s mapping between frames.
 // `around` is written and read at the candidates only, which are few: an UntouchedBuffer (not zeroed
 // when it grows, its untouched pages never faulted in: ScratchPool.h). The others are written over
 // every sample before they are read.
