@@ -192,6 +192,24 @@ void renderView(vs::GlMeshRenderer& renderer, const PlaneScene& s, size_t k, con
                   layer, &extras);
 }
 
+// The client extension strings are those of real EGL implementations: Mesa 22 (Debian 12) names
+// device enumeration on its own, NVIDIA's driver 580 (seen on an H100 machine) only the older
+// EGL_EXT_device_base, which holds enumeration and query; without EGL_EXT_platform_device no display
+// can be opened on a device, and query alone enumerates nothing.
+TEST(MeshRenderEgl, DevicePlatformIsOfferedUnderEitherExtensionName) {
+  EXPECT_TRUE(vs::eglOffersDevicePlatform(
+      "EGL_EXT_device_base EGL_EXT_device_enumeration EGL_EXT_device_query EGL_EXT_platform_base "
+      "EGL_EXT_platform_device EGL_MESA_platform_surfaceless"));
+  EXPECT_TRUE(vs::eglOffersDevicePlatform(
+      "EGL_EXT_platform_base EGL_EXT_device_base EGL_KHR_client_get_all_proc_addresses EGL_EXT_client_extensions "
+      "EGL_KHR_debug EGL_KHR_platform_x11 EGL_EXT_platform_x11 EGL_EXT_platform_device "
+      "EGL_MESA_platform_surfaceless EGL_EXT_explicit_device"));
+  EXPECT_FALSE(vs::eglOffersDevicePlatform("EGL_EXT_device_query EGL_EXT_platform_device"));
+  EXPECT_FALSE(vs::eglOffersDevicePlatform("EGL_EXT_device_base EGL_EXT_device_enumeration EGL_MESA_platform_surfaceless"));
+  EXPECT_FALSE(vs::eglOffersDevicePlatform("EGL_EXT_device_base_x EGL_EXT_platform_device"));  // whole names only
+  EXPECT_FALSE(vs::eglOffersDevicePlatform(nullptr));
+}
+
 TEST(MeshRenderGl, ContextIsOpenGl33CoreWithoutADisplay) {
   REQUIRE_GL();
   std::printf("OpenGL: %s\n", renderer->description().c_str());

@@ -85,6 +85,12 @@ EGLContext createContext(EGLDisplay display, std::string& why) {
 
 }  // namespace
 
+bool eglOffersDevicePlatform(const char* clientExtensions) {
+  return hasExtension(clientExtensions, "EGL_EXT_platform_device") &&
+         (hasExtension(clientExtensions, "EGL_EXT_device_enumeration") ||
+          hasExtension(clientExtensions, "EGL_EXT_device_base"));
+}
+
 EglContext::EglContext() {
   std::vector<std::string> attempts;
   const char* clientExtensions = eglQueryString(EGL_NO_DISPLAY, EGL_EXTENSIONS);
@@ -100,8 +106,7 @@ EglContext::EglContext() {
       std::string name;
     };
     std::vector<Candidate> hardware, software;
-    if (hasExtension(clientExtensions, "EGL_EXT_platform_device") &&
-        hasExtension(clientExtensions, "EGL_EXT_device_enumeration")) {
+    if (eglOffersDevicePlatform(clientExtensions)) {
       auto queryDevices = reinterpret_cast<PFNEGLQUERYDEVICESEXTPROC>(eglGetProcAddress("eglQueryDevicesEXT"));
       auto queryDeviceString =
           reinterpret_cast<PFNEGLQUERYDEVICESTRINGEXTPROC>(eglGetProcAddress("eglQueryDeviceStringEXT"));
@@ -124,10 +129,9 @@ EglContext::EglContext() {
     }
     std::vector<Candidate> candidates = hardware;
     candidates.insert(candidates.end(), software.begin(), software.end());
-    if (hasExtension(clientExtensions, "EGL_MESA_platform_surfaceless"))
+    const bool surfaceless = hasExtension(clientExtensions, "EGL_MESA_platform_surfaceless");
+    if (surfaceless)
       candidates.push_back({EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, "EGL_PLATFORM_SURFACELESS_MESA"});
-    else
-      attempts.push_back("EGL_PLATFORM_SURFACELESS_MESA: not offered by this EGL");
 
     for (const Candidate& candidate : candidates) {
       EGLDisplay display = getPlatformDisplay(candidate.platform, candidate.nativeDisplay, nullptr);
@@ -144,8 +148,15 @@ EglContext::EglContext() {
       display_ = display;
       context_ = context;
       description_ = candidate.name;
+      // Say why the candidates before it failed: a GPU machine that ends on Mesa's surfaceless
+      // platform, or on software, should tell its user why its device was passed over.
+      if (!attempts.empty()) {
+        description_ += "; passed over:";
+        for (std::size_t i = 0; i < attempts.size(); ++i) description_ += (i ? "; " : " ") + attempts[i];
+      }
       break;
     }
+    if (!context_ && !surfaceless) attempts.push_back("EGL_PLATFORM_SURFACELESS_MESA: not offered by this EGL");
   }
   if (!context_) {
     std::string message =

@@ -81,6 +81,12 @@ struct GlFunctions {
 #undef VS_GL_DECLARE
 };
 
+// Whether an EGL implementation whose client extension string is `clientExtensions` (a space-separated
+// list, may be null) can enumerate devices and open a display on one: EGL_EXT_platform_device, with
+// either EGL_EXT_device_enumeration or EGL_EXT_device_base, the older extension that holds both
+// enumeration and query (NVIDIA's driver 580 names only EGL_EXT_device_base).
+bool eglOffersDevicePlatform(const char* clientExtensions);
+
 class EglContext {
 public:
   // Creates the display, an OpenGL 3.3 core context, makes it current on this thread and loads the GL
