@@ -2,9 +2,7 @@
 
 #include <sched.h>
 
-#include <chrono>
 #include <condition_variable>
-#include <cstdlib>
 #include <exception>
 #include <mutex>
 #include <thread>
@@ -15,46 +13,6 @@ namespace {
 
 // Set while a thread runs a loop's body: a loop started there runs on that thread alone.
 thread_local bool insideLoop = false;
-
-// How long a thread that waits for the pool (a worker for the next loop, the loop's caller for its
-// last stripes) first polls before it sleeps on a condition variable: VS_POOL_SPIN_US in the
-// environment, in microseconds; 0 (the default) sleeps at once. A frame runs dozens of short loops with
-// a little serial work between them, and on a virtual machine whose idle vCPUs halt, waking a sleeping
-// thread may cost tens of microseconds a loop; but on a loaded machine the polling thread takes the
-// core the other threads need, and there every spin measured was slower (doc/speed.md, "Cold starts
-// and the pool's wake-ups"), so it is off unless asked for. Bounded either way, so that a pool idle
-// between frames or runs sleeps.
-int64_t spinNanoseconds() {
-  static const int64_t ns = [] {
-    const char* e = std::getenv("VS_POOL_SPIN_US");
-    return e && *e ? int64_t(std::max(0L, std::strtol(e, nullptr, 10))) * 1000 : int64_t(0);
-  }();
-  return ns;
-}
-
-inline void cpuRelax() {
-#if defined(__x86_64__) || defined(__i386__)
-  __builtin_ia32_pause();
-#elif defined(__aarch64__)
-  asm volatile("yield");
-#endif
-}
-
-// Polls ready() for at most spinNanoseconds(); true once it holds.
-template <class Ready>
-bool spinUntil(const Ready& ready) {
-  const int64_t limit = spinNanoseconds();
-  if (limit <= 0) return ready();
-  const auto start = std::chrono::steady_clock::now();
-  for (;;) {
-    for (int k = 0; k < 64; ++k) {
-      if (ready()) return true;
-      cpuRelax();
-    }
-    if (std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now() - start).count() >= limit)
-      return ready();
-  }
-}
 
 // The pool: workers - 1 threads beside the caller's. One loop at a time holds it (`busy`); its
 // stripes are taken one by one from an atomic counter by whichever thread is free, so that the split
@@ -90,13 +48,10 @@ public:
       next_.store(0, std::memory_order_relaxed);
       done_ = 0;
       error_ = nullptr;
-      generation_.fetch_add(1, std::memory_order_release);
+      ++generation_;
     }
     wake_.notify_all();  // no system call unless a worker sleeps
     work(body, count, stripes);
-    spinUntil([&] {
-      return done_.load(std::memory_order_acquire) == stripes && active_.load(std::memory_order_acquire) == 0;
-    });
     std::unique_lock<std::mutex> lock(mutex_);
     // Every stripe done, and no worker still inside this loop (one that woke late and found no stripe
     // left must not read the next loop's counter with this loop's body).
@@ -153,13 +108,8 @@ private:
     uint64_t seen = 0;
     std::unique_lock<std::mutex> lock(mutex_);
     for (;;) {
-      if (generation_.load(std::memory_order_relaxed) == seen) {
-        lock.unlock();
-        spinUntil([&] { return generation_.load(std::memory_order_acquire) != seen; });
-        lock.lock();
-      }
-      wake_.wait(lock, [&] { return generation_.load(std::memory_order_relaxed) != seen; });
-      seen = generation_.load(std::memory_order_relaxed);
+      wake_.wait(lock, [&] { return generation_ != seen; });
+      seen = generation_;
       if (index >= helpers_ || body_ == nullptr) continue;  // not wanted in this loop, or it is over
       const std::function<void(int, int)>& body = *body_;
       const int count = count_, stripes = stripes_;
@@ -177,9 +127,8 @@ private:
 
   std::mutex mutex_;  // guards what follows
   std::condition_variable wake_, finished_;
-  // Changed under the mutex only; atomic so that a spinning thread may poll them without it.
-  std::atomic<uint64_t> generation_{0};
-  std::atomic<int> done_{0}, active_{0};  // stripes done; workers inside the loop
+  uint64_t generation_ = 0;  // counts the loops started, so that a worker sees each one once
+  int done_ = 0, active_ = 0;  // stripes done; workers inside the loop
   const std::function<void(int, int)>* body_ = nullptr;
   int count_ = 0, stripes_ = 0, helpers_ = 0;
   std::exception_ptr error_;
