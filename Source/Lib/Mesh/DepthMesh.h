@@ -83,68 +83,72 @@ struct MeshOptions {
   double maxColourError = 2.6;
 };
 
-// How far, in virtual-camera pixels, a surface point seen at reference pixel (u, v) with inverse camera
-// depth q (1 / z_cam) moves in the virtual camera per unit of q: |d pixel / d q|. Infinite (or NaN)
-// where the point is not in front of the virtual camera. The adaptive mesh turns MeshMaxError into a
-// tolerance in q with it; each camera model supplies its own (pinholeDisplacementRate, MeshProjection.h).
-// The pinhole camera's is held as its terms and computed inline (the merge asks for it at every block
-// corner); any other function is held as it is.
-class DisplacementRate {
+// A camera-dependent quantity of a reference pixel (u, v) at inverse camera depth q that the adaptive
+// mesh asks for at every tested vertex or block corner: held either as the pinhole camera's terms H, e
+// (a point at reference pixel (u, v) with inverse depth q sits at h = H (u, v, 1) + q e in the virtual
+// camera, MeshProjection.h), computed inline by `Formula::pinhole(H, e, ...)`, or as any other function
+// of the same signature (`Formula::Signature`; the tests pass such). Empty by default.
+template <typename Formula>
+class PinholeTermsOrFunction {
 public:
-  DisplacementRate() = default;
-  template <typename F, typename = std::enable_if_t<std::is_invocable_r_v<double, const F&, double, double, double>>>
-  DisplacementRate(F function) : general_(std::move(function)) {}
-  // A point at reference pixel (u, v) with inverse camera depth q sits at h = H (u, v, 1) + q e in the
-  // virtual camera (MeshProjection.h): d pixel / d q = (e_xy h_z - h_xy e_z) / h_z^2.
-  static DisplacementRate pinhole(const Mat3& H, const Vec3& e) {
-    DisplacementRate rate;
-    rate.pinhole_ = true;
-    rate.H_ = H;
-    rate.e_ = e;
-    return rate;
+  using Function = std::function<typename Formula::Signature>;
+
+  PinholeTermsOrFunction() = default;
+  template <typename F, typename = std::enable_if_t<!std::is_same_v<std::decay_t<F>, PinholeTermsOrFunction> &&
+                                                    Formula::template invocable<F>>>
+  PinholeTermsOrFunction(F function) : general_(std::move(function)) {}
+  static PinholeTermsOrFunction pinhole(const Mat3& H, const Vec3& e) {
+    PinholeTermsOrFunction terms;
+    terms.pinhole_ = true;
+    terms.H_ = H;
+    terms.e_ = e;
+    return terms;
   }
   explicit operator bool() const { return pinhole_ || bool(general_); }
-  double operator()(double u, double v, double q) const {
-    if (!pinhole_) return general_(u, v, q);
-    const Vec3 h = H_ * Vec3(u, v, 1.0) + q * e_;
-    if (!(h.z > 0.0)) return std::numeric_limits<double>::infinity();
-    const double dx = (e_.x * h.z - h.x * e_.z) / (h.z * h.z), dy = (e_.y * h.z - h.y * e_.z) / (h.z * h.z);
-    return std::sqrt(dx * dx + dy * dy);
+  template <typename... Arguments>
+  auto operator()(Arguments&&... arguments) const {
+    if (!pinhole_) return general_(std::forward<Arguments>(arguments)...);
+    return Formula::pinhole(H_, e_, std::forward<Arguments>(arguments)...);
   }
 
 private:
   bool pinhole_ = false;
   Mat3 H_;
   Vec3 e_;
-  std::function<double(double u, double v, double q)> general_;
+  Function general_;
 };
+
+// How far, in virtual-camera pixels, a surface point seen at reference pixel (u, v) with inverse camera
+// depth q (1 / z_cam) moves in the virtual camera per unit of q: |d pixel / d q|. Infinite (or NaN)
+// where the point is not in front of the virtual camera. The adaptive mesh turns MeshMaxError into a
+// tolerance in q with it; each camera model supplies its own (pinholeDisplacementRate, MeshProjection.h).
+struct DisplacementRateFormula {
+  using Signature = double(double u, double v, double q);
+  template <typename F>
+  static constexpr bool invocable = std::is_invocable_r_v<double, const F&, double, double, double>;
+  // h = H (u, v, 1) + q e: d pixel / d q = (e_xy h_z - h_xy e_z) / h_z^2.
+  static double pinhole(const Mat3& H, const Vec3& e, double u, double v, double q) {
+    const Vec3 h = H * Vec3(u, v, 1.0) + q * e;
+    if (!(h.z > 0.0)) return std::numeric_limits<double>::infinity();
+    const double dx = (e.x * h.z - h.x * e.z) / (h.z * h.z), dy = (e.y * h.z - h.y * e.z) / (h.z * h.z);
+    return std::sqrt(dx * dx + dy * dy);
+  }
+};
+using DisplacementRate = PinholeTermsOrFunction<DisplacementRateFormula>;
 
 // How the texture seen in the virtual camera moves with a surface drawn off in q: the virtual pixel that
 // truly shows reference pixel (u, v) (inverse depth q) shows reference position (u, v) - dq (du, dv)
 // when the surface there is drawn at q + dq (to first order, the surface taken as facing the reference
 // camera). Writes (du, dv), in reference pixels per unit of q, along the epipolar line of (u, v); false
 // where the point is not in front of the virtual camera. MeshMaxColourError turns the luma step along it
-// into a tolerance in q (pinholeReferenceShift, MeshProjection.h). As DisplacementRate, the pinhole
-// camera's is computed inline from its terms (the merge asks for it at every tested vertex).
-class ReferenceShift {
-public:
-  ReferenceShift() = default;
-  template <typename F,
-            typename = std::enable_if_t<std::is_invocable_r_v<bool, const F&, double, double, double, double&, double&>>>
-  ReferenceShift(F function) : general_(std::move(function)) {}
-  // h = H (u, v, 1) + q e as in DisplacementRate::pinhole; (du, dv) = J^-1 (d pixel / d q) with J = d pixel /
-  // d(u, v) (MeshProjection.h).
-  static ReferenceShift pinhole(const Mat3& H, const Vec3& e) {
-    ReferenceShift shift;
-    shift.pinhole_ = true;
-    shift.H_ = H;
-    shift.e_ = e;
-    return shift;
-  }
-  explicit operator bool() const { return pinhole_ || bool(general_); }
-  bool operator()(double u, double v, double q, double& du, double& dv) const {
-    if (!pinhole_) return general_(u, v, q, du, dv);
-    const Vec3 h = H_ * Vec3(u, v, 1.0) + q * e_;
+// into a tolerance in q (pinholeReferenceShift, MeshProjection.h).
+struct ReferenceShiftFormula {
+  using Signature = bool(double u, double v, double q, double& du, double& dv);
+  template <typename F>
+  static constexpr bool invocable = std::is_invocable_r_v<bool, const F&, double, double, double, double&, double&>;
+  // h = H (u, v, 1) + q e; (du, dv) = J^-1 (d pixel / d q) with J = d pixel / d(u, v) (MeshProjection.h).
+  static bool pinhole(const Mat3& H, const Vec3& e, double u, double v, double q, double& du, double& dv) {
+    const Vec3 h = H * Vec3(u, v, 1.0) + q * e;
     if (!(h.z > 0.0)) return false;
     // d pixel / d u, d pixel / d v and d pixel / d q are each (b_xy h_z - h_xy b_z) / h_z^2 for their
     // column b; the common 1 / h_z^2 cancels in J^-1 (d pixel / d q), so it is left out.
@@ -153,9 +157,9 @@ public:
       y = b.y * h.z - h.y * b.z;
     };
     double xu, yu, xv, yv, xq, yq;
-    derivative(Vec3(H_[0][0], H_[1][0], H_[2][0]), xu, yu);
-    derivative(Vec3(H_[0][1], H_[1][1], H_[2][1]), xv, yv);
-    derivative(e_, xq, yq);
+    derivative(Vec3(H[0][0], H[1][0], H[2][0]), xu, yu);
+    derivative(Vec3(H[0][1], H[1][1], H[2][1]), xv, yv);
+    derivative(e, xq, yq);
     const double det = xu * yv - xv * yu;
     if (!(std::fabs(det) > 0.0)) return false;
     const double inverse = 1.0 / det;
@@ -163,13 +167,8 @@ public:
     dv = (xu * yq - yu * xq) * inverse;
     return std::isfinite(du) && std::isfinite(dv);
   }
-
-private:
-  bool pinhole_ = false;
-  Mat3 H_;
-  Vec3 e_;
-  std::function<bool(double u, double v, double q, double& du, double& dv)> general_;
 };
+using ReferenceShift = PinholeTermsOrFunction<ReferenceShiftFormula>;
 
 struct DepthMesh {
   int columns = 0, rows = 0;           // vertex grid size
