@@ -44,6 +44,25 @@ inline void raiseCell(double& cell, double value) {
   std::memcpy(&cell, &larger, sizeof larger);
 }
 
+#if defined(__AVX512F__) && defined(__AVX512DQ__)
+// Eight samples raised into one writer's z-buffer at once where their cells are consecutive (a run of
+// one level along an output row, as on a rectified rig): `at` holds each lane's cell as a double (a
+// whole number below 2^53, exact) and `first` lane 0's. Where the lanes' cells are first, first + 1, ...,
+// first + 7, each cell is raised once, by its own sample: one load, a max of the bits as signed 64-bit
+// integers in every lane, one store; otherwise nothing is raised and the result is false. (The
+// zero-masking forms of the intrinsics: GCC 12's plain ones warn.) The points of the general and the
+// 1D depth warps (Kernels/QuadRow.cpp, Kernels/Rows.cpp) use it.
+inline bool raiseConsecutiveCells(double* cells, __m512d at, long long first, __m512d values) {
+  const __m512i iota = _mm512_setr_epi64(0, 1, 2, 3, 4, 5, 6, 7);
+  if (_mm512_cmpeq_epi64_mask(_mm512_maskz_cvttpd_epi64(0xff, at), _mm512_add_epi64(_mm512_set1_epi64(first), iota)) !=
+      0xff)
+    return false;
+  double* start = cells + first;
+  _mm512_storeu_si512(start, _mm512_maskz_max_epi64(0xff, _mm512_loadu_si512(start), _mm512_castpd_si512(values)));
+  return true;
+}
+#endif
+
 // raise(i, value) over a z-buffer of doubles that one thread writes: raiseCell on cell i. A small
 // object that holds the cells' address (a vector's own would be read again after every store).
 struct LoneRaise {
