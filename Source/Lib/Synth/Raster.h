@@ -416,8 +416,8 @@ constexpr int kQuadsAtOnce = 1;
 // than those errors.)
 //
 // Eight quads whose top positions, and bottom positions, increase by more than 2 kRectifiedNear from
-// sample to sample are then drawn centre by centre: the centres of row Y between the first and last
-// top positions, eight at a time, each evaluated with the triangle whose edge holds it (T0 of the
+// sample to sample are then drawn centre by centre, the first n of them (up to eight) whose centres fit
+// one register on each row: the centres of row Y between the first and last top positions, each evaluated with the triangle whose edge holds it (T0 of the
 // quad whose top positions enclose it) and, where it lies within kRectifiedNear of a top position,
 // with the other triangles meeting there (the neighbouring quad's T0 and T1 of the quad starting
 // there); row Y + 1 the same with the bottom positions, T1's edges and T0's corners. Each evaluation
@@ -506,16 +506,19 @@ struct RectifiedTriangles {
   return _mm512_mask_blend_epi64(covered, _mm512_set1_epi64(INT64_MIN), __m512i(value));
 }
 
-// One row of centres (row r: 0 for Y, 1 for Y + 1) between positions pos[0] < ... < pos[8]: the edges'
-// triangles `edges` (T0 on row Y, T1 on Y + 1) and, near a position, the triangles `corners` meeting
-// there (T1 on row Y, T0 on Y + 1). On row Y the corner triangle at position i is T1 of quad i; on row
-// Y + 1 it is T0 of quad i - 1 (`cornerShift` 0 or 1).
-[[gnu::always_inline]] inline void rectifiedCentres(double* cells, int width, const double* pos,
+// One row of centres (row r: 0 for Y, 1 for Y + 1) between positions pos[0] < ... < pos[n] of the n
+// quads drawn (pos[8] is read too): the edges' triangles `edges` (T0 on row Y, T1 on Y + 1) and, near a
+// position (only where `nearAny`: some position lies within kRectifiedNear of a centre), the triangles
+// `corners` meeting there (T1 on row Y, T0 on Y + 1). On row Y the corner triangle at position i is T1
+// of quad i; on row Y + 1 it is T0 of quad i - 1 (`cornerShift` 0 or 1). Lanes of quads from n on are
+// not drawn in `edges` and `corners`.
+[[gnu::always_inline]] inline void rectifiedCentres(double* cells, int width, const double* pos, int n, bool nearAny,
                                                     const RectifiedTriangles& edges,
                                                     const RectifiedTriangles& corners, int r, int cornerShift) {
   using Doubles = QuadLanes<4>::Doubles;
   const double near = kRectifiedNear;
-  const double startAt = std::max(std::ceil(pos[0] - near), 0.0), endAt = std::min(std::floor(pos[8] + near), double(width - 1));
+  const double startAt = std::max(std::ceil(pos[0] - near), 0.0),
+               endAt = std::min(std::floor(pos[n] + near), double(width - 1));
   if (!(startAt <= endAt)) return;
   const __m512d positions = _mm512_loadu_pd(pos), last = _mm512_set1_pd(pos[8]);
   const __m512i one = _mm512_set1_epi64(1), seven = _mm512_set1_epi64(7);
@@ -528,15 +531,19 @@ struct RectifiedTriangles {
     __m512i j = _mm512_setzero_si512();
     for (int i = 1; i < 8; ++i)
       j = _mm512_mask_add_epi64(j, _mm512_cmp_pd_mask(_mm512_set1_pd(pos[i]), centre, _CMP_LT_OQ), j, one);
-    const __m512i next = _mm512_add_epi64(j, one);
-    const __m512d low = _mm512_maskz_permutexvar_pd(0xff, j, positions), high = _mm512_permutex2var_pd(positions, next, last);
-    const __m512d absMask = _mm512_castsi512_pd(_mm512_set1_epi64(INT64_MAX));
-    const __mmask8 nearLow = _mm512_mask_cmp_pd_mask(
-        in, _mm512_and_pd(_mm512_sub_pd(centre, low), absMask), _mm512_set1_pd(near), _CMP_LE_OQ);
-    const __mmask8 nearHigh = _mm512_mask_cmp_pd_mask(
-        in, _mm512_and_pd(_mm512_sub_pd(high, centre), absMask), _mm512_set1_pd(near), _CMP_LE_OQ);
     const Doubles px = Doubles(centre);
     __m512i best = rectifiedValue(edges, r, j, px, in);
+    const __m512i next = _mm512_add_epi64(j, one);
+    const __m512d absMask = _mm512_castsi512_pd(_mm512_set1_epi64(INT64_MAX));
+    __mmask8 nearLow = 0, nearHigh = 0;
+    if (nearAny) {
+      const __m512d low = _mm512_maskz_permutexvar_pd(0xff, j, positions),
+                    high = _mm512_permutex2var_pd(positions, next, last);
+      nearLow = _mm512_mask_cmp_pd_mask(in, _mm512_and_pd(_mm512_sub_pd(centre, low), absMask), _mm512_set1_pd(near),
+                                        _CMP_LE_OQ);
+      nearHigh = _mm512_mask_cmp_pd_mask(in, _mm512_and_pd(_mm512_sub_pd(high, centre), absMask),
+                                         _mm512_set1_pd(near), _CMP_LE_OQ);
+    }
     if (nearLow | nearHigh) {
       const __mmask8 firstQuad = _mm512_cmpeq_epi64_mask(j, _mm512_setzero_si512());
       const __mmask8 lastQuad = _mm512_cmpeq_epi64_mask(j, seven);
@@ -556,10 +563,11 @@ struct RectifiedTriangles {
   }
 }
 
-// Quads x .. x + 7 between rectified rows rowY (top) and rowY + 1 (bottom) into one thread's z-buffer
-// `cells` (rows `cellsY` and `cellsY1`, the latter null where row Y + 1 lies outside the view); false,
-// drawing nothing, where they do not qualify.
-[[gnu::always_inline]] inline bool rasteriseRectifiedQuads(double* cellsY, double* cellsY1, int width,
+// Quads x .. x + n - 1 between rectified rows rowY (top) and rowY + 1 (bottom) into one thread's
+// z-buffer (rows `cellsY` and `cellsY1`, the latter null where row Y + 1 lies outside the view), n up to
+// 8, as many as keep each row's centres within one register of eight; returns n, or 0, drawing nothing,
+// where quads x .. x + 7 do not qualify. Samples x to x + 8 of both rows are read.
+[[gnu::always_inline]] inline int rasteriseRectifiedQuads(double* cellsY, double* cellsY1, int width,
                                                            double discontinuity, double rowY, const double* xTop,
                                                            const double* wTop, const double* xBottom,
                                                            const double* wBottom, int x) {
@@ -576,10 +584,24 @@ struct RectifiedTriangles {
   // eight quads within 15 and within 2^16 of the origin: the bounds the coverage argument takes.
   const Doubles magnitude = Doubles(Mask(p0 - q0) & INT64_MAX), endMagnitude = Doubles(Mask(p1 - q1) & INT64_MAX);
   const Mask fits = Mask(p1 - p0 > near2) & Mask(q1 - q0 > near2) & Mask(magnitude <= 32.0) & Mask(endMagnitude <= 32.0);
-  if (_mm512_movepi64_mask(__m512i(fits)) != 0xff) return false;
+  if (_mm512_movepi64_mask(__m512i(fits)) != 0xff) return 0;
   const double first[2] = {xTop[x], xBottom[x]}, lastOnes[2] = {xTop[x + 8], xBottom[x + 8]};
   for (int r = 0; r < 2; ++r)
-    if (!(lastOnes[r] - first[r] <= 15.0 && first[r] >= -65536.0 && lastOnes[r] <= 65536.0)) return false;
+    if (!(lastOnes[r] - first[r] <= 15.0 && first[r] >= -65536.0 && lastOnes[r] <= 65536.0)) return 0;
+  // The quads drawn: as many as keep the centres from the first position to the last within eight on
+  // both rows (quads a little wider than a pixel reach nine centres in eight quads).
+  const auto centres = [&](const double* pos, int n) {
+    return std::floor(pos[n] + kRectifiedNear) - std::ceil(pos[0] - kRectifiedNear) + 1.0;
+  };
+  int n = 8;
+  while (n > 0 && (centres(xTop + x, n) > 8.0 || centres(xBottom + x, n) > 8.0)) --n;
+  if (n == 0) return 0;
+  // Whether any position of either row lies within kRectifiedNear of a pixel centre.
+  const auto nearCentre = [](Doubles v) {
+    const Doubles nearest = Doubles(_mm512_maskz_roundscale_pd(0xff, __m512d(v), _MM_FROUND_TO_NEAREST_INT | _MM_FROUND_NO_EXC));
+    return Mask(Doubles(Mask(v - nearest) & INT64_MAX) <= kRectifiedNear);
+  };
+  const bool nearTop = L::any(nearCentre(p0) | nearCentre(p1)), nearBottom = L::any(nearCentre(q0) | nearCentre(q1));
   std::memcpy(&wp0, wTop + x, sizeof wp0);
   std::memcpy(&wp1, wTop + x + 1, sizeof wp1);
   std::memcpy(&wq0, wBottom + x, sizeof wq0);
@@ -590,16 +612,18 @@ struct RectifiedTriangles {
     const Mask warped = ~(corner0 < 0) & ~(corner3 < 0) & (third >= 0);
     return warped & Mask(mostLanes(hi03, third) - leastLanes(lo03, third) <= discontinuity);
   };
-  const Mask drawn0 = drawn(wp0, wq1, wp1), drawn1 = drawn(wp0, wq1, wq0);
-  if (!L::any(drawn0 | drawn1)) return true;  // nothing to draw: what rasteriseQuads would do
+  Mask owned;
+  for (int k = 0; k < 8; ++k) owned[k] = -int64_t(k < n);
+  const Mask drawn0 = drawn(wp0, wq1, wp1) & owned, drawn1 = drawn(wp0, wq1, wq0) & owned;
+  if (!L::any(drawn0 | drawn1)) return n;  // nothing to draw: what rasteriseQuads would do
   const Doubles top = L::splat(rowY), bottom = L::splat(rowY + 1.0);
   // The rows as rasteriseQuads takes them (its first covered row, +0 for row 0).
   const double row = rowY + 0.0;
   const RectifiedTriangles t0 = rectifiedSetUp(p0, p1, q1, top, top, bottom, wp0, wp1, wq1, drawn0, width, row);
   const RectifiedTriangles t1 = rectifiedSetUp(p0, q1, q0, top, bottom, bottom, wp0, wq1, wq0, drawn1, width, row);
-  rectifiedCentres(cellsY, width, xTop + x, t0, t1, 0, 0);
-  if (cellsY1) rectifiedCentres(cellsY1, width, xBottom + x, t1, t0, 1, 1);
-  return true;
+  rectifiedCentres(cellsY, width, xTop + x, n, nearTop, t0, t1, 0, 0);
+  if (cellsY1) rectifiedCentres(cellsY1, width, xBottom + x, n, nearBottom, t1, t0, 1, 1);
+  return n;
 }
 #endif
 #else
@@ -644,9 +668,11 @@ inline void rasteriseQuadRow(const Raise& raise, int width, int outWidth, int ou
   for (int x = 0; x < quads; x += kQuadsAtOnce) {
 #if defined(__AVX512F__) && defined(__AVX512DQ__)
     if (rectifiedY && x >= plainFrom) {
-      if (x + 8 <= quads && rasteriseRectifiedQuads(rectifiedY, rectifiedY1, outWidth, discontinuity, rowY, xTop,
-                                                    wTop, xBottom, wBottom, x)) {
-        x += 8 - kQuadsAtOnce;
+      const int taken = x + 8 <= quads ? rasteriseRectifiedQuads(rectifiedY, rectifiedY1, outWidth, discontinuity,
+                                                                 rowY, xTop, wTop, xBottom, wBottom, x)
+                                       : 0;
+      if (taken > 0) {
+        x += taken - kQuadsAtOnce;
         continue;
       }
       plainFrom = x + 8;
