@@ -51,6 +51,33 @@ void rasterisePlainly(std::vector<double>& cells, int width, int height, const d
     }
 }
 
+// The quads between two rows of warped samples (top row 0, bottom row 1) as the plain rule draws them:
+// triangles (0, 1, 3) and (0, 3, 2) of quad q's corners (top q, top q + 1, bottom q, bottom q + 1),
+// each where its three corners are warped and their depths span at most `discontinuity`.
+void rasteriseQuadRowPlainly(std::vector<double>& plain, int width, int outWidth, int outHeight, double discontinuity,
+                             const std::vector<double>* x, const std::vector<double>* y,
+                             const std::vector<double>* w) {
+  for (int q = 0; q + 1 < width; ++q) {
+    const double d[4] = {w[0][size_t(q)], w[0][size_t(q) + 1], w[1][size_t(q)], w[1][size_t(q) + 1]};
+    const double cx[4] = {x[0][size_t(q)], x[0][size_t(q) + 1], x[1][size_t(q)], x[1][size_t(q) + 1]};
+    const double cy[4] = {y[0][size_t(q)], y[0][size_t(q) + 1], y[1][size_t(q)], y[1][size_t(q) + 1]};
+    const int triangle[2][3] = {{0, 1, 3}, {0, 3, 2}};
+    for (const auto& corners : triangle) {
+      double tx[3], ty[3], tw[3], lo = HUGE_VAL, hi = -HUGE_VAL;
+      bool warped = true;
+      for (int c = 0; c < 3; ++c) {
+        tx[c] = cx[corners[c]];
+        ty[c] = cy[corners[c]];
+        tw[c] = d[corners[c]];
+        warped = warped && tw[c] >= 0;
+        lo = std::min(lo, tw[c]);
+        hi = std::max(hi, tw[c]);
+      }
+      if (warped && hi - lo <= discontinuity) rasterisePlainly(plain, outWidth, outHeight, tx, ty, tw);
+    }
+  }
+}
+
 // Quads of warped samples as the general depth warp makes them: a grid's samples moved by a random
 // shift, with corners put exactly on pixel centres or 1e-9 and 2e-9 off them (where the tolerances
 // decide), large quads whose pixels span more than a 2 x 2 square, quads across the picture's
@@ -304,25 +331,7 @@ TEST(Raster, QuadRowEqualsPlainTrianglesOfEachQuad) {
           w[r].push_back(u < 0.1 ? -1.0 : u < 0.2 ? 0.0 : u < 0.3 ? 0.3 : u < 0.6 ? 0.5 : unit(rng));
         }
       }
-      for (int q = 0; q + 1 < width; ++q) {
-        const double d[4] = {w[0][size_t(q)], w[0][size_t(q) + 1], w[1][size_t(q)], w[1][size_t(q) + 1]};
-        const double cx[4] = {x[0][size_t(q)], x[0][size_t(q) + 1], x[1][size_t(q)], x[1][size_t(q) + 1]};
-        const double cy[4] = {y[0][size_t(q)], y[0][size_t(q) + 1], y[1][size_t(q)], y[1][size_t(q) + 1]};
-        const int triangle[2][3] = {{0, 1, 3}, {0, 3, 2}};
-        for (const auto& corners : triangle) {
-          double tx[3], ty[3], tw[3], lo = HUGE_VAL, hi = -HUGE_VAL;
-          bool warped = true;
-          for (int c = 0; c < 3; ++c) {
-            tx[c] = cx[corners[c]];
-            ty[c] = cy[corners[c]];
-            tw[c] = d[corners[c]];
-            warped = warped && tw[c] >= 0;
-            lo = std::min(lo, tw[c]);
-            hi = std::max(hi, tw[c]);
-          }
-          if (warped && hi - lo <= discontinuity) rasterisePlainly(plain, outWidth, outHeight, tx, ty, tw);
-        }
-      }
+      rasteriseQuadRowPlainly(plain, width, outWidth, outHeight, discontinuity, x, y, w);
       rasteriseQuadRow(raise, width, outWidth, outHeight, discontinuity, x[0].data(), y[0].data(), w[0].data(),
                        x[1].data(), y[1].data(), w[1].data());
       for (size_t k = 0; k < kernels.size(); ++k) {
@@ -347,6 +356,91 @@ TEST(Raster, QuadRowEqualsPlainTrianglesOfEachQuad) {
     }
     EXPECT_GT(raised, plain.size() / 2);
   }
+}
+
+// Rows of a rectified rig (Synth/Raster.h, rasteriseRectifiedQuads): every warped sample of the top row
+// exactly on output row Y, of the bottom row on Y + 1, positions moving along the row by a disparity
+// that varies smoothly, jumps both ways (disocclusions and fold-overs), squeezes and stretches the
+// quads (views on either side, scales 0.4 to 3), with positions put on pixel centres and at 2^-30,
+// 1e-9, 2e-9 and about the fast path's 2^-20 from them, depths at 0, -0 and exactly a discontinuity
+// apart, samples not warped (some at NaN positions, as a missing depth leaves them; some far away or
+// behind the camera), rows at the view's top and bottom and below it, views narrower than the rows. Every
+// level's kernels (one writer's and the threads') against the plain triangles.
+TEST(Raster, RectifiedRowsEqualPlainTriangles) {
+  std::mt19937 rng(29);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  std::vector<const QuadRowKernels*> kernels;
+  for (int level = 0; level <= cpuX86Level(); ++level)
+    if (quadRowKernelsFor(level)) kernels.push_back(quadRowKernelsFor(level));
+  ASSERT_FALSE(kernels.empty());
+  const double offsets[] = {0.0,        0x1p-30,   -0x1p-30,        1e-9,    -1e-9,         2e-9,
+                            -2e-9,      0x1p-21,   -0x1p-21,        0x1p-20, -0x1p-20,      0x1.8p-20,
+                            -0x1.8p-20, 0x1p-19,   -0x1p-19,        3e-6,    -3e-6,         0.5};
+  const auto snap = [](double v) { return std::nearbyint(v * 0x1p30) * 0x1p-30; };
+  size_t raised = 0, cellsChecked = 0;
+  for (const double discontinuity : {0.05, 10.0})
+  for (const int outWidth : {16, 41, 120})
+  for (const int width : {9, 10, 17, 40, 100}) {
+    const int outHeight = 5;
+    std::vector<double> plain(size_t(outWidth) * outHeight, kEmpty);
+    std::vector<std::vector<double>> lone(kernels.size(), plain);
+    std::vector<AtomicMaxBuffer> shared(kernels.size());
+    for (AtomicMaxBuffer& buffer : shared) buffer.reset(plain.size(), kEmpty);
+    for (int t = 0; t < 400; ++t) {
+      const int row = int(unit(rng) * 6.0);  // 0 .. 5: rows 4 and 5 reach below the view
+      const double scales[] = {1.0, 1.0, 1.0, 0.4, 0.9, 1.1, 2.0, 3.0, -1.0};
+      const double scale = scales[int(unit(rng) * 9)];
+      const double shift = (unit(rng) - 0.5) * 0.6 * outWidth, slope = (unit(rng) - 0.5) * 0.2;
+      const int kind = int(unit(rng) * 4);  // 0: smooth, 1: with jumps, 2: near centres, 3: all of it
+      std::vector<double> x[2], y[2], w[2];
+      double jump = 0.0;
+      for (int r = 0; r < 2; ++r) {
+        for (int i = 0; i < width; ++i) {
+          if ((kind & 1) && unit(rng) < 0.08) jump += (unit(rng) - 0.5) * 12.0;
+          double px = scale * i + shift + slope * i * (1 + r) + jump + (kind == 0 ? 0.0 : 0.02 * (unit(rng) - 0.5));
+          px = unit(rng) < 0.7 ? snap(px) : px;
+          if (kind >= 2 && unit(rng) < 0.35) px = std::round(px) + offsets[size_t(unit(rng) * 18)];
+          double py = double(row + r), pw = unit(rng);
+          const double u = unit(rng);
+          if (u < 0.04) pw = -1.0;
+          else if (u < 0.06) pw = -1.0, px = std::nan(""), py = std::nan("");
+          else if (u < 0.07) pw = -1.0, px = 1e12 * (unit(rng) - 0.5), py = -7.0;
+          else if (u < 0.09) pw = 0.0;
+          else if (u < 0.11) pw = -0.0;
+          else if (u < 0.14) pw = discontinuity;
+          else if (u < 0.5 && i > 0) pw = w[r].back() + (unit(rng) - 0.5) * 0.02;  // one surface
+          if (t % 50 == 7 && i == width / 2) py += 1e-9;  // one sample off the row: not rectified
+          x[r].push_back(px);
+          y[r].push_back(py);
+          w[r].push_back(pw);
+        }
+      }
+      rasteriseQuadRowPlainly(plain, width, outWidth, outHeight, discontinuity, x, y, w);
+      for (size_t k = 0; k < kernels.size(); ++k) {
+        kernels[k]->lone(lone[k].data(), width, outWidth, outHeight, discontinuity, x[0].data(), y[0].data(),
+                         w[0].data(), x[1].data(), y[1].data(), w[1].data());
+        kernels[k]->atomic(shared[k].cells(), width, outWidth, outHeight, discontinuity, x[0].data(), y[0].data(),
+                           w[0].data(), x[1].data(), y[1].data(), w[1].data());
+      }
+      if (t % 40 != 39) continue;  // compare every 40 rows, then start afresh
+      for (size_t k = 0; k < kernels.size(); ++k) {
+        std::vector<double> fromAtomic(plain.size());
+        shared[k].copyTo(0, plain.size(), fromAtomic.data());
+        for (size_t i = 0; i < plain.size(); ++i) {
+          ASSERT_EQ(bitsOf(plain[i]), bitsOf(lone[k][i]))
+              << "level " << kernels[k]->level << ", rows of " << width << " into " << outWidth << ", cell " << i;
+          ASSERT_EQ(bitsOf(plain[i]), bitsOf(fromAtomic[i]))
+              << "level " << kernels[k]->level << " atomic, rows of " << width << " into " << outWidth << ", cell " << i;
+        }
+      }
+      for (size_t i = 0; i < plain.size(); ++i) raised += plain[i] != kEmpty;
+      cellsChecked += plain.size();
+      std::fill(plain.begin(), plain.end(), kEmpty);
+      for (std::vector<double>& cells : lone) std::fill(cells.begin(), cells.end(), kEmpty);
+      for (AtomicMaxBuffer& buffer : shared) buffer.reset(plain.size(), kEmpty);
+    }
+  }
+  EXPECT_GT(raised, cellsChecked / 3);
 }
 
 // The points of a row (QuadRowKernels::pointsLone, pointsAtomic) at every level this CPU runs, against

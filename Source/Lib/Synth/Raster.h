@@ -9,6 +9,7 @@
 #include <cstring>
 
 #include <atomic>
+#include <type_traits>
 
 #if defined(__AVX__)
 #include <immintrin.h>
@@ -42,6 +43,25 @@ inline void raiseCell(double& cell, double value) {
   const int64_t larger = a > b ? a : b;
   std::memcpy(&cell, &larger, sizeof larger);
 }
+
+#if defined(__AVX512F__) && defined(__AVX512DQ__)
+// Eight samples raised into one writer's z-buffer at once where their cells are consecutive (a run of
+// one level along an output row, as on a rectified rig): `at` holds each lane's cell as a double (a
+// whole number below 2^53, exact) and `first` lane 0's. Where the lanes' cells are first, first + 1, ...,
+// first + 7, each cell is raised once, by its own sample: one load, a max of the bits as signed 64-bit
+// integers in every lane, one store; otherwise nothing is raised and the result is false. (The
+// zero-masking forms of the intrinsics: GCC 12's plain ones warn.) The points of the general and the
+// 1D depth warps (Kernels/QuadRow.cpp, Kernels/Rows.cpp) use it.
+inline bool raiseConsecutiveCells(double* cells, __m512d at, long long first, __m512d values) {
+  const __m512i iota = _mm512_setr_epi64(0, 1, 2, 3, 4, 5, 6, 7);
+  if (_mm512_cmpeq_epi64_mask(_mm512_maskz_cvttpd_epi64(0xff, at), _mm512_add_epi64(_mm512_set1_epi64(first), iota)) !=
+      0xff)
+    return false;
+  double* start = cells + first;
+  _mm512_storeu_si512(start, _mm512_maskz_max_epi64(0xff, _mm512_loadu_si512(start), _mm512_castpd_si512(values)));
+  return true;
+}
+#endif
 
 // raise(i, value) over a z-buffer of doubles that one thread writes: raiseCell on cell i. A small
 // object that holds the cells' address (a vector's own would be read again after every store).
@@ -380,6 +400,232 @@ constexpr int kQuadsAtOnce = 2;
 #else
 constexpr int kQuadsAtOnce = 1;
 #endif
+
+#if defined(__AVX512F__) && defined(__AVX512DQ__)
+// A rectified pair of rows (doc/speed.md, "Rectified rows ..."): every warped sample of the top row
+// lies exactly on one output row Y and every one of the bottom row on Y + 1, as a rig with the same
+// rotation and intrinsics whose centres are displaced along x gives them (the projection's y is the
+// reference row, bit for bit). Quad q's triangles T0 = (top q, top q + 1, bottom q + 1) and T1 = (top q,
+// bottom q + 1, bottom q) then reach pixel centres on rows Y and Y + 1 only, and with the z-buffer's
+// 1e-9 tolerances and the rounding of their coefficients, T0 covers on row Y only centres within
+// kRectifiedNear of its top edge [top q, top q + 1] and on row Y + 1 only within it of its corner
+// bottom q + 1; T1 on row Y + 1 only near its bottom edge [bottom q, bottom q + 1], on row Y only near
+// top q. (With coordinates within 2^16, rows below 2^16 and corners within 64 of each other, the
+// barycentric coordinates' rounding errors stay under 2^-30 in pixel units, and a centre d outside an
+// edge of length at most 16 has a coordinate below -d / 16: at d = 2^-21 that is below -1e-9 by more
+// than those errors.)
+//
+// Eight quads whose top positions, and bottom positions, increase by more than 2 kRectifiedNear from
+// sample to sample are then drawn centre by centre, the first n of them (up to eight) whose centres fit
+// one register on each row: the centres of row Y between the first and last top positions, each evaluated with the triangle whose edge holds it (T0 of the
+// quad whose top positions enclose it) and, where it lies within kRectifiedNear of a top position,
+// with the other triangles meeting there (the neighbouring quad's T0 and T1 of the quad starting
+// there); row Y + 1 the same with the bottom positions, T1's edges and T0's corners. Each evaluation
+// is rasteriseQuads' for that triangle and centre, the same operations on the same values (the
+// triangles' coefficients computed as there, in lanes, and moved to the centres' lanes), so a centre
+// gets the largest of the values the triangle rasteriser gives it; the eight cells are raised with
+// one load, a max of the bits as signed integers and one store. A group that does not qualify is drawn
+// by rasteriseQuads.
+constexpr double kRectifiedNear = 1.0 / 1048576.0;  // 2^-20
+
+// Whether every warped sample (w >= 0) of the row has y bit for bit equal to `row`.
+inline bool samplesOnRow(const double* y, const double* w, int width, double row) {
+  const __m512i rowBits = _mm512_set1_epi64(__builtin_bit_cast(long long, row));
+  const __m512d zero = _mm512_setzero_pd();
+  for (int x = 0; x < width; x += 8) {
+    const __mmask8 in = width - x >= 8 ? __mmask8(0xff) : __mmask8((1u << (width - x)) - 1);
+    const __mmask8 warped = _mm512_mask_cmp_pd_mask(in, _mm512_maskz_loadu_pd(in, w + x), zero, _CMP_GE_OQ);
+    if (_mm512_mask_cmpneq_epi64_mask(warped, _mm512_maskz_loadu_epi64(in, y + x), rowBits)) return false;
+  }
+  return true;
+}
+
+// The set-up of eight triangles (one per quad) as rasteriseQuads computes it, for the rows it is
+// evaluated on: b1 = a1 px + r1, b2 = a2 px + r2 on that row. `from` is the first covered centre, or
+// 1e300 where the triangle is not drawn (so that no centre passes px >= from).
+struct RectifiedTriangles {
+  typedef QuadLanes<4>::Doubles Doubles;
+  Doubles a1, a2, w0, dw1, dw2, from, to;
+  Doubles r1[2], r2[2];  // rows Y and Y + 1
+};
+
+[[gnu::always_inline]] inline RectifiedTriangles rectifiedSetUp(QuadLanes<4>::Doubles x0, QuadLanes<4>::Doubles x1,
+                                                                QuadLanes<4>::Doubles x2, QuadLanes<4>::Doubles y0,
+                                                                QuadLanes<4>::Doubles y1, QuadLanes<4>::Doubles y2,
+                                                                QuadLanes<4>::Doubles w0, QuadLanes<4>::Doubles w1,
+                                                                QuadLanes<4>::Doubles w2, QuadLanes<4>::Mask drawn,
+                                                                int width, double rowY) {
+  using L = QuadLanes<4>;
+  using Doubles = L::Doubles;
+  using Mask = L::Mask;
+  // rasteriseQuads' covered() for x; the rows' range is the same for every triangle (checked by the caller).
+  const Doubles lo = leastLanes(x0, leastLanes(x1, x2)), hi = mostLanes(x0, mostLanes(x1, x2));
+  const Doubles zero = L::splat(0.0), top = L::splat(double(width - 1));
+  const Mask some = ~((hi < -1e-9) | (lo > width - 1 + 1e-9));
+  Doubles l = lo - 1e-9, h = hi + 1e-9;
+  l = l < zero ? zero : l;
+  h = top < h ? top : h;
+  const Doubles firstX = L::ceil(l), lastX = L::floor(h);
+  const Mask inX = some & Mask(firstX <= lastX);
+  const Doubles area = (x1 - x0) * (y2 - y0) - (x2 - x0) * (y1 - y0);
+  const Mask magnitude = Mask(area) & INT64_MAX;  // fabs
+  const Mask valid = drawn & inX & ~(Doubles(magnitude) < 1e-12);
+  const Doubles inv = 1.0 / area;
+  const Doubles a1 = (y2 - y0) * inv, c1 = -(x2 - x0) * inv;
+  const Doubles a2 = -(y1 - y0) * inv, c2 = (x1 - x0) * inv;
+  const Doubles k1 = -(a1 * x0 + c1 * y0), k2 = -(a2 * x0 + c2 * y0);
+  RectifiedTriangles t;
+  t.a1 = a1;
+  t.a2 = a2;
+  t.w0 = w0;
+  t.dw1 = w1 - w0;
+  t.dw2 = w2 - w0;
+  t.from = valid ? firstX : L::splat(1e300);
+  t.to = lastX;
+  for (int r = 0; r < 2; ++r) {
+    const Doubles row = L::splat(rowY + r);
+    t.r1[r] = c1 * row + k1;
+    t.r2[r] = c2 * row + k2;
+  }
+  return t;
+}
+
+// The bits to raise centre px (lanes) with from triangle idx (lanes) of t on row r, rasteriseQuads'
+// test and value; INT64_MIN (the bits of -0, which raise nothing) where it does not cover it or
+// where `use` is clear.
+[[gnu::always_inline]] inline __m512i rectifiedValue(const RectifiedTriangles& t, int r, __m512i idx,
+                                                     QuadLanes<4>::Doubles px, __mmask8 use) {
+  using Doubles = QuadLanes<4>::Doubles;
+  using Mask = QuadLanes<4>::Mask;
+  auto take = [&](Doubles v) { return Doubles(_mm512_maskz_permutexvar_pd(0xff, idx, __m512d(v))); };
+  const Doubles a1 = take(t.a1), r1 = take(t.r1[r]), a2 = take(t.a2), r2 = take(t.r2[r]);
+  const Doubles b1 = a1 * px + r1, b2 = a2 * px + r2, b0 = 1.0 - b1 - b2;
+  const Mask inside = (px >= take(t.from)) & (px <= take(t.to)) & ~((b0 < -1e-9) | (b1 < -1e-9) | (b2 < -1e-9));
+  const Doubles value = take(t.w0) + b1 * take(t.dw1) + b2 * take(t.dw2);
+  const __mmask8 covered = __mmask8(use & _mm512_movepi64_mask(__m512i(inside)));
+  return _mm512_mask_blend_epi64(covered, _mm512_set1_epi64(INT64_MIN), __m512i(value));
+}
+
+// One row of centres (row r: 0 for Y, 1 for Y + 1) between positions pos[0] < ... < pos[n] of the n
+// quads drawn (pos[8] is read too): the edges' triangles `edges` (T0 on row Y, T1 on Y + 1) and, near a
+// position (only where `nearAny`: some position lies within kRectifiedNear of a centre), the triangles
+// `corners` meeting there (T1 on row Y, T0 on Y + 1). On row Y the corner triangle at position i is T1
+// of quad i; on row Y + 1 it is T0 of quad i - 1 (`cornerShift` 0 or 1). Lanes of quads from n on are
+// not drawn in `edges` and `corners`.
+[[gnu::always_inline]] inline void rectifiedCentres(double* cells, int width, const double* pos, int n, bool nearAny,
+                                                    const RectifiedTriangles& edges,
+                                                    const RectifiedTriangles& corners, int r, int cornerShift) {
+  using Doubles = QuadLanes<4>::Doubles;
+  const double near = kRectifiedNear;
+  const double startAt = std::max(std::ceil(pos[0] - near), 0.0),
+               endAt = std::min(std::floor(pos[n] + near), double(width - 1));
+  if (!(startAt <= endAt)) return;
+  const __m512d positions = _mm512_loadu_pd(pos), last = _mm512_set1_pd(pos[8]);
+  const __m512i one = _mm512_set1_epi64(1), seven = _mm512_set1_epi64(7);
+  const __m512d iota = _mm512_setr_pd(0, 1, 2, 3, 4, 5, 6, 7);
+  for (double c = startAt; c <= endAt; c += 8.0) {
+    const __m512d centre = _mm512_add_pd(_mm512_set1_pd(c), iota);
+    const __mmask8 in = _mm512_cmp_pd_mask(centre, _mm512_set1_pd(endAt), _CMP_LE_OQ);
+    // j: the positions 1 .. 7 below the centre, so that pos[j] < centre <= pos[j + 1] where it lies
+    // within the eight quads.
+    __m512i j = _mm512_setzero_si512();
+    for (int i = 1; i < 8; ++i)
+      j = _mm512_mask_add_epi64(j, _mm512_cmp_pd_mask(_mm512_set1_pd(pos[i]), centre, _CMP_LT_OQ), j, one);
+    const Doubles px = Doubles(centre);
+    __m512i best = rectifiedValue(edges, r, j, px, in);
+    const __m512i next = _mm512_add_epi64(j, one);
+    const __m512d absMask = _mm512_castsi512_pd(_mm512_set1_epi64(INT64_MAX));
+    __mmask8 nearLow = 0, nearHigh = 0;
+    if (nearAny) {
+      const __m512d low = _mm512_maskz_permutexvar_pd(0xff, j, positions),
+                    high = _mm512_permutex2var_pd(positions, next, last);
+      nearLow = _mm512_mask_cmp_pd_mask(in, _mm512_and_pd(_mm512_sub_pd(centre, low), absMask), _mm512_set1_pd(near),
+                                        _CMP_LE_OQ);
+      nearHigh = _mm512_mask_cmp_pd_mask(in, _mm512_and_pd(_mm512_sub_pd(high, centre), absMask),
+                                         _mm512_set1_pd(near), _CMP_LE_OQ);
+    }
+    if (nearLow | nearHigh) {
+      const __mmask8 firstQuad = _mm512_cmpeq_epi64_mask(j, _mm512_setzero_si512());
+      const __mmask8 lastQuad = _mm512_cmpeq_epi64_mask(j, seven);
+      // The other edge meeting at the position: quad j - 1's (near pos[j]) or quad j + 1's (near pos[j + 1]).
+      const __m512i other = _mm512_mask_sub_epi64(next, nearLow, j, one);
+      best = _mm512_maskz_max_epi64(0xff, best, rectifiedValue(edges, r, other, px,
+                                                   __mmask8((nearLow & ~firstQuad) | (nearHigh & ~lastQuad))));
+      // The corner triangle at position i (j or j + 1): quad i - cornerShift's.
+      const __m512i at = _mm512_mask_mov_epi64(next, nearLow, j);
+      const __m512i quad = _mm512_sub_epi64(at, _mm512_set1_epi64(cornerShift));
+      const __mmask8 exists = __mmask8(_mm512_cmpge_epi64_mask(quad, _mm512_setzero_si512()) &
+                                       _mm512_cmple_epi64_mask(quad, seven));
+      best = _mm512_maskz_max_epi64(0xff, best, rectifiedValue(corners, r, quad, px, __mmask8((nearLow | nearHigh) & exists)));
+    }
+    double* at = cells + size_t(c);
+    _mm512_mask_storeu_epi64(at, in, _mm512_maskz_max_epi64(0xff, _mm512_maskz_loadu_epi64(in, at), best));
+  }
+}
+
+// Quads x .. x + n - 1 between rectified rows rowY (top) and rowY + 1 (bottom) into one thread's
+// z-buffer (rows `cellsY` and `cellsY1`, the latter null where row Y + 1 lies outside the view), n up to
+// 8, as many as keep each row's centres within one register of eight; returns n, or 0, drawing nothing,
+// where quads x .. x + 7 do not qualify. Samples x to x + 8 of both rows are read.
+[[gnu::always_inline]] inline int rasteriseRectifiedQuads(double* cellsY, double* cellsY1, int width,
+                                                           double discontinuity, double rowY, const double* xTop,
+                                                           const double* wTop, const double* xBottom,
+                                                           const double* wBottom, int x) {
+  using L = QuadLanes<4>;
+  using Doubles = L::Doubles;
+  using Mask = L::Mask;
+  const double near2 = 2.0 * kRectifiedNear;
+  Doubles p0, p1, q0, q1, wp0, wp1, wq0, wq1;
+  std::memcpy(&p0, xTop + x, sizeof p0);
+  std::memcpy(&p1, xTop + x + 1, sizeof p1);
+  std::memcpy(&q0, xBottom + x, sizeof q0);
+  std::memcpy(&q1, xBottom + x + 1, sizeof q1);
+  // Increasing by more than 2 kRectifiedNear (NaN fails), top and bottom within 32 of each other,
+  // eight quads within 15 and within 2^16 of the origin: the bounds the coverage argument takes.
+  const Doubles magnitude = Doubles(Mask(p0 - q0) & INT64_MAX), endMagnitude = Doubles(Mask(p1 - q1) & INT64_MAX);
+  const Mask fits = Mask(p1 - p0 > near2) & Mask(q1 - q0 > near2) & Mask(magnitude <= 32.0) & Mask(endMagnitude <= 32.0);
+  if (_mm512_movepi64_mask(__m512i(fits)) != 0xff) return 0;
+  const double first[2] = {xTop[x], xBottom[x]}, lastOnes[2] = {xTop[x + 8], xBottom[x + 8]};
+  for (int r = 0; r < 2; ++r)
+    if (!(lastOnes[r] - first[r] <= 15.0 && first[r] >= -65536.0 && lastOnes[r] <= 65536.0)) return 0;
+  // The quads drawn: as many as keep the centres from the first position to the last within eight on
+  // both rows (quads a little wider than a pixel reach nine centres in eight quads).
+  const auto centres = [&](const double* pos, int n) {
+    return std::floor(pos[n] + kRectifiedNear) - std::ceil(pos[0] - kRectifiedNear) + 1.0;
+  };
+  int n = 8;
+  while (n > 0 && (centres(xTop + x, n) > 8.0 || centres(xBottom + x, n) > 8.0)) --n;
+  if (n == 0) return 0;
+  // Whether any position of either row lies within kRectifiedNear of a pixel centre.
+  const auto nearCentre = [](Doubles v) {
+    const Doubles nearest = Doubles(_mm512_maskz_roundscale_pd(0xff, __m512d(v), _MM_FROUND_TO_NEAREST_INT | _MM_FROUND_NO_EXC));
+    return Mask(Doubles(Mask(v - nearest) & INT64_MAX) <= kRectifiedNear);
+  };
+  const bool nearTop = L::any(nearCentre(p0) | nearCentre(p1)), nearBottom = L::any(nearCentre(q0) | nearCentre(q1));
+  std::memcpy(&wp0, wTop + x, sizeof wp0);
+  std::memcpy(&wp1, wTop + x + 1, sizeof wp1);
+  std::memcpy(&wq0, wBottom + x, sizeof wq0);
+  std::memcpy(&wq1, wBottom + x + 1, sizeof wq1);
+  // drawnTriangles' rule: T0's corners 0 and 3 are top x and bottom x + 1, its third top x + 1; T1's third bottom x.
+  auto drawn = [&](Doubles corner0, Doubles corner3, Doubles third) {
+    const Doubles lo03 = leastLanes(corner0, corner3), hi03 = mostLanes(corner0, corner3);
+    const Mask warped = ~(corner0 < 0) & ~(corner3 < 0) & (third >= 0);
+    return warped & Mask(mostLanes(hi03, third) - leastLanes(lo03, third) <= discontinuity);
+  };
+  Mask owned;
+  for (int k = 0; k < 8; ++k) owned[k] = -int64_t(k < n);
+  const Mask drawn0 = drawn(wp0, wq1, wp1) & owned, drawn1 = drawn(wp0, wq1, wq0) & owned;
+  if (!L::any(drawn0 | drawn1)) return n;  // nothing to draw: what rasteriseQuads would do
+  const Doubles top = L::splat(rowY), bottom = L::splat(rowY + 1.0);
+  // The rows as rasteriseQuads takes them (its first covered row, +0 for row 0).
+  const double row = rowY + 0.0;
+  const RectifiedTriangles t0 = rectifiedSetUp(p0, p1, q1, top, top, bottom, wp0, wp1, wq1, drawn0, width, row);
+  const RectifiedTriangles t1 = rectifiedSetUp(p0, q1, q0, top, bottom, bottom, wp0, wq1, wq0, drawn1, width, row);
+  rectifiedCentres(cellsY, width, xTop + x, n, nearTop, t0, t1, 0, 0);
+  if (cellsY1) rectifiedCentres(cellsY1, width, xBottom + x, n, nearBottom, t1, t0, 1, 1);
+  return n;
+}
+#endif
 #else
 constexpr int kQuadsAtOnce = 0;
 #endif
@@ -398,7 +644,40 @@ inline void rasteriseQuadRow(const Raise& raise, int width, int outWidth, int ou
   // kQuadsAtOnce quads side by side, their depth corners first, which decide what to draw
   // (drawnTriangles). At the row's end, lanes past its last quad repeat quad x, not drawn.
   using Lanes = QuadLanes<kQuadsAtOnce>;
-  for (int x = 0; x + 1 < width; x += kQuadsAtOnce) {
+  const int quads = width - 1;
+#if defined(__AVX512F__) && defined(__AVX512DQ__)
+  // Rectified rows, one writer: groups of eight quads drawn centre by centre (rasteriseRectifiedQuads),
+  // those that do not qualify as below.
+  double *rectifiedY = nullptr, *rectifiedY1 = nullptr;
+  double rowY = 0;
+  if constexpr (std::is_same<Raise, LoneRaise>::value) {
+    int k = 0;
+    while (k < width && !(wTop[k] >= 0)) ++k;
+    if (quads >= 8 && k < width) {
+      rowY = yTop[k];
+      if (rowY >= 0 && rowY < 65535.0 && rowY == std::floor(rowY) && samplesOnRow(yTop, wTop, width, rowY) &&
+          samplesOnRow(yBottom, wBottom, width, rowY + 1.0)) {
+        if (rowY > outHeight - 1) return;  // every triangle's rows lie below the view
+        rectifiedY = put.cells + size_t(rowY) * size_t(outWidth);
+        if (rowY + 1.0 <= outHeight - 1) rectifiedY1 = rectifiedY + outWidth;
+      }
+    }
+  }
+  int plainFrom = 0;
+#endif
+  for (int x = 0; x < quads; x += kQuadsAtOnce) {
+#if defined(__AVX512F__) && defined(__AVX512DQ__)
+    if (rectifiedY && x >= plainFrom) {
+      const int taken = x + 8 <= quads ? rasteriseRectifiedQuads(rectifiedY, rectifiedY1, outWidth, discontinuity,
+                                                                 rowY, xTop, wTop, xBottom, wBottom, x)
+                                       : 0;
+      if (taken > 0) {
+        x += taken - kQuadsAtOnce;
+        continue;
+      }
+      plainFrom = x + 8;
+    }
+#endif
     typename Lanes::Doubles tx[3], ty[3], tw[3];
     typename Lanes::Mask drawn;
     const bool sideBySide = x + kQuadsAtOnce < width;

@@ -42,13 +42,11 @@ void raisePoints(const Raise& raise, int width, int outWidth, int outHeight, con
   int x = 0;
 #if defined(__AVX512F__) && defined(__AVX512DQ__)
   if constexpr (std::is_same<Raise, LoneRaise>::value) {
-    // One writer: where all eight samples land on eight consecutive cells (a run of one level along
-    // an output row, as on a rectified rig), each cell is raised once, by its own sample: one load, a
-    // max of the bits as signed 64-bit integers in every lane, one store. Otherwise the samples that
-    // land are raised one by one. (The zero-masking forms of the intrinsics: GCC 12's plain ones warn.)
+    // One writer: where all eight samples land on eight consecutive cells, raiseConsecutiveCells
+    // (Raster.h); otherwise the samples that land are raised one by one. (The zero-masking forms of the
+    // intrinsics: GCC 12's plain ones warn.)
     const __m512d half = _mm512_set1_pd(0.5), zero = _mm512_setzero_pd(), right = _mm512_set1_pd(double(outWidth)),
                   bottom = _mm512_set1_pd(double(outHeight));
-    const __m512i iota = _mm512_setr_epi64(0, 1, 2, 3, 4, 5, 6, 7);
     constexpr int kFloor = _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC;
     for (; x + 8 <= width; x += 8) {
       const __m512d pw = _mm512_loadu_pd(ws + x);
@@ -60,16 +58,10 @@ void raisePoints(const Raise& raise, int width, int outWidth, int outHeight, con
                                         _mm512_cmp_pd_mask(px, right, _CMP_GE_OQ) |
                                         _mm512_cmp_pd_mask(py, bottom, _CMP_GE_OQ)));
       const __m512d cellValues = _mm512_add_pd(_mm512_mul_pd(py, right), px);  // whole numbers below 2^53: exact
-      if (lands == 0xff) {
-        const __m512i cells = _mm512_maskz_cvttpd_epi64(0xff, cellValues);
-        const long long first =
-            (long long)(std::floor(ys[x] + 0.5) * double(outWidth) + std::floor(xs[x] + 0.5));  // lane 0's cell
-        if (_mm512_cmpeq_epi64_mask(cells, _mm512_add_epi64(_mm512_set1_epi64(first), iota)) == 0xff) {
-          double* at = raise.cells + first;
-          _mm512_storeu_si512(at, _mm512_maskz_max_epi64(0xff, _mm512_loadu_si512(at), _mm512_castpd_si512(pw)));
-          continue;
-        }
-      }
+      if (lands == 0xff &&
+          raiseConsecutiveCells(raise.cells, cellValues,
+                                (long long)(std::floor(ys[x] + 0.5) * double(outWidth) + std::floor(xs[x] + 0.5)), pw))
+        continue;
       alignas(64) double cellAt[8];
       _mm512_store_pd(cellAt, cellValues);
       for (unsigned m = lands; m; m &= m - 1) {

@@ -114,10 +114,9 @@ void rowPoints(const double* xs, const double* ws, int width, double* z, int out
   int x = 0;
 #if defined(__AVX512F__) && defined(__AVX512DQ__)
   // Eight samples at a time. Where all eight land on consecutive cells (a run of one level, as most
-  // samples of a row are), each cell is raised once, by its own sample: one load, a max of the bits as
-  // signed 64-bit integers in every lane, one store. Otherwise the samples that land are raised one by one.
+  // samples of a row are), raiseConsecutiveCells (Raster.h); otherwise the samples that land are raised
+  // one by one.
   const __m512d half8 = _mm512_set1_pd(0.5), zero8 = _mm512_setzero_pd(), right8 = _mm512_set1_pd(double(outWidth));
-  const __m512i iota = _mm512_setr_epi64(0, 1, 2, 3, 4, 5, 6, 7);
   for (; x + 8 <= width; x += 8) {
     const __m512d pw = _mm512_loadu_pd(ws + x);
     // floor (the zero-masking forms of the intrinsics: GCC 12's plain ones warn, as in Raster.h)
@@ -126,15 +125,7 @@ void rowPoints(const double* xs, const double* ws, int width, double* z, int out
     const __mmask8 lands = __mmask8(~(_mm512_cmp_pd_mask(pw, zero8, _CMP_LT_OQ) |
                                       _mm512_cmp_pd_mask(px, zero8, _CMP_LT_OQ) |
                                       _mm512_cmp_pd_mask(px, right8, _CMP_GE_OQ)));
-    if (lands == 0xff) {
-      const __m512i cells = _mm512_maskz_cvttpd_epi64(0xff, px);
-      const long long firstCell = (long long)std::floor(xs[x] + 0.5);  // lane 0's cell
-      if (_mm512_cmpeq_epi64_mask(cells, _mm512_add_epi64(_mm512_set1_epi64(firstCell), iota)) == 0xff) {
-        double* at = z + firstCell;
-        _mm512_storeu_si512(at, _mm512_maskz_max_epi64(0xff, _mm512_loadu_si512(at), _mm512_castpd_si512(pw)));
-        continue;
-      }
-    }
+    if (lands == 0xff && raiseConsecutiveCells(z, px, (long long)std::floor(xs[x] + 0.5), pw)) continue;
     alignas(64) double centres[8];
     _mm512_store_pd(centres, px);
     for (unsigned m = lands; m; m &= m - 1) {
