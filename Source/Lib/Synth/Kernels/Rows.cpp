@@ -370,6 +370,84 @@ void rowLookups(const double* u, int n, double precision, int width, double* gri
   }
 }
 
+// rowTableRow's rule for sample x: false when its colour is left to the caller.
+inline bool rowTableSample(const RowTableRow& r, int x) {
+  if (r.depth[x] < 0) return true;
+  const double u = r.u[x];
+  if (!(u >= -0.5 && u <= r.lastU)) {  // NaN fails both
+    r.depth[x] = kKernelNoDepth;
+    return true;
+  }
+  r.edgeOut[x] = r.edges[size_t(nearestClamped(u, r.lastColumn))];
+  const long long index = (long long)floorOf(u * r.precision + 0.5), ix = index >> r.shift;
+  if (ix < r.first || ix > r.last) return false;
+  const long long at = (index & r.mask) * r.stride + (ix - r.first);
+  for (int c = 0; c < r.channels; ++c) r.colour[c][x] = r.table[c][at];
+  return true;
+}
+
+void rowTableRow(const RowTableRow& r, int width, int* rest, int& count) {
+  int x = 0;
+#if defined(__AVX512F__) && defined(__AVX512DQ__) && defined(__AVX512VL__) && defined(__AVX512BW__)
+  // Eight samples at a time: the tests as lane masks, the grid indices and nearest samples in lanes,
+  // the tables and the edge flags read by gathers, the colours, flags and failed depths by masked
+  // stores. (u in [-0.5, lastU] keeps every index far below 2^52: the conversions are exact.)
+  const __m512d zero = _mm512_setzero_pd(), low = _mm512_set1_pd(-0.5), lastU = _mm512_set1_pd(r.lastU),
+                half = _mm512_set1_pd(0.5), precision = _mm512_set1_pd(r.precision),
+                lastColumn = _mm512_set1_pd(r.lastColumn), noDepth = _mm512_set1_pd(kKernelNoDepth);
+  const __m512i first = _mm512_set1_epi64(r.first), last = _mm512_set1_epi64(r.last),
+                stride = _mm512_set1_epi64(r.stride), mask = _mm512_set1_epi64(r.mask);
+  const __m128i shift = _mm_cvtsi32_si128(r.shift);
+  const __m512i three = _mm512_set1_epi64(3);
+  const __m256i lowByte = _mm256_set1_epi32(0xff);
+  const bool wordGathers = r.lastColumn >= 3.0;  // a row of four flags or more
+  constexpr int kFloor = _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC;
+  for (; x + 8 <= width; x += 8) {
+    const __mmask8 live = _mm512_cmp_pd_mask(_mm512_loadu_pd(r.depth + x), zero, _CMP_NLT_UQ);  // !(d < 0)
+    if (!live) continue;
+    const __m512d u = _mm512_loadu_pd(r.u + x);
+    const __mmask8 inside = _mm512_cmp_pd_mask(u, low, _CMP_GE_OQ) & _mm512_cmp_pd_mask(u, lastU, _CMP_LE_OQ);
+    _mm512_mask_storeu_pd(r.depth + x, live & __mmask8(~inside), noDepth);
+    const __mmask8 keep = live & inside;
+    if (!keep) continue;
+    // floor(u * precision + 0.5) and floor(u + 0.5), each operation rounded as the scalar one.
+    const __m512d g = _mm512_maskz_roundscale_pd(0xff, _mm512_add_pd(_mm512_mul_pd(u, precision), half), kFloor);
+    const __m512d nearest = _mm512_maskz_min_pd(
+        0xff, _mm512_maskz_max_pd(0xff, _mm512_maskz_roundscale_pd(0xff, _mm512_add_pd(u, half), kFloor), zero),
+        lastColumn);
+    const __m512i index = _mm512_maskz_cvttpd_epi64(keep, g);
+    const __m512i ix = _mm512_maskz_sra_epi64(0xff, index, shift);
+    const __mmask8 inTable = _mm512_mask_cmp_epi64_mask(keep, ix, first, _MM_CMPINT_NLT) &
+                             _mm512_cmp_epi64_mask(ix, last, _MM_CMPINT_LE);
+    const __m512i at = _mm512_add_epi64(_mm512_mullo_epi64(_mm512_and_si512(index, mask), stride),
+                                        _mm512_sub_epi64(ix, first));
+    for (int c = 0; c < r.channels; ++c)
+      _mm256_mask_storeu_ps(r.colour[c] + x, inTable,
+                            _mm512_mask_i64gather_ps(_mm256_setzero_ps(), inTable, at, r.table[c], 4));
+    const __m512i near = _mm512_maskz_cvttpd_epi64(keep, nearest);
+    if (wordGathers) {
+      // Each flag as a byte of a four-byte gather that stays in the row: the word at the flag itself,
+      // or, from the fourth on, the word ending with it.
+      const __mmask8 high = _mm512_cmp_epi64_mask(near, three, _MM_CMPINT_NLT);
+      const __m256i words = _mm512_mask_i64gather_epi32(_mm256_setzero_si256(), keep,
+                                                        _mm512_mask_sub_epi64(near, high, near, three), r.edges, 1);
+      const __m256i flags = _mm256_and_si256(_mm256_mask_srli_epi32(words, high, words, 24), lowByte);
+      _mm_mask_storeu_epi8(r.edgeOut + x, keep, _mm256_maskz_cvtepi32_epi8(0xff, flags));
+    } else {
+      alignas(64) long long at[8];
+      _mm512_store_si512(at, near);
+      for (unsigned m = keep; m; m &= m - 1) {
+        const int k = __builtin_ctz(m);
+        r.edgeOut[x + k] = r.edges[size_t(at[k])];
+      }
+    }
+    for (unsigned m = keep & __mmask8(~inTable); m; m &= m - 1) rest[count++] = x + __builtin_ctz(m);
+  }
+#endif
+  for (; x < width; ++x)
+    if (!rowTableSample(r, x)) rest[count++] = x;
+}
+
 void chromaGridIndices(double* x, int n, double offset, double block, double precision, double* g) {
   for (int i = 0; i < n; ++i) {
     const double position = (x[i] - offset) / block;
@@ -835,6 +913,7 @@ const RowKernels rowKernelsOfLevel = {forwardRow,
                                       soleViewOfTwo,
                                       occlusionDown,
                                       occlusionUp,
+                                      rowTableRow,
                                       VS_KERNEL_LEVEL};
 
 }  // namespace VS_LEVEL_NS

@@ -64,6 +64,26 @@ struct TextureTableRow {
   uint8_t* edgeOut;
 };
 
+// One row of the 1D texture warp (Synth/RowPath.cpp): its samples' reference positions along the
+// reference row (ViewProjection::rowSources), the row tables of its channels (Interpolation.h's
+// SampledRow, as numbers) and the row's outputs.
+struct RowTableRow {
+  const double* u;
+  double precision;                  // the sampler's grid positions per sample
+  double lastU;                      // the reference's width - 0.5
+  double lastColumn;                 // the reference's width - 1
+  const float* table[3];             // per channel: phase p, integer part ix at table[p * stride + ix - first]
+  long long first, last;             // the integer parts the tables hold
+  long long stride;
+  int shift;                         // the grid index's integer part: index >> shift, phase: index & mask
+  long long mask;
+  int channels;
+  const uint8_t* edges;              // the reference row's edge flags, read at the nearest sample
+  double* depth;                     // the row's inverse depths, colours and edge flags
+  float* colour[3];
+  uint8_t* edgeOut;
+};
+
 struct RowKernels {
   // ViewProjection::forwardRow's general loop (DepthType 0, not parallel): positions x, y of the
   // reference samples (u, v), u in [0, n), and their inverse target depths wv (-1 where it fails).
@@ -177,6 +197,13 @@ struct RowKernels {
                         double* up, int n);
   void (*occlusionUp)(const uint8_t* sole, double* row0, double* row1, double* last0, double* last1, const double* up,
                       const double* around, double steps, int n);
+  // The 1D texture warp's row (RowTableRow), for samples with depth not below 0 (NaN included): one
+  // whose position u fails (not in [-0.5, lastU]: NaN and the infinities fail) gets depth
+  // kKernelNoDepth; any other gets edgeOut = edges[clamp(floor(u + 0.5), 0, lastColumn)] and, where
+  // its grid index g = floor(u * precision + 0.5) (SampledRow::gridIndex) has its integer part
+  // g >> shift in [first, last], colour[c] from table c at (g & mask) * stride + (g >> shift) - first;
+  // where not, it is appended to rest (rest[count++] = x), for the caller's look-up of its colour.
+  void (*rowTableRow)(const RowTableRow& row, int width, int* rest, int& count);
   int level;  // the x86-64 level they are compiled for (0: not x86-64)
 };
 
