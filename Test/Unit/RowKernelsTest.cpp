@@ -362,22 +362,26 @@ TEST(RowKernels, TextureTableRowIsThePlainRule) {
 // The 1D texture warp's row: positions along a reference row of refW samples (some of them 1 to 3
 // samples: the edge flags are then not read by four-byte gathers), tables that hold every integer part
 // the row reaches ([-1, refW], as the 1D path builds them) or fewer (the rest left to the caller).
+// chromaRowTableRow: the bounds -1 and refW (the chroma width), the edge flag the row's own.
 TEST(RowKernels, RowTableRowIsThePlainRule) {
   std::mt19937 rng(31);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   int tableReads = 0, restSamples = 0, failed = 0;
   for (const RowKernels* kernels : levels())
+    for (const bool chroma : {false, true})
     for (const int refW : {1, 2, 3, 4, 37})
       for (const int n : kWidths)
         for (const int channels : {1, 3})
           for (const int shift : {0, 1, 2})
             for (const bool narrow : {false, true}) {
               const int precision = 1 << shift;
-              const double lastU = refW - 0.5;
+              const double low = chroma ? -1.0 : -0.5, lastU = chroma ? refW : refW - 0.5;
+              const auto kernel = chroma ? kernels->chromaRowTableRow : kernels->rowTableRow;
               std::vector<double> u = awkwardRow(rng, n, refW), depth = awkwardRow(rng, n, 1.0);
               for (double& x : u) {
                 if (unit(rng) < 0.4) x = (refW + 1.0) * unit(rng) - 1.0;
-                if (unit(rng) < 0.06) x = unit(rng) < 0.5 ? -0.5 : lastU;  // the bounds exactly
+                if (unit(rng) < 0.06) x = unit(rng) < 0.5 ? low : lastU;  // the bounds exactly
+                if (unit(rng) < 0.03) x = unit(rng) < 0.5 ? -0.75 : refW - 0.25;  // inside chroma's only
               }
               const long long first = narrow ? 1 : -1, last = narrow ? refW - 2 : refW;
               const long long stride = std::max(1LL, last - first + 1);
@@ -386,6 +390,8 @@ TEST(RowKernels, RowTableRowIsThePlainRule) {
                 for (long long t = 0; t < stride * precision; ++t) table.push_back(float(255.0 * unit(rng)));
               std::vector<uint8_t> edges(static_cast<size_t>(refW));  // exactly the row: a read past it is a fault under ASan
               for (uint8_t& e : edges) e = uint8_t(1 + 254 * unit(rng));
+              std::vector<uint8_t> blockEdges(static_cast<size_t>(n));  // chroma's: the row's own
+              for (uint8_t& e : blockEdges) e = uint8_t(1 + 254 * unit(rng));
               // The rule, plainly.
               const float unset = -7.0f;
               std::vector<double> plainDepth = depth;
@@ -396,12 +402,12 @@ TEST(RowKernels, RowTableRowIsThePlainRule) {
               for (int i = 0; i < n; ++i) {
                 const size_t k = size_t(i);
                 if (depth[k] < 0) continue;
-                if (std::isnan(u[k]) || u[k] < -0.5 || u[k] > lastU) {
+                if (std::isnan(u[k]) || u[k] < low || u[k] > lastU) {
                   plainDepth[k] = -1.0;
                   ++failed;
                   continue;
                 }
-                plainEdge[k] = edges[size_t(std::clamp(std::floor(u[k] + 0.5), 0.0, refW - 1.0))];
+                plainEdge[k] = chroma ? blockEdges[k] : edges[size_t(std::clamp(std::floor(u[k] + 0.5), 0.0, refW - 1.0))];
                 const double g = std::floor(u[k] * precision + 0.5);
                 const double ix = std::floor(g / precision), phase = g - ix * precision;
                 if (ix < double(first) || ix > double(last)) {
@@ -419,10 +425,11 @@ TEST(RowKernels, RowTableRowIsThePlainRule) {
               std::vector<int> rest(size_t(n) + 1, -1);
               const RowTableRow row = {u.data(), double(precision), lastU, refW - 1.0,
                                        {tables[0].data(), tables[1].data(), tables[2].data()}, first, last, stride,
-                                       shift, precision - 1, channels, edges.data(), ourDepth.data(),
+                                       shift, precision - 1, channels, chroma ? blockEdges.data() : edges.data(),
+                                       ourDepth.data(),
                                        {ourColour[0].data(), ourColour[1].data(), ourColour[2].data()}, ourEdge.data()};
               int count = 0;
-              kernels->rowTableRow(row, n, rest.data(), count);
+              kernel(row, n, rest.data(), count);
               ASSERT_EQ(std::vector<int>(rest.begin(), rest.begin() + count), plainRest) << "level " << kernels->level;
               ASSERT_EQ(rest[size_t(count)], -1);
               restSamples += count;
@@ -437,9 +444,9 @@ TEST(RowKernels, RowTableRowIsThePlainRule) {
             }
   // Every branch reached on every level.
   const int levelCount = int(levels().size());
-  EXPECT_GT(tableReads, 1000 * levelCount);
-  EXPECT_GT(restSamples, 100 * levelCount);
-  EXPECT_GT(failed, 100 * levelCount);
+  EXPECT_GT(tableReads, 2 * 1000 * levelCount);
+  EXPECT_GT(restSamples, 2 * 100 * levelCount);
+  EXPECT_GT(failed, 2 * 100 * levelCount);
 }
 
 TEST(RowKernels, SampleRowPhaseIsTheWeightedSumInTapOrder) {

@@ -370,15 +370,18 @@ void rowLookups(const double* u, int n, double precision, int width, double* gri
   }
 }
 
-// rowTableRow's rule for sample x: false when its colour is left to the caller.
+// rowTableRow's rule for sample x: false when its colour is left to the caller. CHROMA:
+// chromaRowTableRow's (a low bound of -1, the edge flag edges[x]).
+template <bool CHROMA>
 inline bool rowTableSample(const RowTableRow& r, int x) {
   if (r.depth[x] < 0) return true;
   const double u = r.u[x];
-  if (!(u >= -0.5 && u <= r.lastU)) {  // NaN fails both
+  constexpr double kLow = CHROMA ? -1.0 : -0.5;
+  if (!(u >= kLow && u <= r.lastU)) {  // NaN fails both
     r.depth[x] = kKernelNoDepth;
     return true;
   }
-  r.edgeOut[x] = r.edges[size_t(nearestClamped(u, r.lastColumn))];
+  r.edgeOut[x] = CHROMA ? r.edges[x] : r.edges[size_t(nearestClamped(u, r.lastColumn))];
   const long long index = (long long)floorOf(u * r.precision + 0.5), ix = index >> r.shift;
   if (ix < r.first || ix > r.last) return false;
   const long long at = (index & r.mask) * r.stride + (ix - r.first);
@@ -386,13 +389,14 @@ inline bool rowTableSample(const RowTableRow& r, int x) {
   return true;
 }
 
-void rowTableRow(const RowTableRow& r, int width, int* rest, int& count) {
+template <bool CHROMA>
+void rowTable(const RowTableRow& r, int width, int* rest, int& count) {
   int x = 0;
 #if defined(__AVX512F__) && defined(__AVX512DQ__) && defined(__AVX512VL__) && defined(__AVX512BW__)
   // Eight samples at a time: the tests as lane masks, the grid indices and nearest samples in lanes,
   // the tables and the edge flags read by gathers, the colours, flags and failed depths by masked
   // stores. (u in [-0.5, lastU] keeps every index far below 2^52: the conversions are exact.)
-  const __m512d zero = _mm512_setzero_pd(), low = _mm512_set1_pd(-0.5), lastU = _mm512_set1_pd(r.lastU),
+  const __m512d zero = _mm512_setzero_pd(), low = _mm512_set1_pd(CHROMA ? -1.0 : -0.5), lastU = _mm512_set1_pd(r.lastU),
                 half = _mm512_set1_pd(0.5), precision = _mm512_set1_pd(r.precision),
                 lastColumn = _mm512_set1_pd(r.lastColumn), noDepth = _mm512_set1_pd(kKernelNoDepth);
   const __m512i first = _mm512_set1_epi64(r.first), last = _mm512_set1_epi64(r.last),
@@ -425,7 +429,9 @@ void rowTableRow(const RowTableRow& r, int width, int* rest, int& count) {
       _mm256_mask_storeu_ps(r.colour[c] + x, inTable,
                             _mm512_mask_i64gather_ps(_mm256_setzero_ps(), inTable, at, r.table[c], 4));
     const __m512i near = _mm512_maskz_cvttpd_epi64(keep, nearest);
-    if (wordGathers) {
+    if (CHROMA) {
+      _mm_mask_storeu_epi8(r.edgeOut + x, keep, _mm_loadl_epi64(reinterpret_cast<const __m128i*>(r.edges + x)));
+    } else if (wordGathers) {
       // Each flag as a byte of a four-byte gather that stays in the row: the word at the flag itself,
       // or, from the fourth on, the word ending with it.
       const __mmask8 high = _mm512_cmp_epi64_mask(near, three, _MM_CMPINT_NLT);
@@ -445,7 +451,13 @@ void rowTableRow(const RowTableRow& r, int width, int* rest, int& count) {
   }
 #endif
   for (; x < width; ++x)
-    if (!rowTableSample(r, x)) rest[count++] = x;
+    if (!rowTableSample<CHROMA>(r, x)) rest[count++] = x;
+}
+
+void rowTableRow(const RowTableRow& r, int width, int* rest, int& count) { rowTable<false>(r, width, rest, count); }
+
+void chromaRowTableRow(const RowTableRow& r, int width, int* rest, int& count) {
+  rowTable<true>(r, width, rest, count);
 }
 
 void chromaGridIndices(double* x, int n, double offset, double block, double precision, double* g) {
@@ -914,6 +926,7 @@ const RowKernels rowKernelsOfLevel = {forwardRow,
                                       occlusionDown,
                                       occlusionUp,
                                       rowTableRow,
+                                      chromaRowTableRow,
                                       VS_KERNEL_LEVEL};
 
 }  // namespace VS_LEVEL_NS

@@ -78,7 +78,8 @@ struct RowTableRow {
   int shift;                         // the grid index's integer part: index >> shift, phase: index & mask
   long long mask;
   int channels;
-  const uint8_t* edges;              // the reference row's edge flags, read at the nearest sample
+  const uint8_t* edges;              // the reference row's edge flags, read at the nearest sample (chroma:
+                                     // the row's own, read at x)
   double* depth;                     // the row's inverse depths, colours and edge flags
   float* colour[3];
   uint8_t* edgeOut;
@@ -204,6 +205,9 @@ struct RowKernels {
   // g >> shift in [first, last], colour[c] from table c at (g & mask) * stride + (g >> shift) - first;
   // where not, it is appended to rest (rest[count++] = x), for the caller's look-up of its colour.
   void (*rowTableRow)(const RowTableRow& row, int width, int* rest, int& count);
+  // The 1D chroma warp's row (Synth/ChromaWarp.cpp): rowTableRow's rule but for the low bound, -1 (lastU:
+  // the chroma width), and the edge flag, edgeOut[x] = edges[x] (the block's; lastColumn is not read).
+  void (*chromaRowTableRow)(const RowTableRow& row, int width, int* rest, int& count);
   int level;  // the x86-64 level they are compiled for (0: not x86-64)
 };
 
