@@ -305,6 +305,14 @@ int tableRow(const TextureTableRow& r, int from, int width, bool ready, int* res
   const __m512i first = _mm512_set1_epi64(r.first), last = _mm512_set1_epi64(r.last),
                 stride = _mm512_set1_epi64(r.stride), mask = _mm512_set1_epi64(r.mask);
   const __m128i shift = _mm_cvtsi32_si128(r.shift);
+  // Locals: a byte store could alias the row's fields, which would then be loaded again per flag.
+  const uint8_t* const edges = r.edges;
+  uint8_t* const edgeOut = r.edgeOut;
+#if defined(__AVX512BW__)
+  const __m512i three = _mm512_set1_epi64(3);
+  const __m256i lowByte = _mm256_set1_epi32(0xff);
+  const bool wordGathers = (r.lastU + 0.5) * (r.lastV + 0.5) >= 4.0;  // a picture of four samples or more
+#endif
   for (; x + 8 <= width; x += 8) {
     const __mmask8 live = _mm512_cmp_pd_mask(_mm512_loadu_pd(r.depth + x), zero, _CMP_NLT_UQ);  // !(d < 0)
     if (!live) continue;
@@ -333,13 +341,31 @@ int tableRow(const TextureTableRow& r, int from, int width, bool ready, int* res
         _mm256_mask_storeu_ps(r.colour[c] + x, inTable,
                               _mm512_mask_i64gather_ps(_mm256_setzero_ps(), inTable, at, r.table[c], 4));
       if (CHROMA) {
-        for (unsigned m = inTable; m; m &= m - 1) r.edgeOut[x + __builtin_ctz(m)] = r.edges[x + __builtin_ctz(m)];
+#if defined(__AVX512BW__)
+        _mm_mask_storeu_epi8(edgeOut + x, inTable, _mm_loadl_epi64(reinterpret_cast<const __m128i*>(edges + x)));
+#else
+        for (unsigned m = inTable; m; m &= m - 1) edgeOut[x + __builtin_ctz(m)] = edges[x + __builtin_ctz(m)];
+#endif
       } else {
-        alignas(64) long long nearest[8];
-        _mm512_store_si512(nearest, _mm512_maskz_cvttpd_epi64(0xff, _mm512_loadu_pd(r.nearest + x)));
-        for (unsigned m = inTable; m; m &= m - 1) {
-          const int k = __builtin_ctz(m);
-          r.edgeOut[x + k] = r.edges[size_t(nearest[k])];
+        const __m512i nearest = _mm512_maskz_cvttpd_epi64(inTable, _mm512_loadu_pd(r.nearest + x));
+#if defined(__AVX512BW__)
+        if (wordGathers) {
+          // Each flag as a byte of a four-byte gather that stays in the picture: the word at the flag
+          // itself, or, from the fourth on, the word ending with it (as rowTableRow).
+          const __mmask8 high = _mm512_cmp_epi64_mask(nearest, three, _MM_CMPINT_NLT);
+          const __m256i words = _mm512_mask_i64gather_epi32(
+              _mm256_setzero_si256(), inTable, _mm512_mask_sub_epi64(nearest, high, nearest, three), edges, 1);
+          const __m256i flags = _mm256_and_si256(_mm256_mask_srli_epi32(words, high, words, 24), lowByte);
+          _mm_mask_storeu_epi8(edgeOut + x, inTable, _mm256_maskz_cvtepi32_epi8(0xff, flags));
+        } else
+#endif
+        {
+          alignas(64) long long at[8];
+          _mm512_store_si512(at, nearest);
+          for (unsigned m = inTable; m; m &= m - 1) {
+            const int k = __builtin_ctz(m);
+            edgeOut[x + k] = edges[size_t(at[k])];
+          }
         }
       }
     }
