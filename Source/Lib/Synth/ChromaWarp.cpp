@@ -158,7 +158,8 @@ void Synthesizer::warpChroma(ViewState& view, const Frame& texture) {
           // blocks' (a hole's is kNoDepth, as cleared); the kernel sets the failed look-ups' to kNoDepth.
           const size_t rowStart = size_t(j) * chromaW;
           std::copy(blockDepth, blockDepth + chromaW, depthOut + rowStart);
-          TextureTableRow row = {sources, sourcesV, sourceOk, grid, gridV, nullptr, rowGrid, double(sourceW),
+          TextureTableRow row = {sources, sourcesV, sourceOk, grid, gridV, nullptr, double(sampler.precision()), rowGrid,
+                                 double(sourceW),
                                  double(sourceH), {nullptr, nullptr, nullptr}, 0, 0, 0, 0, 0, 2, blockEdge,
                                  depthOut + rowStart, {uOut + rowStart, vOut + rowStart, nullptr}, edgeOut + rowStart};
           int restCount = 0;

@@ -280,15 +280,22 @@ inline int textureTableSample(const TextureTableRow& r, int x, bool ready) {
     r.depth[x] = kKernelNoDepth;
     return 0;
   }
-  if (!(r.gridV[x] == r.rowGrid)) return 1;
+  const double gridV = CHROMA ? r.gridV[x] : floorOf(v * r.precision + 0.5);
+  if (!(gridV == r.rowGrid)) return 1;
   if (!ready) return -1;
-  const double g = r.gridU[x];
+  const double g = CHROMA ? r.gridU[x] : floorOf(u * r.precision + 0.5);
   if (!(std::fabs(g) < 4503599627370496.0)) return 1;  // 2^52
   const long long index = (long long)g, ix = index >> r.shift;
   if (ix < r.first || ix > r.last) return 1;
   const long long at = (index & r.mask) * r.stride + (ix - r.first);
   for (int c = 0; c < r.channels; ++c) r.colour[c][x] = r.table[c][at];
-  r.edgeOut[x] = CHROMA ? r.edges[x] : r.edges[size_t((long long)r.nearest[x])];
+  if (CHROMA) {
+    r.edgeOut[x] = r.edges[x];
+  } else {
+    const double width = r.lastU + 0.5, height = r.lastV + 0.5;
+    const double nearest = nearestClamped(v, height - 1) * width + nearestClamped(u, width - 1);
+    r.edgeOut[x] = r.edges[size_t((long long)nearest)];
+  }
   return 0;
 }
 
@@ -305,6 +312,10 @@ int tableRow(const TextureTableRow& r, int from, int width, bool ready, int* res
   const __m512i first = _mm512_set1_epi64(r.first), last = _mm512_set1_epi64(r.last),
                 stride = _mm512_set1_epi64(r.stride), mask = _mm512_set1_epi64(r.mask);
   const __m128i shift = _mm_cvtsi32_si128(r.shift);
+  const __m512d half = _mm512_set1_pd(0.5), precision = _mm512_set1_pd(r.precision),
+                rowLength = _mm512_set1_pd(r.lastU + 0.5), lastColumn = _mm512_set1_pd(r.lastU - 0.5),
+                lastRow = _mm512_set1_pd(r.lastV - 0.5);
+  constexpr int kFloor = _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC;
   // Locals: a byte store could alias the row's fields, which would then be loaded again per flag.
   const uint8_t* const edges = r.edges;
   uint8_t* const edgeOut = r.edgeOut;
@@ -325,10 +336,15 @@ int tableRow(const TextureTableRow& r, int from, int width, bool ready, int* res
                                     _mm512_cmp_pd_mask(u, lastU, _CMP_GT_OQ) |
                                     _mm512_cmp_pd_mask(v, lastV, _CMP_GT_OQ));
     const __mmask8 keep = live & __mmask8(~fails);
-    const __mmask8 onRow = _mm512_mask_cmp_pd_mask(keep, _mm512_loadu_pd(r.gridV + x), rowGrid, _CMP_EQ_OQ);
+    // The grid indices: chroma's given, the texture's floor(v * precision + 0.5) and floor(u * precision +
+    // 0.5), each operation rounded as the scalar one.
+    const __m512d gridV = CHROMA ? _mm512_loadu_pd(r.gridV + x)
+                                 : _mm512_maskz_roundscale_pd(0xff, _mm512_add_pd(_mm512_mul_pd(v, precision), half), kFloor);
+    const __mmask8 onRow = _mm512_mask_cmp_pd_mask(keep, gridV, rowGrid, _CMP_EQ_OQ);
     if (onRow && !ready) return x;
     _mm512_mask_storeu_pd(r.depth + x, live & fails, noDepth);
-    const __m512d g = _mm512_loadu_pd(r.gridU + x);
+    const __m512d g = CHROMA ? _mm512_loadu_pd(r.gridU + x)
+                             : _mm512_maskz_roundscale_pd(0xff, _mm512_add_pd(_mm512_mul_pd(u, precision), half), kFloor);
     const __mmask8 small = _mm512_mask_cmp_pd_mask(onRow, _mm512_abs_pd(g), limit, _CMP_LT_OQ);
     const __m512i index = _mm512_maskz_cvttpd_epi64(small, g);
     const __m512i ix = _mm512_maskz_sra_epi64(0xff, index, shift);
@@ -347,7 +363,16 @@ int tableRow(const TextureTableRow& r, int from, int width, bool ready, int* res
         for (unsigned m = inTable; m; m &= m - 1) edgeOut[x + __builtin_ctz(m)] = edges[x + __builtin_ctz(m)];
 #endif
       } else {
-        const __m512i nearest = _mm512_maskz_cvttpd_epi64(inTable, _mm512_loadu_pd(r.nearest + x));
+        // The nearest reference sample: (clamp(floor(v + 0.5)) * width + clamp(floor(u + 0.5)), exact
+        // whole numbers (u and v lie in the picture here).
+        const __m512d column = _mm512_maskz_min_pd(
+            0xff, _mm512_maskz_max_pd(0xff, _mm512_maskz_roundscale_pd(0xff, _mm512_add_pd(u, half), kFloor), zero),
+            lastColumn);
+        const __m512d row = _mm512_maskz_min_pd(
+            0xff, _mm512_maskz_max_pd(0xff, _mm512_maskz_roundscale_pd(0xff, _mm512_add_pd(v, half), kFloor), zero),
+            lastRow);
+        const __m512i nearest =
+            _mm512_maskz_cvttpd_epi64(inTable, _mm512_add_pd(_mm512_mul_pd(row, rowLength), column));
 #if defined(__AVX512BW__)
         if (wordGathers) {
           // Each flag as a byte of a four-byte gather that stays in the picture: the word at the flag

@@ -41,15 +41,18 @@ struct TwoViewBlendRows {
 };
 
 // One row of the general texture warp (Synth/TextureWarp.cpp) for the look-ups that read the row's own
-// table (Interpolation.h's SampledRow): its samples' reference positions and grid indices
-// (backwardRow, textureLookups), the tables of its channels as numbers, and the row's outputs.
+// table (Interpolation.h's SampledRow): its samples' reference positions (backwardRow), the tables of
+// its channels as numbers, and the row's outputs. The chroma warp's (chromaTableRow) gives the grid
+// indices too; the texture warp's (textureTableRow) are computed in the kernel, as textureLookups
+// gives them.
 struct TextureTableRow {
   const double* u;
   const double* v;
   const uint8_t* ok;
-  const double* gridU;
+  const double* gridU;               // chroma: the grid indices of u and v (texture: not read)
   const double* gridV;
-  const double* nearest;
+  const double* nearest;             // not read
+  double precision;                  // texture: the sampler's grid positions per sample
   double rowGrid;                    // the grid index of the row's own reference row
   double lastU, lastV;               // the reference's width - 0.5 and height - 0.5
   const float* table[3];             // per channel: phase p, integer part ix at table[p * stride + ix - first]
@@ -124,7 +127,8 @@ struct RowKernels {
   // below 0 (NaN included): one whose look-up fails (!ok, or u, v outside [-0.5, lastU], [-0.5, lastV])
   // gets depth kKernelNoDepth; one on the row's own reference row (gridV == rowGrid) whose grid index
   // lies in the tables (|gridU| < 2^52, first <= gridU >> shift <= last) gets colour[c] from table c
-  // and edgeOut = edges[nearest]; every other one is appended to rest (rest[count++] = x), for the
+  // and edgeOut = edges[nearest] (gridU, gridV and nearest as textureLookups gives them, with the
+  // picture's size lastU + 0.5 by lastV + 0.5); every other one is appended to rest (rest[count++] = x), for the
   // caller's general look-up. With tablesReady false the tables are not read: the kernel returns the
   // first x (a multiple of its lanes past `from`) of a run of samples one of which would read them,
   // nothing from there on done; otherwise, and when every sample is done, width.
@@ -175,7 +179,8 @@ struct RowKernels {
                        int n, double surface, double* depth, uint8_t* edge);
   // The chroma warp's general look-ups (Synth/ChromaWarp.cpp): textureTableRow's rule but for the
   // look-up's bounds, [-1, lastU] and [-1, lastV] (lastU, lastV: the reference chroma's width and
-  // height), and the edge flag of a table's sample, edgeOut[x] = edges[x] (nearest is not read).
+  // height), the grid indices, read from gridU and gridV, and the edge flag of a table's sample,
+  // edgeOut[x] = edges[x].
   int (*chromaTableRow)(const TextureTableRow& row, int from, int width, bool tablesReady, int* rest, int& count);
   // CleanNoiseOption's isolated samples of a row (Synth/RowPath.cpp): isolated[x] = 1 where row[x] >= 0,
   // row[x - 1] < 0 and row[x + 1] < 0, else 0, for x in [1, width - 1) (the first and last flags are
