@@ -476,6 +476,14 @@ TEST(RowKernels, SampleRowPhaseIsTheWeightedSumInTapOrder) {
           }
           ASSERT_EQ(bitsOf(out[size_t(i)]), bitsOf(sum)) << "level " << kernels->level << " taps " << taps;
         }
+        // From the taps as floats (a table's phase 0): the same sums, bit for bit.
+        std::vector<float> fromFloats(static_cast<size_t>(n), -1.0f), floats(row.begin(), row.end());
+        auto floatPhase = taps == 2   ? kernels->sampleFloatRowPhase2
+                          : taps == 4 ? kernels->sampleFloatRowPhase4
+                                      : kernels->sampleFloatRowPhase6;
+        floatPhase(floats.data(), k, n, fromFloats.data());
+        for (int i = 0; i < n; ++i)
+          ASSERT_EQ(bitsOf(fromFloats[size_t(i)]), bitsOf(out[size_t(i)])) << "level " << kernels->level << " taps " << taps;
       }
 }
 

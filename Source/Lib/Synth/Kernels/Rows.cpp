@@ -608,6 +608,17 @@ void sampleRowPhase(const uint16_t* taps, const float* kernel, long long count, 
   }
 }
 
+template <int TAPS>
+void sampleFloatRowPhase(const float* __restrict taps, const float* kernel, long long count, float* __restrict out) {
+  float k[TAPS];
+  for (int t = 0; t < TAPS; ++t) k[t] = kernel[t];
+  for (long long n = 0; n < count; ++n) {
+    float sum = 0.0f;
+    for (int t = 0; t < TAPS; ++t) sum += k[t] * taps[n + t];
+    out[n] = sum;
+  }
+}
+
 // The two-view blend (Synth/Blend.cpp's blendViews for two views): its decisions and arithmetic
 // unrolled, with selects for its branches (at silhouettes and holes the outcome changes from sample
 // to sample, too often for a branch to be predicted), two samples at a time where SSE4.1 is there.
@@ -962,6 +973,9 @@ const RowKernels rowKernelsOfLevel = {forwardRow,
                                       sampleRowPhase<2>,
                                       sampleRowPhase<4>,
                                       sampleRowPhase<6>,
+                                      sampleFloatRowPhase<2>,
+                                      sampleFloatRowPhase<4>,
+                                      sampleFloatRowPhase<6>,
                                       holeCounts,
                                       windowStep,
                                       referenceSteps,

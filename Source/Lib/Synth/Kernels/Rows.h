@@ -147,6 +147,11 @@ struct RowKernels {
   void (*sampleRowPhase2)(const uint16_t* taps, const float* k, long long count, float* out);
   void (*sampleRowPhase4)(const uint16_t* taps, const float* k, long long count, float* out);
   void (*sampleRowPhase6)(const uint16_t* taps, const float* k, long long count, float* out);
+  // The same sums from taps already converted to floats (a row table's phase 0: float(sample) exactly),
+  // out[n] = the sum over k[t] * taps[n + t], in that order, from 0; taps and out do not overlap.
+  void (*sampleFloatRowPhase2)(const float* taps, const float* k, long long count, float* out);
+  void (*sampleFloatRowPhase4)(const float* taps, const float* k, long long count, float* out);
+  void (*sampleFloatRowPhase6)(const float* taps, const float* k, long long count, float* out);
   // MergingOption 2's hole counting (Synth/RowPath.cpp's flagCrowdedHoles). holeCounts: count[x] = the
   // holes (depth < 0) among depth[x - 3 .. x + 3] of a row of width samples, none beyond its ends;
   // padded: width + 6 bytes of working space whose first and last three are 0. windowStep: sum[x] +=
