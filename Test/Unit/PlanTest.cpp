@@ -324,6 +324,26 @@ TEST(OneD, TemporalImprovementKeepsThePreviousFillWhereTheReferenceRowsAreUnchan
   }
 }
 
+// TemporalImprovementOption changes nothing on a first frame; a synthesizer told there is no next frame
+// (Synthesizer::noNextFrame, a run of one frame) keeps nothing for one and gives that frame bit for bit.
+TEST(OneD, TemporalImprovementWithoutANextFrameGivesTheSameFrame) {
+  AnalyticScene analytic;
+  analytic.square = true;
+  Scene scene = rigScene(analytic, SynthesisMode::Parallel1D);
+  scene.virtualCamera = analytic.camera("virtual", 9);  // beyond the right camera: holes to fill
+  scene.settings.oneD.temporalImprovement = true;
+  test::RenderedReferences rendered = test::renderReferences(analytic, scene);
+  Synthesizer keeping(scene, test::planOnPath(scene, SynthesisMode::Parallel1D));
+  Synthesizer last(scene, test::planOnPath(scene, SynthesisMode::Parallel1D));
+  last.noNextFrame();
+  Frame kept, alone;
+  StageTimes times;
+  keeping.synthesize(rendered.frames(), kept, times);
+  last.synthesize(rendered.frames(), alone, times);
+  EXPECT_GT(last.lastStats().holesAfterBlend, 0u);  // there was fill to keep or not
+  EXPECT_TRUE(alone == kept);
+}
+
 // Real data: the shipped general configs run on the 1D path (`SynthesisMode=1`, the 1D keys at their
 // defaults) give the general path's PSNR-Y within 0.1 dB. The scenes are those where VSRS's own 1D
 // defaults (DepthThreshold 75, CleanNoiseOption 1) cost the most (0.5 to 1.1 dB).

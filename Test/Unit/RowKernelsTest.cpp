@@ -274,7 +274,8 @@ TEST(RowKernels, TextureTableRowIsThePlainRule) {
             if (unit(rng) < 0.03) u[k] = unit(rng) < 0.5 ? -0.75 : width - 0.25;  // inside chroma's only
             ok[k] = unit(rng) < 0.9;
             gridU[k] = std::floor(u[k] * precision + 0.5);
-            if (unit(rng) < 0.05) gridU[k] = (unit(rng) < 0.5 ? -1.0 : 1.0) * 4503599627370496.0 * (1.0 + unit(rng));
+            // Chroma's grid indices are given (the texture's follow from u): some of 2^52 and more.
+            if (chroma && unit(rng) < 0.05) gridU[k] = (unit(rng) < 0.5 ? -1.0 : 1.0) * 4503599627370496.0 * (1.0 + unit(rng));
             gridV[k] = std::floor(v[k] * precision + 0.5);
             const double nx = std::isnan(u[k]) ? 0.0 : std::clamp(std::floor(u[k] + 0.5), 0.0, width - 1.0);
             const double ny = std::isnan(v[k]) ? 0.0 : std::clamp(std::floor(v[k] + 0.5), 0.0, height - 1.0);
@@ -321,8 +322,9 @@ TEST(RowKernels, TextureTableRowIsThePlainRule) {
           for (std::vector<float>& c : ourColour) c.assign(size_t(n), unset);
           std::vector<uint8_t> ourEdge(size_t(n), 9);
           std::vector<int> rest(size_t(n) + 1, -1);
-          TextureTableRow row = {u.data(), v.data(), ok.data(), gridU.data(), gridV.data(), nearest.data(), rowGrid,
-                                 highU, highV, {nullptr, nullptr, nullptr}, first, last, stride, shift,
+          // The texture's kernel computes its grid indices and nearest samples: it is given none to read.
+          TextureTableRow row = {u.data(), v.data(), ok.data(), chroma ? gridU.data() : nullptr,
+                                 chroma ? gridV.data() : nullptr, nullptr, precision, rowGrid, highU, highV, {nullptr, nullptr, nullptr}, first, last, stride, shift,
                                  (1 << shift) - 1, channels, edges.data(), ourDepth.data(),
                                  {ourColour[0].data(), ourColour[1].data(), ourColour[2].data()}, ourEdge.data()};
           int count = 0;
@@ -359,6 +361,96 @@ TEST(RowKernels, TextureTableRowIsThePlainRule) {
   EXPECT_GT(restSamples, 2 * 150 * int(levels().size()));
 }
 
+// The 1D texture warp's row: positions along a reference row of refW samples (some of them 1 to 3
+// samples: the edge flags are then not read by four-byte gathers), tables that hold every integer part
+// the row reaches ([-1, refW], as the 1D path builds them) or fewer (the rest left to the caller).
+// chromaRowTableRow: the bounds -1 and refW (the chroma width), the edge flag the row's own.
+TEST(RowKernels, RowTableRowIsThePlainRule) {
+  std::mt19937 rng(31);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  int tableReads = 0, restSamples = 0, failed = 0;
+  for (const RowKernels* kernels : levels())
+    for (const bool chroma : {false, true})
+    for (const int refW : {1, 2, 3, 4, 37})
+      for (const int n : kWidths)
+        for (const int channels : {1, 3})
+          for (const int shift : {0, 1, 2})
+            for (const bool narrow : {false, true}) {
+              const int precision = 1 << shift;
+              const double low = chroma ? -1.0 : -0.5, lastU = chroma ? refW : refW - 0.5;
+              const auto kernel = chroma ? kernels->chromaRowTableRow : kernels->rowTableRow;
+              std::vector<double> u = awkwardRow(rng, n, refW), depth = awkwardRow(rng, n, 1.0);
+              for (double& x : u) {
+                if (unit(rng) < 0.4) x = (refW + 1.0) * unit(rng) - 1.0;
+                if (unit(rng) < 0.06) x = unit(rng) < 0.5 ? low : lastU;  // the bounds exactly
+                if (unit(rng) < 0.03) x = unit(rng) < 0.5 ? -0.75 : refW - 0.25;  // inside chroma's only
+              }
+              const long long first = narrow ? 1 : -1, last = narrow ? refW - 2 : refW;
+              const long long stride = std::max(1LL, last - first + 1);
+              std::vector<float> tables[3];
+              for (std::vector<float>& table : tables)
+                for (long long t = 0; t < stride * precision; ++t) table.push_back(float(255.0 * unit(rng)));
+              std::vector<uint8_t> edges(static_cast<size_t>(refW));  // exactly the row: a read past it is a fault under ASan
+              for (uint8_t& e : edges) e = uint8_t(1 + 254 * unit(rng));
+              std::vector<uint8_t> blockEdges(static_cast<size_t>(n));  // chroma's: the row's own
+              for (uint8_t& e : blockEdges) e = uint8_t(1 + 254 * unit(rng));
+              // The rule, plainly.
+              const float unset = -7.0f;
+              std::vector<double> plainDepth = depth;
+              std::vector<float> plainColour[3];
+              for (std::vector<float>& c : plainColour) c.assign(size_t(n), unset);
+              std::vector<uint8_t> plainEdge(size_t(n), 0);
+              std::vector<int> plainRest;
+              for (int i = 0; i < n; ++i) {
+                const size_t k = size_t(i);
+                if (depth[k] < 0) continue;
+                if (std::isnan(u[k]) || u[k] < low || u[k] > lastU) {
+                  plainDepth[k] = -1.0;
+                  ++failed;
+                  continue;
+                }
+                plainEdge[k] = chroma ? blockEdges[k] : edges[size_t(std::clamp(std::floor(u[k] + 0.5), 0.0, refW - 1.0))];
+                const double g = std::floor(u[k] * precision + 0.5);
+                const double ix = std::floor(g / precision), phase = g - ix * precision;
+                if (ix < double(first) || ix > double(last)) {
+                  plainRest.push_back(i);
+                  continue;
+                }
+                for (int c = 0; c < channels; ++c)
+                  plainColour[c][k] = tables[c][size_t(phase * double(stride) + ix - double(first))];
+                ++tableReads;
+              }
+              std::vector<double> ourDepth = depth;
+              std::vector<float> ourColour[3];
+              for (std::vector<float>& c : ourColour) c.assign(size_t(n), unset);
+              std::vector<uint8_t> ourEdge(size_t(n), 0);
+              std::vector<int> rest(size_t(n) + 1, -1);
+              const RowTableRow row = {u.data(), double(precision), lastU, refW - 1.0,
+                                       {tables[0].data(), tables[1].data(), tables[2].data()}, first, last, stride,
+                                       shift, precision - 1, channels, chroma ? blockEdges.data() : edges.data(),
+                                       ourDepth.data(),
+                                       {ourColour[0].data(), ourColour[1].data(), ourColour[2].data()}, ourEdge.data()};
+              int count = 0;
+              kernel(row, n, rest.data(), count);
+              ASSERT_EQ(std::vector<int>(rest.begin(), rest.begin() + count), plainRest) << "level " << kernels->level;
+              ASSERT_EQ(rest[size_t(count)], -1);
+              restSamples += count;
+              for (int i = 0; i < n; ++i) {
+                const size_t k = size_t(i);
+                ASSERT_EQ(bitsOf(ourDepth[k]), bitsOf(plainDepth[k])) << "level " << kernels->level << ", sample " << i;
+                ASSERT_EQ(ourEdge[k], plainEdge[k]) << "level " << kernels->level << ", sample " << i << ", u " << u[k];
+                for (int c = 0; c < 3; ++c)
+                  ASSERT_EQ(bitsOf(ourColour[c][k]), bitsOf(plainColour[c][k]))
+                      << "level " << kernels->level << ", channel " << c << ", sample " << i;
+              }
+            }
+  // Every branch reached on every level.
+  const int levelCount = int(levels().size());
+  EXPECT_GT(tableReads, 2 * 1000 * levelCount);
+  EXPECT_GT(restSamples, 2 * 100 * levelCount);
+  EXPECT_GT(failed, 2 * 100 * levelCount);
+}
+
 TEST(RowKernels, SampleRowPhaseIsTheWeightedSumInTapOrder) {
   std::mt19937 rng(9);
   std::uniform_int_distribution<int> sample(0, 65535);
@@ -384,6 +476,14 @@ TEST(RowKernels, SampleRowPhaseIsTheWeightedSumInTapOrder) {
           }
           ASSERT_EQ(bitsOf(out[size_t(i)]), bitsOf(sum)) << "level " << kernels->level << " taps " << taps;
         }
+        // From the taps as floats (a table's phase 0): the same sums, bit for bit.
+        std::vector<float> fromFloats(static_cast<size_t>(n), -1.0f), floats(row.begin(), row.end());
+        auto floatPhase = taps == 2   ? kernels->sampleFloatRowPhase2
+                          : taps == 4 ? kernels->sampleFloatRowPhase4
+                                      : kernels->sampleFloatRowPhase6;
+        floatPhase(floats.data(), k, n, fromFloats.data());
+        for (int i = 0; i < n; ++i)
+          ASSERT_EQ(bitsOf(fromFloats[size_t(i)]), bitsOf(out[size_t(i)])) << "level " << kernels->level << " taps " << taps;
       }
 }
 

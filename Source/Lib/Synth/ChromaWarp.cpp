@@ -130,14 +130,36 @@ void Synthesizer::warpChroma(ViewState& view, const Frame& texture) {
           rowKernels().chromaGridIndices(sources, chromaW, offset, kBlock, sampler.precision(), grid);
           rowKernels().chromaGridIndices(sourcesV, chromaW, offset, kBlock, sampler.precision(), gridV);
         }
-        if (!rows && !sphereEdges) {
+        if (rows) {
+          // The look-ups in a kernel compiled for the CPU's x86-64 level (Kernels/Rows.h's
+          // chromaRowTableRow, as warpTextureRows does): the row's depths start as its blocks' (a hole's
+          // is kNoDepth, as cleared), the kernel sets the failed look-ups' to kNoDepth. Positions in
+          // [-1, chromaW] read the tables; any other sample is left to the code below.
+          const size_t rowStart = size_t(j) * chromaW;
+          std::copy(blockDepth, blockDepth + chromaW, depthOut + rowStart);
+          const RowTableRow row = {sources, double(sampler.precision()), double(chromaW), 0.0,
+                                   {sampledU.values(), sampledV.values(), nullptr}, sampledU.first(), sampledU.last(),
+                                   sampledU.stride(), sampledU.shift(), sampledU.mask(), 2, blockEdge,
+                                   depthOut + rowStart, {uOut + rowStart, vOut + rowStart, nullptr},
+                                   edgeOut + rowStart};
+          int restCount = 0;
+          rowKernels().chromaRowTableRow(row, chromaW, rest.data(), restCount);
+          for (int k = 0; k < restCount; ++k) {
+            const int i = rest[size_t(k)];
+            uOut[rowStart + size_t(i)] = sampledU.atGrid<kTaps>(sources[i], grid[i]);
+            vOut[rowStart + size_t(i)] = sampledV.atGrid<kTaps>(sources[i], grid[i]);
+          }
+          continue;
+        }
+        if (!sphereEdges) {
           // The holes, the failed look-ups and those read from the row's tables in a kernel compiled for
           // the CPU's x86-64 level (Kernels/Rows.h's chromaTableRow, as warpTexture does; the tables are
           // built where it first finds one that reads them), the rest below. The row's depths start as its
           // blocks' (a hole's is kNoDepth, as cleared); the kernel sets the failed look-ups' to kNoDepth.
           const size_t rowStart = size_t(j) * chromaW;
           std::copy(blockDepth, blockDepth + chromaW, depthOut + rowStart);
-          TextureTableRow row = {sources, sourcesV, sourceOk, grid, gridV, nullptr, rowGrid, double(sourceW),
+          TextureTableRow row = {sources, sourcesV, sourceOk, grid, gridV, nullptr, double(sampler.precision()), rowGrid,
+                                 double(sourceW),
                                  double(sourceH), {nullptr, nullptr, nullptr}, 0, 0, 0, 0, 0, 2, blockEdge,
                                  depthOut + rowStart, {uOut + rowStart, vOut + rowStart, nullptr}, edgeOut + rowStart};
           int restCount = 0;
@@ -173,15 +195,6 @@ void Synthesizer::warpChroma(ViewState& view, const Frame& texture) {
           const double inverseDepth = blockDepth[i];
           if (inverseDepth < 0) continue;
           const size_t c = size_t(j) * chromaW + i;
-          if (rows) {
-            const double cu = sources[i];
-            if (!std::isfinite(cu) || cu < -1.0 || cu > chromaW) continue;
-            depthOut[c] = inverseDepth;
-            edgeOut[c] = blockEdge[i];
-            uOut[c] = sampledU.atGrid<kTaps>(cu, grid[i]);
-            vOut[c] = sampledV.atGrid<kTaps>(cu, grid[i]);
-            continue;
-          }
           if (!sourceOk[i]) continue;  // backward() refuses it
           const double cu = sources[i], cv = sourcesV[i];
           if (cu < -1.0 || cv < -1.0 || cu > sourceW || cv > sourceH) continue;

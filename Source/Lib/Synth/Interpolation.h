@@ -275,10 +275,20 @@ public:
           rowKernels().sampleRowPhase0(taps - offset, count, to);  // a loop compiled for the CPU's level
         } else {
           // The sum over the taps, k[t] * taps[n + t] in that order from 0, in a loop compiled for
-          // the CPU's x86-64 level (Synth/Kernels/Rows.h).
+          // the CPU's x86-64 level (Synth/Kernels/Rows.h). Phase 0's plane, built first, holds
+          // float(row[i]) for every i in [first, last] (the sample itself, of the clamped position at
+          // the ends), exactly what the sum converts each tap to: where it covers the taps, they are
+          // read from it as floats, not converted again for every phase.
           const RowKernels& kernels = rowKernels();
-          (TAPS == 2 ? kernels.sampleRowPhase2 : TAPS == 4 ? kernels.sampleRowPhase4 : kernels.sampleRowPhase6)(
-              taps, k, count, to);
+          const long long from = ix + offset - first_;  // phase 0's index of the first tap
+          if (from >= 0 && from + count + TAPS - 1 <= (long long)stride_) {
+            (TAPS == 2 ? kernels.sampleFloatRowPhase2
+                       : TAPS == 4 ? kernels.sampleFloatRowPhase4 : kernels.sampleFloatRowPhase6)(
+                values_.data() + from, k, count, to);
+          } else {
+            (TAPS == 2 ? kernels.sampleRowPhase2 : TAPS == 4 ? kernels.sampleRowPhase4 : kernels.sampleRowPhase6)(
+                taps, k, count, to);
+          }
         }
         ix = innerLast + 1;
       }

@@ -129,30 +129,38 @@ void Synthesizer::warpTextureRows(ViewState& view, const std::vector<const Plane
       SampledRow* sampledRows = scratch->sampled;
       // The row's source positions first, in a pass that vectorises (holes too: not read).
       std::vector<double>& sourceRow = scratch->sourceU;
-      std::vector<double>& gridRow = scratch->grid;
       sourceRow.resize(size_t(width));
-      gridRow.resize(2 * size_t(width));  // the grid indices, then the nearest samples
+      scratch->rest.resize(size_t(width));
       double* sources = sourceRow.data();
-      double* grid = gridRow.data();
-      double* nearest = grid + width;
-      const double precision = sampler.precision();
+      int* rest = scratch->rest.data();
+      RowTableRow row = {sources, double(sampler.precision()), referenceWidth - 0.5, double(referenceWidth - 1),
+                         {nullptr, nullptr, nullptr}, 0, 0, 0, 0, 0, kChannels, nullptr, nullptr,
+                         {nullptr, nullptr, nullptr}, nullptr};
+      const RowKernels& kernels = rowKernels();
       for (int y = y0; y < y1; ++y) {
-        const uint8_t* edges = view.referenceEdge.data() + size_t(y) * referenceWidth;
         for (int c = 0; c < kChannels; ++c) sampledRows[c].build<kTaps>(sampler, *planes[size_t(c)], y, -1, referenceWidth);
         projection.rowSources(depth + size_t(y) * width, width, sources);
-        // sampledRows[0].gridIndex(sources[x]) and the nearest reference sample for every x, in a loop
-        // compiled for the CPU's x86-64 level.
-        rowKernels().rowLookups(sources, width, precision, referenceWidth, grid, nearest);
-        for (int x = 0; x < width; ++x) {
-          const size_t i = size_t(y) * width + x;
-          if (depth[i] < 0) continue;
+        // The look-ups, in a kernel compiled for the CPU's x86-64 level: every one whose grid index
+        // the tables hold (on this path all but those of a table narrower than [-1, width]).
+        const SampledRow& table = sampledRows[0];  // every channel's has the same shape
+        for (int c = 0; c < kChannels; ++c) {
+          row.table[c] = sampledRows[c].values();
+          row.colour[c] = colour[c] + size_t(y) * width;
+        }
+        row.first = table.first();
+        row.last = table.last();
+        row.stride = table.stride();
+        row.shift = table.shift();
+        row.mask = table.mask();
+        row.edges = view.referenceEdge.data() + size_t(y) * referenceWidth;
+        row.depth = depth + size_t(y) * width;
+        row.edgeOut = edgeOut + size_t(y) * width;
+        int restCount = 0;
+        kernels.rowTableRow(row, width, rest, restCount);
+        for (int k = 0; k < restCount; ++k) {
+          const int x = rest[k];
           const double u = sources[x];
-          if (!std::isfinite(u) || u < -0.5 || u > referenceWidth - 0.5) {
-            depth[i] = kNoDepth;
-            continue;
-          }
-          for (int c = 0; c < kChannels; ++c) colour[c][i] = sampledRows[c].atGrid<kTaps>(u, grid[x]);
-          edgeOut[i] = edges[size_t(nearest[x])];
+          for (int c = 0; c < kChannels; ++c) row.colour[c][x] = sampledRows[c].at<kTaps>(u);
         }
       }
     });

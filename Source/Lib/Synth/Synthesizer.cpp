@@ -262,11 +262,16 @@ void Synthesizer::synthesize(const std::vector<ReferenceFrame>& references, Fram
   times.blend += secondsSince(start);
 
   start = std::chrono::steady_clock::now();
-  if (plan_.temporalFill) temporalFill_.noteHoles(blendedLuma_, blendedChroma_);
+  // TemporalImprovementOption keeps this frame's holes and fill (and the references' depth and luma)
+  // for the next frame, and changes nothing on the first: without a next frame (noNextFrame) none is
+  // kept. In a run of one 1D frame that was a third of the hole-filling stage: copies into memory
+  // touched for the first time (doc/speed.md).
+  const bool temporalFill = plan_.temporalFill && !noNextFrame_;
+  if (temporalFill) temporalFill_.noteHoles(blendedLuma_, blendedChroma_);
   std::vector<HoleFillJob> fills = {{&blendedLuma_, &plan_.lumaFill, &lumaFill_}};
   if (yuvChroma) fills.push_back({&blendedChroma_, &plan_.chromaFill, &chromaFill_});
   fillHoles(fills);
-  if (plan_.temporalFill)
+  if (temporalFill)
     temporalFill_.keepStaticFill(depths, lumas, blendedLuma_, blendedChroma_, yuvChroma,
                                  outputFormat_.chroma == ChromaFormat::Yuv420 ? 2 : 1);
   times.holeFill += secondsSince(start);

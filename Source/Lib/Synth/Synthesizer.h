@@ -72,6 +72,9 @@ public:
   // steps and the chroma layers once the frame is rounded, each taking the others' memory at the
   // heap's top, and the rest is kept for the next frame.
   void releaseBuffersAfterEachStep() { releaseSpent_ = true; }
+  // For a run whose next synthesize() is its last: nothing is kept for a frame after it
+  // (TemporalImprovementOption's holes and fill, which change nothing on a first frame).
+  void noNextFrame() { noNextFrame_ = true; }
 
 private:
   struct ViewState {
@@ -144,6 +147,7 @@ private:
   const Plan plan_;
   const bool rowPath_;  // the 1D path: rows warp into rows (plan_.mode == Parallel1D)
   bool releaseSpent_ = false;  // releaseBuffersAfterEachStep()
+  bool noNextFrame_ = false;   // noNextFrame()
   bool blendedInFirstView_ = false;  // the blended layers hold views_[0]'s planes (takeBackFirstViewLayers)
   FrameFormat outputFormat_;
   SubPixelSampler sampler_;

@@ -43,13 +43,11 @@ void Synthesizer::warpTexture(ViewState& view, const std::vector<const Plane*>& 
       const auto scratch = textureRows_.take();
       SampledRow* sampledRows = scratch->sampled;
       int tableRow = -1;
-      // The row's backward projections first, then the grid indices of the look-ups and their nearest
-      // reference samples, in loops that vectorise (holes too: not read), compiled for the CPU's x86-64
-      // level (Synth/Kernels/Rows.h).
+      // The row's backward projections first, in a loop that vectorises (holes too: not read), compiled
+      // for the CPU's x86-64 level (Synth/Kernels/Rows.h).
       scratch->sourceU.resize(size_t(width));
       scratch->sourceV.resize(size_t(width));
       scratch->sourceOk.resize(size_t(width));
-      scratch->grid.resize(3 * size_t(width));
       // Their addresses in locals: read through the scratch set they would be looked up again for
       // every sample.
       double* us = scratch->sourceU.data();
@@ -57,9 +55,6 @@ void Synthesizer::warpTexture(ViewState& view, const std::vector<const Plane*>& 
       uint8_t* ok = scratch->sourceOk.data();
       scratch->rest.resize(size_t(width));
       int* rest = scratch->rest.data();
-      double* gridU = scratch->grid.data();
-      double* gridV = gridU + width;
-      double* nearest = gridV + width;
       const double precision = sampler.precision();
       // An ERP reference's texture continues round the wrap and across its poles: a look-up near its
       // edges reads there (sampleSphereTaps); every other one is read as from a pinhole reference.
@@ -68,11 +63,11 @@ void Synthesizer::warpTexture(ViewState& view, const std::vector<const Plane*>& 
       const RowKernels& kernels = rowKernels();
       for (int y = y0; y < y1; ++y) {
         projection.backwardRow(depth + size_t(y) * width, width, y, us, vs, ok);
-        kernels.textureLookups(us, vs, width, precision, referenceWidth, referenceHeight, gridU, gridV, nearest);
         // sampler.wholeRow(v, row) && row == y: the grid index of v is y's (a row's grid index is
         // y * precision, and one of 2^52 or more is no row's).
         const double rowGrid = double(y) * precision;
-        // Sample x's look-up, as a whole.
+        // Sample x's look-up, as a whole. Its grid indices (SampledRow::gridIndex) and nearest reference
+        // sample as Kernels/Rows.h's textureLookups gives them (the position is in the picture there).
         const auto lookUp = [&](int x) {
           const size_t i = size_t(y) * width + x;
           if (depth[i] < 0) return;
@@ -84,16 +79,19 @@ void Synthesizer::warpTexture(ViewState& view, const std::vector<const Plane*>& 
           if (sphereEdges && SubPixelSampler::nearEdge(u, v, referenceWidth, referenceHeight)) {
             for (int c = 0; c < channels; ++c)
               colour[c][i] = sampler.sampleSphereTaps<kTaps>(*planes[size_t(c)], u, v, sphere);
-          } else if (gridV[x] == rowGrid) {
+          } else if (std::floor(v * precision + 0.5) == rowGrid) {
             if (tableRow != y) {
               for (int c = 0; c < channels; ++c) sampledRows[c].build<kTaps>(sampler, *planes[size_t(c)], y, -1, referenceWidth);
               tableRow = y;
             }
-            for (int c = 0; c < channels; ++c) colour[c][i] = sampledRows[c].atGrid<kTaps>(u, gridU[x]);
+            const double gridU = std::floor(u * precision + 0.5);
+            for (int c = 0; c < channels; ++c) colour[c][i] = sampledRows[c].atGrid<kTaps>(u, gridU);
           } else {
             for (int c = 0; c < channels; ++c) colour[c][i] = sampler.sampleTaps<kTaps>(*planes[size_t(c)], u, v);
           }
-          edgeOut[i] = edges[size_t(nearest[x])];
+          const double nearest = std::clamp(std::floor(v + 0.5), 0.0, referenceHeight - 1.0) * referenceWidth +
+                                 std::clamp(std::floor(u + 0.5), 0.0, referenceWidth - 1.0);
+          edgeOut[i] = edges[size_t(nearest)];
         };
         if (sphereEdges) {
           for (int x = 0; x < width; ++x) lookUp(x);
@@ -103,7 +101,8 @@ void Synthesizer::warpTexture(ViewState& view, const std::vector<const Plane*>& 
         // the CPU's x86-64 level (Synth/Kernels/Rows.h; the tables are built where it first finds one
         // that reads them), the rest here.
         const size_t rowStart = size_t(y) * width;
-        TextureTableRow row = {us, vs, ok, gridU, gridV, nearest, rowGrid, referenceWidth - 0.5, referenceHeight - 0.5,
+        TextureTableRow row = {us, vs, ok, nullptr, nullptr, nullptr, precision, rowGrid, referenceWidth - 0.5,
+                               referenceHeight - 0.5,
                                {nullptr, nullptr, nullptr}, 0, 0, 0, 0, 0, channels, edges, depth + rowStart,
                                {nullptr, nullptr, nullptr}, edgeOut + rowStart};
         for (int c = 0; c < channels; ++c) row.colour[c] = colour[c] + rowStart;

@@ -90,10 +90,14 @@ public:
   std::vector<std::pair<std::string, std::string>> decisions() const override { return plan_.fields(); }
 
 private:
-  // A run of one frame frees the synthesizer's buffers step by step (Synthesizer.h).
+  // A run of one frame frees the synthesizer's buffers step by step and keeps nothing for a next
+  // frame (Synthesizer.h).
   void makeSynthesizer() {
     synthesizer_ = std::make_unique<Synthesizer>(scene_, plan_);
-    if (scene_.settings.frameCount <= 1) synthesizer_->releaseBuffersAfterEachStep();
+    if (scene_.settings.frameCount <= 1) {
+      synthesizer_->releaseBuffersAfterEachStep();
+      synthesizer_->noNextFrame();
+    }
   }
   Scene scene_;  // a copy: a pose trace moves its virtual camera
   Plan plan_;

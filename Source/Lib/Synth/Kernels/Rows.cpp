@@ -271,15 +271,22 @@ inline int textureTableSample(const TextureTableRow& r, int x, bool ready) {
     r.depth[x] = kKernelNoDepth;
     return 0;
   }
-  if (!(r.gridV[x] == r.rowGrid)) return 1;
+  const double gridV = CHROMA ? r.gridV[x] : floorOf(v * r.precision + 0.5);
+  if (!(gridV == r.rowGrid)) return 1;
   if (!ready) return -1;
-  const double g = r.gridU[x];
+  const double g = CHROMA ? r.gridU[x] : floorOf(u * r.precision + 0.5);
   if (!(std::fabs(g) < 4503599627370496.0)) return 1;  // 2^52
   const long long index = (long long)g, ix = index >> r.shift;
   if (ix < r.first || ix > r.last) return 1;
   const long long at = (index & r.mask) * r.stride + (ix - r.first);
   for (int c = 0; c < r.channels; ++c) r.colour[c][x] = r.table[c][at];
-  r.edgeOut[x] = CHROMA ? r.edges[x] : r.edges[size_t((long long)r.nearest[x])];
+  if (CHROMA) {
+    r.edgeOut[x] = r.edges[x];
+  } else {
+    const double width = r.lastU + 0.5, height = r.lastV + 0.5;
+    const double nearest = nearestClamped(v, height - 1) * width + nearestClamped(u, width - 1);
+    r.edgeOut[x] = r.edges[size_t((long long)nearest)];
+  }
   return 0;
 }
 
@@ -296,6 +303,18 @@ int tableRow(const TextureTableRow& r, int from, int width, bool ready, int* res
   const __m512i first = _mm512_set1_epi64(r.first), last = _mm512_set1_epi64(r.last),
                 stride = _mm512_set1_epi64(r.stride), mask = _mm512_set1_epi64(r.mask);
   const __m128i shift = _mm_cvtsi32_si128(r.shift);
+  const __m512d half = _mm512_set1_pd(0.5), precision = _mm512_set1_pd(r.precision),
+                rowLength = _mm512_set1_pd(r.lastU + 0.5), lastColumn = _mm512_set1_pd(r.lastU - 0.5),
+                lastRow = _mm512_set1_pd(r.lastV - 0.5);
+  constexpr int kFloor = _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC;
+  // Locals: a byte store could alias the row's fields, which would then be loaded again per flag.
+  const uint8_t* const edges = r.edges;
+  uint8_t* const edgeOut = r.edgeOut;
+#if defined(__AVX512BW__)
+  const __m512i three = _mm512_set1_epi64(3);
+  const __m256i lowByte = _mm256_set1_epi32(0xff);
+  const bool wordGathers = (r.lastU + 0.5) * (r.lastV + 0.5) >= 4.0;  // a picture of four samples or more
+#endif
   for (; x + 8 <= width; x += 8) {
     const __mmask8 live = _mm512_cmp_pd_mask(_mm512_loadu_pd(r.depth + x), zero, _CMP_NLT_UQ);  // !(d < 0)
     if (!live) continue;
@@ -308,10 +327,15 @@ int tableRow(const TextureTableRow& r, int from, int width, bool ready, int* res
                                     _mm512_cmp_pd_mask(u, lastU, _CMP_GT_OQ) |
                                     _mm512_cmp_pd_mask(v, lastV, _CMP_GT_OQ));
     const __mmask8 keep = live & __mmask8(~fails);
-    const __mmask8 onRow = _mm512_mask_cmp_pd_mask(keep, _mm512_loadu_pd(r.gridV + x), rowGrid, _CMP_EQ_OQ);
+    // The grid indices: chroma's given, the texture's floor(v * precision + 0.5) and floor(u * precision +
+    // 0.5), each operation rounded as the scalar one.
+    const __m512d gridV = CHROMA ? _mm512_loadu_pd(r.gridV + x)
+                                 : _mm512_maskz_roundscale_pd(0xff, _mm512_add_pd(_mm512_mul_pd(v, precision), half), kFloor);
+    const __mmask8 onRow = _mm512_mask_cmp_pd_mask(keep, gridV, rowGrid, _CMP_EQ_OQ);
     if (onRow && !ready) return x;
     _mm512_mask_storeu_pd(r.depth + x, live & fails, noDepth);
-    const __m512d g = _mm512_loadu_pd(r.gridU + x);
+    const __m512d g = CHROMA ? _mm512_loadu_pd(r.gridU + x)
+                             : _mm512_maskz_roundscale_pd(0xff, _mm512_add_pd(_mm512_mul_pd(u, precision), half), kFloor);
     const __mmask8 small = _mm512_mask_cmp_pd_mask(onRow, _mm512_abs_pd(g), limit, _CMP_LT_OQ);
     const __m512i index = _mm512_maskz_cvttpd_epi64(small, g);
     const __m512i ix = _mm512_maskz_sra_epi64(0xff, index, shift);
@@ -324,13 +348,40 @@ int tableRow(const TextureTableRow& r, int from, int width, bool ready, int* res
         _mm256_mask_storeu_ps(r.colour[c] + x, inTable,
                               _mm512_mask_i64gather_ps(_mm256_setzero_ps(), inTable, at, r.table[c], 4));
       if (CHROMA) {
-        for (unsigned m = inTable; m; m &= m - 1) r.edgeOut[x + __builtin_ctz(m)] = r.edges[x + __builtin_ctz(m)];
+#if defined(__AVX512BW__)
+        _mm_mask_storeu_epi8(edgeOut + x, inTable, _mm_loadl_epi64(reinterpret_cast<const __m128i*>(edges + x)));
+#else
+        for (unsigned m = inTable; m; m &= m - 1) edgeOut[x + __builtin_ctz(m)] = edges[x + __builtin_ctz(m)];
+#endif
       } else {
-        alignas(64) long long nearest[8];
-        _mm512_store_si512(nearest, _mm512_maskz_cvttpd_epi64(0xff, _mm512_loadu_pd(r.nearest + x)));
-        for (unsigned m = inTable; m; m &= m - 1) {
-          const int k = __builtin_ctz(m);
-          r.edgeOut[x + k] = r.edges[size_t(nearest[k])];
+        // The nearest reference sample: (clamp(floor(v + 0.5)) * width + clamp(floor(u + 0.5)), exact
+        // whole numbers (u and v lie in the picture here).
+        const __m512d column = _mm512_maskz_min_pd(
+            0xff, _mm512_maskz_max_pd(0xff, _mm512_maskz_roundscale_pd(0xff, _mm512_add_pd(u, half), kFloor), zero),
+            lastColumn);
+        const __m512d row = _mm512_maskz_min_pd(
+            0xff, _mm512_maskz_max_pd(0xff, _mm512_maskz_roundscale_pd(0xff, _mm512_add_pd(v, half), kFloor), zero),
+            lastRow);
+        const __m512i nearest =
+            _mm512_maskz_cvttpd_epi64(inTable, _mm512_add_pd(_mm512_mul_pd(row, rowLength), column));
+#if defined(__AVX512BW__)
+        if (wordGathers) {
+          // Each flag as a byte of a four-byte gather that stays in the picture: the word at the flag
+          // itself, or, from the fourth on, the word ending with it (as rowTableRow).
+          const __mmask8 high = _mm512_cmp_epi64_mask(nearest, three, _MM_CMPINT_NLT);
+          const __m256i words = _mm512_mask_i64gather_epi32(
+              _mm256_setzero_si256(), inTable, _mm512_mask_sub_epi64(nearest, high, nearest, three), edges, 1);
+          const __m256i flags = _mm256_and_si256(_mm256_mask_srli_epi32(words, high, words, 24), lowByte);
+          _mm_mask_storeu_epi8(edgeOut + x, inTable, _mm256_maskz_cvtepi32_epi8(0xff, flags));
+        } else
+#endif
+        {
+          alignas(64) long long at[8];
+          _mm512_store_si512(at, nearest);
+          for (unsigned m = inTable; m; m &= m - 1) {
+            const int k = __builtin_ctz(m);
+            edgeOut[x + k] = edges[size_t(at[k])];
+          }
         }
       }
     }
@@ -359,6 +410,96 @@ void rowLookups(const double* u, int n, double precision, int width, double* gri
     gridU[i] = floorOf(u[i] * precision + 0.5);
     nearest[i] = nearestClamped(u[i], lastColumn);
   }
+}
+
+// rowTableRow's rule for sample x: false when its colour is left to the caller. CHROMA:
+// chromaRowTableRow's (a low bound of -1, the edge flag edges[x]).
+template <bool CHROMA>
+inline bool rowTableSample(const RowTableRow& r, int x) {
+  if (r.depth[x] < 0) return true;
+  const double u = r.u[x];
+  constexpr double kLow = CHROMA ? -1.0 : -0.5;
+  if (!(u >= kLow && u <= r.lastU)) {  // NaN fails both
+    r.depth[x] = kKernelNoDepth;
+    return true;
+  }
+  r.edgeOut[x] = CHROMA ? r.edges[x] : r.edges[size_t(nearestClamped(u, r.lastColumn))];
+  const long long index = (long long)floorOf(u * r.precision + 0.5), ix = index >> r.shift;
+  if (ix < r.first || ix > r.last) return false;
+  const long long at = (index & r.mask) * r.stride + (ix - r.first);
+  for (int c = 0; c < r.channels; ++c) r.colour[c][x] = r.table[c][at];
+  return true;
+}
+
+template <bool CHROMA>
+void rowTable(const RowTableRow& r, int width, int* rest, int& count) {
+  int x = 0;
+#if defined(__AVX512F__) && defined(__AVX512DQ__) && defined(__AVX512VL__) && defined(__AVX512BW__)
+  // Eight samples at a time: the tests as lane masks, the grid indices and nearest samples in lanes,
+  // the tables and the edge flags read by gathers, the colours, flags and failed depths by masked
+  // stores. (u in [-0.5, lastU] keeps every index far below 2^52: the conversions are exact.)
+  const __m512d zero = _mm512_setzero_pd(), low = _mm512_set1_pd(CHROMA ? -1.0 : -0.5), lastU = _mm512_set1_pd(r.lastU),
+                half = _mm512_set1_pd(0.5), precision = _mm512_set1_pd(r.precision),
+                lastColumn = _mm512_set1_pd(r.lastColumn), noDepth = _mm512_set1_pd(kKernelNoDepth);
+  const __m512i first = _mm512_set1_epi64(r.first), last = _mm512_set1_epi64(r.last),
+                stride = _mm512_set1_epi64(r.stride), mask = _mm512_set1_epi64(r.mask);
+  const __m128i shift = _mm_cvtsi32_si128(r.shift);
+  const __m512i three = _mm512_set1_epi64(3);
+  const __m256i lowByte = _mm256_set1_epi32(0xff);
+  const bool wordGathers = r.lastColumn >= 3.0;  // a row of four flags or more
+  constexpr int kFloor = _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC;
+  for (; x + 8 <= width; x += 8) {
+    const __mmask8 live = _mm512_cmp_pd_mask(_mm512_loadu_pd(r.depth + x), zero, _CMP_NLT_UQ);  // !(d < 0)
+    if (!live) continue;
+    const __m512d u = _mm512_loadu_pd(r.u + x);
+    const __mmask8 inside = _mm512_cmp_pd_mask(u, low, _CMP_GE_OQ) & _mm512_cmp_pd_mask(u, lastU, _CMP_LE_OQ);
+    _mm512_mask_storeu_pd(r.depth + x, live & __mmask8(~inside), noDepth);
+    const __mmask8 keep = live & inside;
+    if (!keep) continue;
+    // floor(u * precision + 0.5) and floor(u + 0.5), each operation rounded as the scalar one.
+    const __m512d g = _mm512_maskz_roundscale_pd(0xff, _mm512_add_pd(_mm512_mul_pd(u, precision), half), kFloor);
+    const __m512d nearest = _mm512_maskz_min_pd(
+        0xff, _mm512_maskz_max_pd(0xff, _mm512_maskz_roundscale_pd(0xff, _mm512_add_pd(u, half), kFloor), zero),
+        lastColumn);
+    const __m512i index = _mm512_maskz_cvttpd_epi64(keep, g);
+    const __m512i ix = _mm512_maskz_sra_epi64(0xff, index, shift);
+    const __mmask8 inTable = _mm512_mask_cmp_epi64_mask(keep, ix, first, _MM_CMPINT_NLT) &
+                             _mm512_cmp_epi64_mask(ix, last, _MM_CMPINT_LE);
+    const __m512i at = _mm512_add_epi64(_mm512_mullo_epi64(_mm512_and_si512(index, mask), stride),
+                                        _mm512_sub_epi64(ix, first));
+    for (int c = 0; c < r.channels; ++c)
+      _mm256_mask_storeu_ps(r.colour[c] + x, inTable,
+                            _mm512_mask_i64gather_ps(_mm256_setzero_ps(), inTable, at, r.table[c], 4));
+    const __m512i near = _mm512_maskz_cvttpd_epi64(keep, nearest);
+    if (CHROMA) {
+      _mm_mask_storeu_epi8(r.edgeOut + x, keep, _mm_loadl_epi64(reinterpret_cast<const __m128i*>(r.edges + x)));
+    } else if (wordGathers) {
+      // Each flag as a byte of a four-byte gather that stays in the row: the word at the flag itself,
+      // or, from the fourth on, the word ending with it.
+      const __mmask8 high = _mm512_cmp_epi64_mask(near, three, _MM_CMPINT_NLT);
+      const __m256i words = _mm512_mask_i64gather_epi32(_mm256_setzero_si256(), keep,
+                                                        _mm512_mask_sub_epi64(near, high, near, three), r.edges, 1);
+      const __m256i flags = _mm256_and_si256(_mm256_mask_srli_epi32(words, high, words, 24), lowByte);
+      _mm_mask_storeu_epi8(r.edgeOut + x, keep, _mm256_maskz_cvtepi32_epi8(0xff, flags));
+    } else {
+      alignas(64) long long at[8];
+      _mm512_store_si512(at, near);
+      for (unsigned m = keep; m; m &= m - 1) {
+        const int k = __builtin_ctz(m);
+        r.edgeOut[x + k] = r.edges[size_t(at[k])];
+      }
+    }
+    for (unsigned m = keep & __mmask8(~inTable); m; m &= m - 1) rest[count++] = x + __builtin_ctz(m);
+  }
+#endif
+  for (; x < width; ++x)
+    if (!rowTableSample<CHROMA>(r, x)) rest[count++] = x;
+}
+
+void rowTableRow(const RowTableRow& r, int width, int* rest, int& count) { rowTable<false>(r, width, rest, count); }
+
+void chromaRowTableRow(const RowTableRow& r, int width, int* rest, int& count) {
+  rowTable<true>(r, width, rest, count);
 }
 
 void chromaGridIndices(double* x, int n, double offset, double block, double precision, double* g) {
@@ -454,6 +595,17 @@ void sampleRowPhase(const uint16_t* taps, const float* kernel, long long count, 
   for (long long n = 0; n < count; ++n) {
     float sum = 0.0f;
     for (int t = 0; t < TAPS; ++t) sum += k[t] * float(taps[n + t]);
+    out[n] = sum;
+  }
+}
+
+template <int TAPS>
+void sampleFloatRowPhase(const float* __restrict taps, const float* kernel, long long count, float* __restrict out) {
+  float k[TAPS];
+  for (int t = 0; t < TAPS; ++t) k[t] = kernel[t];
+  for (long long n = 0; n < count; ++n) {
+    float sum = 0.0f;
+    for (int t = 0; t < TAPS; ++t) sum += k[t] * taps[n + t];
     out[n] = sum;
   }
 }
@@ -812,6 +964,9 @@ const RowKernels rowKernelsOfLevel = {forwardRow,
                                       sampleRowPhase<2>,
                                       sampleRowPhase<4>,
                                       sampleRowPhase<6>,
+                                      sampleFloatRowPhase<2>,
+                                      sampleFloatRowPhase<4>,
+                                      sampleFloatRowPhase<6>,
                                       holeCounts,
                                       windowStep,
                                       referenceSteps,
@@ -826,6 +981,8 @@ const RowKernels rowKernelsOfLevel = {forwardRow,
                                       soleViewOfTwo,
                                       occlusionDown,
                                       occlusionUp,
+                                      rowTableRow,
+                                      chromaRowTableRow,
                                       VS_KERNEL_LEVEL};
 
 }  // namespace VS_LEVEL_NS

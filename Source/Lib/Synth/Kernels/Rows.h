@@ -41,15 +41,18 @@ struct TwoViewBlendRows {
 };
 
 // One row of the general texture warp (Synth/TextureWarp.cpp) for the look-ups that read the row's own
-// table (Interpolation.h's SampledRow): its samples' reference positions and grid indices
-// (backwardRow, textureLookups), the tables of its channels as numbers, and the row's outputs.
+// table (Interpolation.h's SampledRow): its samples' reference positions (backwardRow), the tables of
+// its channels as numbers, and the row's outputs. The chroma warp's (chromaTableRow) gives the grid
+// indices too; the texture warp's (textureTableRow) are computed in the kernel, as textureLookups
+// gives them.
 struct TextureTableRow {
   const double* u;
   const double* v;
   const uint8_t* ok;
-  const double* gridU;
+  const double* gridU;               // chroma: the grid indices of u and v (texture: not read)
   const double* gridV;
-  const double* nearest;
+  const double* nearest;             // not read
+  double precision;                  // texture: the sampler's grid positions per sample
   double rowGrid;                    // the grid index of the row's own reference row
   double lastU, lastV;               // the reference's width - 0.5 and height - 0.5
   const float* table[3];             // per channel: phase p, integer part ix at table[p * stride + ix - first]
@@ -59,6 +62,27 @@ struct TextureTableRow {
   long long mask;
   int channels;
   const uint8_t* edges;              // the reference's edge flags, read at nearest
+  double* depth;                     // the row's inverse depths, colours and edge flags
+  float* colour[3];
+  uint8_t* edgeOut;
+};
+
+// One row of the 1D texture warp (Synth/RowPath.cpp): its samples' reference positions along the
+// reference row (ViewProjection::rowSources), the row tables of its channels (Interpolation.h's
+// SampledRow, as numbers) and the row's outputs.
+struct RowTableRow {
+  const double* u;
+  double precision;                  // the sampler's grid positions per sample
+  double lastU;                      // the reference's width - 0.5
+  double lastColumn;                 // the reference's width - 1
+  const float* table[3];             // per channel: phase p, integer part ix at table[p * stride + ix - first]
+  long long first, last;             // the integer parts the tables hold
+  long long stride;
+  int shift;                         // the grid index's integer part: index >> shift, phase: index & mask
+  long long mask;
+  int channels;
+  const uint8_t* edges;              // the reference row's edge flags, read at the nearest sample (chroma:
+                                     // the row's own, read at x)
   double* depth;                     // the row's inverse depths, colours and edge flags
   float* colour[3];
   uint8_t* edgeOut;
@@ -103,7 +127,8 @@ struct RowKernels {
   // below 0 (NaN included): one whose look-up fails (!ok, or u, v outside [-0.5, lastU], [-0.5, lastV])
   // gets depth kKernelNoDepth; one on the row's own reference row (gridV == rowGrid) whose grid index
   // lies in the tables (|gridU| < 2^52, first <= gridU >> shift <= last) gets colour[c] from table c
-  // and edgeOut = edges[nearest]; every other one is appended to rest (rest[count++] = x), for the
+  // and edgeOut = edges[nearest] (gridU, gridV and nearest as textureLookups gives them, with the
+  // picture's size lastU + 0.5 by lastV + 0.5); every other one is appended to rest (rest[count++] = x), for the
   // caller's general look-up. With tablesReady false the tables are not read: the kernel returns the
   // first x (a multiple of its lanes past `from`) of a run of samples one of which would read them,
   // nothing from there on done; otherwise, and when every sample is done, width.
@@ -122,6 +147,11 @@ struct RowKernels {
   void (*sampleRowPhase2)(const uint16_t* taps, const float* k, long long count, float* out);
   void (*sampleRowPhase4)(const uint16_t* taps, const float* k, long long count, float* out);
   void (*sampleRowPhase6)(const uint16_t* taps, const float* k, long long count, float* out);
+  // The same sums from taps already converted to floats (a row table's phase 0: float(sample) exactly),
+  // out[n] = the sum over k[t] * taps[n + t], in that order, from 0; taps and out do not overlap.
+  void (*sampleFloatRowPhase2)(const float* taps, const float* k, long long count, float* out);
+  void (*sampleFloatRowPhase4)(const float* taps, const float* k, long long count, float* out);
+  void (*sampleFloatRowPhase6)(const float* taps, const float* k, long long count, float* out);
   // MergingOption 2's hole counting (Synth/RowPath.cpp's flagCrowdedHoles). holeCounts: count[x] = the
   // holes (depth < 0) among depth[x - 3 .. x + 3] of a row of width samples, none beyond its ends;
   // padded: width + 6 bytes of working space whose first and last three are 0. windowStep: sum[x] +=
@@ -154,7 +184,8 @@ struct RowKernels {
                        int n, double surface, double* depth, uint8_t* edge);
   // The chroma warp's general look-ups (Synth/ChromaWarp.cpp): textureTableRow's rule but for the
   // look-up's bounds, [-1, lastU] and [-1, lastV] (lastU, lastV: the reference chroma's width and
-  // height), and the edge flag of a table's sample, edgeOut[x] = edges[x] (nearest is not read).
+  // height), the grid indices, read from gridU and gridV, and the edge flag of a table's sample,
+  // edgeOut[x] = edges[x].
   int (*chromaTableRow)(const TextureTableRow& row, int from, int width, bool tablesReady, int* rest, int& count);
   // CleanNoiseOption's isolated samples of a row (Synth/RowPath.cpp): isolated[x] = 1 where row[x] >= 0,
   // row[x - 1] < 0 and row[x + 1] < 0, else 0, for x in [1, width - 1) (the first and last flags are
@@ -177,6 +208,16 @@ struct RowKernels {
                         double* up, int n);
   void (*occlusionUp)(const uint8_t* sole, double* row0, double* row1, double* last0, double* last1, const double* up,
                       const double* around, double steps, int n);
+  // The 1D texture warp's row (RowTableRow), for samples with depth not below 0 (NaN included): one
+  // whose position u fails (not in [-0.5, lastU]: NaN and the infinities fail) gets depth
+  // kKernelNoDepth; any other gets edgeOut = edges[clamp(floor(u + 0.5), 0, lastColumn)] and, where
+  // its grid index g = floor(u * precision + 0.5) (SampledRow::gridIndex) has its integer part
+  // g >> shift in [first, last], colour[c] from table c at (g & mask) * stride + (g >> shift) - first;
+  // where not, it is appended to rest (rest[count++] = x), for the caller's look-up of its colour.
+  void (*rowTableRow)(const RowTableRow& row, int width, int* rest, int& count);
+  // The 1D chroma warp's row (Synth/ChromaWarp.cpp): rowTableRow's rule but for the low bound, -1 (lastU:
+  // the chroma width), and the edge flag, edgeOut[x] = edges[x] (the block's; lastColumn is not read).
+  void (*chromaRowTableRow)(const RowTableRow& row, int width, int* rest, int& count);
   int level;  // the x86-64 level they are compiled for (0: not x86-64)
 };
 
