@@ -19,9 +19,12 @@ namespace vs {
 struct OcclusionScratch {
   std::vector<uint8_t> soleView;       // per sample: the one view that covers it, or none
   std::vector<uint8_t> candidateRows;  // per row: whether it holds a candidate
-  std::vector<uint8_t> stillBehind;    // per candidate: behind the surroundings of every view so far
-  UntouchedBuffer<double> around;      // per candidate: the surroundings in the view looked at
-  std::vector<double> above;           // per sample: the nearest valid sample above it in that view
+  std::vector<uint8_t> stillBehind;    // per candidate: behind the surroundings of every view so far (> 2 views)
+  // Per candidate: the surroundings in the view looked at; with two views, a second frame's length
+  // after them holds the samples above the candidates, packed per range of columns (Occlusion.cpp).
+  UntouchedBuffer<double> around;
+  std::vector<double> above;           // per sample: the nearest valid sample above it in that view (> 2 views);
+                                       // per column: a row of those at the candidates (two views)
   std::vector<double> columnLast;      // per column: the last valid sample met by a column scan
 };
 
