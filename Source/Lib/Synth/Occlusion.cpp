@@ -31,12 +31,12 @@ void rejectBetweenTwoViews(WarpedLayer& view0, WarpedLayer& view1, const std::ve
   double* const depth[2] = {view0.inverseDepth.data(), view1.inverseDepth.data()};
   scratch.soleView.resize(n);
   scratch.candidateRows.assign(size_t(h), 0);
-  // `around`: per candidate the surroundings; its second half, the samples above the candidates that
-  // the pass down finds, packed (a range of columns [x0, x1) from n + x0 h on), which the pass up
-  // takes back in reverse order of rows. Only the candidates' entries are touched.
-  scratch.around.resize(2 * n);
-  scratch.columnLast.resize(2 * size_t(w));
-  scratch.above.resize(size_t(w));  // per column: the row's samples above, laid out by the pass up
+  // `above`: the samples above the candidates that the pass down finds, packed (a range of columns
+  // [x0, x1) from x0 h on), which the pass up takes back in reverse order of rows. Only the
+  // candidates' entries are written: not zeroed, its untouched pages are never faulted in.
+  scratch.around.resize(n);
+  scratch.above.resize(n);
+  scratch.columnLast.resize(3 * size_t(w));  // the lasts of view 0, of view 1, and a row of samples above
   std::vector<int> packedEnd(static_cast<size_t>(w));  // per range of columns, at its first: the packed samples' count
   const uint8_t first = weights[0] < 1.0 ? 0 : kNone, second = weights[1] < 1.0 ? 1 : kNone;
   // Down the columns, row by row in memory order (each thread its range of columns), in a loop
@@ -46,7 +46,7 @@ void rejectBetweenTwoViews(WarpedLayer& view0, WarpedLayer& view1, const std::ve
     uint8_t* candidateRow = scratch.candidateRows.data();
     double* last0 = scratch.columnLast.data();
     double* last1 = last0 + w;
-    double* packed = scratch.around.data() + n + size_t(x0) * size_t(h);
+    double* packed = scratch.above.data() + size_t(x0) * size_t(h);
     const double* d0 = depth[0];
     const double* d1 = depth[1];
     const int width = w, height = h, count = x1 - x0;
@@ -111,8 +111,8 @@ void rejectBetweenTwoViews(WarpedLayer& view0, WarpedLayer& view1, const std::ve
   parallelColumns(w, [&](int x0, int x1) {
     const uint8_t* soleView = scratch.soleView.data();
     const double* rowFarthest = scratch.around.data();
-    const double* packed = scratch.around.data() + n + size_t(x0) * size_t(h) + packedEnd[size_t(x0)];
-    double* aboveRow = scratch.above.data() + x0;
+    const double* packed = scratch.above.data() + size_t(x0) * size_t(h) + packedEnd[size_t(x0)];
+    double* aboveRow = scratch.columnLast.data() + 2 * size_t(w) + x0;
     double* last0 = scratch.columnLast.data();
     double* last1 = last0 + w;
     double* d0 = depth[0];
@@ -184,7 +184,7 @@ void rejectMisplacedSamples(const std::vector<WarpedLayer*>& views, const std::v
   while (lastRow >= firstRow && !candidateRow[size_t(lastRow)]) --lastRow;
   if (firstRow > lastRow) return;
   UntouchedBuffer<double>& farthest = scratch.around;  // per candidate: the row's, then with the column's
-  std::vector<double>& above = scratch.above;          // per sample: the column's last valid sample above
+  auto& above = scratch.above;                        // per sample: the column's last valid sample above
   std::vector<double>& columnLast = scratch.columnLast;
   farthest.resize(n);
   above.resize(n);
