@@ -5,12 +5,15 @@
 #include <algorithm>
 #include <cmath>
 #include <iostream>
+#include <random>
+#include <vector>
 
 
 #include "Synth/Parallel.h"
 #include "Common/Metrics.h"
 #include "Synth/EdgeAlign.h"
 #include "Synth/Warp.h"
+#include "Common/Depth.h"
 #include "SynthTestScene.h"
 #include "TestPlan.h"
 
@@ -149,6 +152,143 @@ TEST_P(EdgeAlignOnTheSquare, ForegroundEdgesCodedAsBackgroundGetTheirDepthBack) 
 
 // Rows and columns in parallel, each line's edges in order: the aligned maps do not depend on the
 // number of threads (here with many moves, rows and columns).
+// The alignment as it was first written (every depth edge visited, each test in turn, no flags found
+// in kernels and no pre-test): rows of `depth` into `out`, then the columns of that result.
+namespace plain {
+
+int mismatch(const EdgeWitness& witness, const Plane& luma, int u, int v, int level) {
+  if (size_t(level) >= witness.inverseDepth->size()) return -1;
+  const double inverse = (*witness.inverseDepth)[size_t(level)];
+  if (std::isnan(inverse)) return -1;
+  double x, y, wv;
+  if (!witness.projection->forward(u, v, inverse, x, y, wv)) return -1;
+  const Plane& seen = *witness.luma;
+  const double cx = std::floor(x + 0.5), cy = std::floor(y + 0.5);
+  if (!(cx >= 0 && cy >= 0 && cx < seen.width && cy < seen.height)) return -1;
+  const int px = int(cx), py = int(cy), colour = luma.at(u, v);
+  int best = std::abs(seen.at(px, py) - colour);
+  if (px > 0) best = std::min(best, std::abs(seen.at(px - 1, py) - colour));
+  if (px + 1 < seen.width) best = std::min(best, std::abs(seen.at(px + 1, py) - colour));
+  return best;
+}
+
+// The edge between samples i and i + 1 of line `line` (a row, or a column when `columns`).
+void alignEdge(const Plane& depth, const Plane& luma, Plane& out, bool columns, int line, int i,
+               const EdgeAlignOptions& o, const EdgeWitness& witness) {
+  const int n = columns ? depth.height : depth.width;
+  auto u = [&](int k) { return columns ? line : k; };
+  auto v = [&](int k) { return columns ? k : line; };
+  auto d = [&](int k) { return int(depth.at(u(k), v(k))); };
+  auto y = [&](int k) { return int(luma.at(u(k), v(k))); };
+  auto contrast = [&](int p) { return std::abs(y(p + 1) - y(p)); };
+  const int a = d(i), b = d(i + 1);
+  if (a == o.missingLevel || b == o.missingLevel || std::abs(a - b) < o.minStep) return;
+  const bool nearLeft = a > b;
+  const int nearLevel = std::max(a, b), toFar = nearLeft ? 1 : -1, nearSample = nearLeft ? i : i + 1;
+  const int atEdge = contrast(i);
+  int best = 0, bestContrast = atEdge;
+  for (int k = 1; k <= o.reach; ++k) {
+    const int p = i + k * toFar;
+    if (p < 0 || p + 1 >= n) break;
+    const int level = d(nearLeft ? p : p + 1);
+    if (level == o.missingLevel || nearLevel - level < o.minStep) break;
+    if (contrast(p) > bestContrast) {
+      bestContrast = contrast(p);
+      best = k;
+    }
+  }
+  if (best == 0 || bestContrast < o.minContrast || bestContrast < 2 * atEdge) return;
+  const int p = i + best * toFar;
+  const int lo = std::min(i, p) + 1, hi = std::max(i, p), farSample = nearLeft ? hi + 1 : lo - 1;
+  for (int q = std::min(i, p); q <= std::max(i, p); ++q)
+    if (q != p && 2 * contrast(q) > bestContrast) return;
+  for (int s = lo; s <= hi; ++s)
+    if (!(std::abs(y(s) - y(nearSample)) < std::abs(y(s) - y(farSample)))) return;
+  long nearError = 0, farError = 0;
+  for (int s = lo; s <= hi; ++s) {
+    const int en = mismatch(witness, luma, u(s), v(s), nearLevel), ef = mismatch(witness, luma, u(s), v(s), d(s));
+    if (en < 0 || ef < 0) return;
+    nearError += en;
+    farError += ef;
+  }
+  if (nearError + long(hi - lo + 1) * o.minContrast / 4 >= farError) return;
+  for (int s = lo; s <= hi; ++s) out.samples[size_t(v(s)) * out.width + size_t(u(s))] = uint16_t(nearLevel);
+}
+
+Plane align(const Plane& depth, const Plane& luma, const EdgeAlignOptions& o, const EdgeWitness& witness) {
+  Plane rows = depth;
+  for (int y = 0; y < depth.height; ++y)
+    for (int x = 0; x + 1 < depth.width; ++x) alignEdge(depth, luma, rows, false, y, x, o, witness);
+  Plane out = rows;
+  for (int x = 0; x < depth.width; ++x)
+    for (int y = 0; y + 1 < depth.height; ++y) alignEdge(rows, luma, out, true, x, y, o, witness);
+  return out;
+}
+
+}  // namespace plain
+
+// Random maps against the plain alignment: rectangles of depth levels (near ones in front, some of the
+// missing level, ramps of one level per sample) whose texture edges lie a few samples off their depth
+// edges, with texture noise and flat texture, seen by a witness displaced sideways or up; every reach,
+// missing level or none, luma of 8 and 10 bits. The same maps, bit for bit, and the same count.
+TEST(EdgeAlign, EqualsThePlainAlignmentOnRandomMaps) {
+  std::mt19937 rng(31);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  auto pick = [&](int n) { return int(unit(rng) * n) % n; };
+  size_t moved = 0;
+  for (int trial = 0; trial < 600; ++trial) {
+    const int w = 8 + pick(70), h = 8 + pick(50);
+    const bool tenBits = trial % 4 == 3;
+    Plane depth(w, h, uint16_t(20 + pick(20))), luma(w, h), seen(w, h);
+    std::vector<int> shade(size_t(w) * h, pick(200));
+    for (int r = 0; r < 12; ++r) {
+      const int x0 = pick(w), y0 = pick(h), x1 = std::min(w, x0 + 2 + pick(w / 2)), y1 = std::min(h, y0 + 2 + pick(h / 2));
+      const int level = pick(10) == 0 ? 0 : 30 + pick(200), ramp = pick(3) == 0 ? 1 : 0;
+      const int dx = pick(9) - 4, dy = pick(9) - 4, colour = pick(256);
+      for (int y = y0; y < y1; ++y)
+        for (int x = x0; x < x1; ++x) depth.samples[size_t(y) * w + x] = uint16_t(std::min(255, level + ramp * (x - x0)));
+      for (int y = std::max(0, y0 + dy); y < std::min(h, y1 + dy); ++y)
+        for (int x = std::max(0, x0 + dx); x < std::min(w, x1 + dx); ++x) shade[size_t(y) * w + x] = colour;
+    }
+    const int scale = tenBits ? 4 : 1;
+    for (size_t i = 0; i < shade.size(); ++i) {
+      const int noise = pick(4) == 0 ? pick(12) - 6 : 0;
+      luma.samples[i] = uint16_t(scale * std::clamp(shade[i] + noise, 0, 255));
+    }
+    // The witness: the same picture shifted by a few samples (what a nearby camera would see).
+    const int shift = 1 + pick(4);
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) seen.samples[size_t(y) * w + x] = luma.at(std::clamp(x + shift, 0, w - 1), y);
+    Camera reference, other;
+    reference.K[0][0] = reference.K[1][1] = other.K[0][0] = other.K[1][1] = 100.0;
+    reference.K[0][2] = other.K[0][2] = w / 2.0;
+    reference.K[1][2] = other.K[1][2] = h / 2.0;
+    (trial % 2 ? other.t.y : other.t.x) = unit(rng) < 0.5 ? 0.3 : -0.3;
+    const ViewProjection projection(reference, other, 0);
+    EdgeAlignOptions options;
+    options.reach = 1 + trial % 6;
+    options.minStep = 8;
+    options.minContrast = 16 * scale;
+    options.missingLevel = trial % 3 == 0 ? -1 : 0;
+    std::vector<double> inverseDepth = inverseZTable(DepthRange{50.0, 200.0, 8});
+    if (options.missingLevel == 0) inverseDepth[0] = std::nan("");
+    EdgeWitness witness;
+    witness.luma = &seen;
+    witness.projection = &projection;
+    witness.inverseDepth = &inverseDepth;
+    Plane out, scratch;
+    const size_t changed = alignDepthEdges(depth, luma, options, witness, out, scratch);
+    const Plane expected = plain::align(depth, luma, options, witness);
+    ASSERT_TRUE(out == expected) << "trial " << trial;
+    size_t differ = 0;
+    for (size_t i = 0; i < depth.samples.size(); ++i) differ += depth.samples[i] != expected.samples[i];
+    ASSERT_EQ(changed, differ) << "trial " << trial;
+    moved += changed;
+  }
+  std::cout << "[ moved ] " << moved << " samples\n";
+  EXPECT_GT(moved, 300u);
+}
+
 TEST(EdgeAlign, AnyThreadCountGivesTheSameMaps) {
   const int defaultThreads = vs::workerThreads();
   std::vector<Plane> maps[2];

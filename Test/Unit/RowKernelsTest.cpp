@@ -815,97 +815,114 @@ TEST(RowKernels, IsolatedSamplesAreThePlainRule) {
     }
 }
 
-// The occlusion rule's candidates of two views against the rule written plainly, with either view
-// unable to hold candidates (its "view" is none).
-TEST(RowKernels, SoleViewOfTwoIsThePlainRule) {
-  std::mt19937 rng(23);
-  for (const RowKernels* kernels : levels())
-    for (const int n : kWidths)
-      for (const uint8_t first : {uint8_t(0), uint8_t(255)})
-        for (const uint8_t second : {uint8_t(1), uint8_t(255)}) {
-          const std::vector<double> d0 = awkwardRow(rng, n, 3.0), d1 = awkwardRow(rng, n, 3.0);
-          std::vector<uint8_t> sole(static_cast<size_t>(n), 77);
-          const bool any = kernels->soleViewOfTwo(d0.data(), d1.data(), size_t(n), first, second, 255, sole.data());
-          bool anyExpected = false;
-          for (int i = 0; i < n; ++i) {
-            const bool v0 = d0[size_t(i)] >= 0.0, v1 = d1[size_t(i)] >= 0.0;
-            const uint8_t view = v0 && !v1 ? first : v1 && !v0 ? second : 255;
-            ASSERT_EQ(sole[size_t(i)], view) << "level " << kernels->level << " n " << n << " i " << i;
-            anyExpected = anyExpected || view != 255;
-          }
-          ASSERT_EQ(any, anyExpected);
-        }
+// Inverse depths for the occlusion rule's scans: holes, NaN, -0, +0 and others.
+std::vector<double> occlusionRow(std::mt19937& rng, int n, double holes) {
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  std::vector<double> row(static_cast<size_t>(n));
+  for (double& d : row) {
+    const double u = unit(rng);
+    d = u < holes ? kKernelNoDepth : u < holes + 0.05 ? std::nan("") : u < holes + 0.1 ? -0.0 : u < holes + 0.12 ? 0.0 : unit(rng);
+  }
+  return row;
 }
 
-// The occlusion rule's column scans of two views against the loops written plainly (as
-// Synth/Occlusion.cpp had them, a candidate at a time): rows with holes and NaN, lasts with holes,
-// surroundings of HUGE_VAL (none) and NaN where no candidate lies (never to be read there).
-TEST(RowKernels, OcclusionColumnScansAreThePlainRule) {
+const std::vector<int> kOcclusionWidths = {1, 2, 3, 7, 8, 9, 15, 16, 17, 33, 100, 333};
+
+// The occlusion rule's pass down the columns of two views against the rule written plainly (as
+// Synth/Occlusion.cpp had it: the candidates in a pass of their own, the other view's last above each
+// taken before the row updates the lasts), with either view unable to hold candidates (its "view" is
+// none), rows of many and of few holes; nothing is written past up[n).
+TEST(RowKernels, OcclusionPassDownIsThePlainRule) {
+  std::mt19937 rng(23);
+  for (const RowKernels* kernels : levels())
+    for (const int n : kOcclusionWidths)
+      for (const double holes : {0.02, 0.3, 0.6})
+        for (const uint8_t first : {uint8_t(0), uint8_t(255)})
+          for (const uint8_t second : {uint8_t(1), uint8_t(255)}) {
+            const std::vector<double> row0 = occlusionRow(rng, n, holes), row1 = occlusionRow(rng, n, holes);
+            const std::vector<double> last0 = occlusionRow(rng, n, 0.3), last1 = occlusionRow(rng, n, 0.3);
+            std::vector<uint8_t> sole(static_cast<size_t>(n), 77);
+            std::vector<double> l0 = last0, l1 = last1, up(static_cast<size_t>(n) + 1, 1234.5);
+            const int count = kernels->occlusionDown(row0.data(), row1.data(), first, second, 255, sole.data(), l0.data(),
+                                                     l1.data(), up.data(), n);
+            std::vector<double> expectedUp;
+            for (int x = 0; x < n; ++x) {
+              const size_t i = size_t(x);
+              const bool v0 = row0[i] >= 0.0, v1 = row1[i] >= 0.0;
+              const uint8_t view = v0 && !v1 ? first : v1 && !v0 ? second : 255;
+              ASSERT_EQ(sole[i], view) << "level " << kernels->level << " n " << n << " x " << x;
+              if (view != 255) expectedUp.push_back(view == 1 ? last0[i] : last1[i]);
+              ASSERT_EQ(bitsOf(l0[i]), bitsOf(v0 ? row0[i] : last0[i])) << "level " << kernels->level << " x " << x;
+              ASSERT_EQ(bitsOf(l1[i]), bitsOf(v1 ? row1[i] : last1[i])) << "level " << kernels->level << " x " << x;
+            }
+            ASSERT_EQ(count, int(expectedUp.size())) << "level " << kernels->level << " n " << n;
+            for (size_t k = 0; k < expectedUp.size(); ++k)
+              ASSERT_EQ(bitsOf(up[k]), bitsOf(expectedUp[k])) << "level " << kernels->level << " n " << n << " k " << k;
+            ASSERT_EQ(up[size_t(n)], 1234.5) << "level " << kernels->level << " n " << n;  // up[0, n) only
+          }
+}
+
+// The occlusion rule's pass up the columns of two views against the loop written plainly (as
+// Synth/Occlusion.cpp had it, a candidate at a time, the samples above read from a whole row): rows
+// with holes and NaN, lasts with holes, surroundings of HUGE_VAL (none) and NaN where no candidate
+// lies (never to be read there), candidates marked 0 and 1 among other bytes (255, 2, 128), the row's
+// packed samples above after other rows' (not to be read).
+TEST(RowKernels, OcclusionPassUpIsThePlainRule) {
   std::mt19937 rng(24);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   for (const RowKernels* kernels : levels())
-    for (const int n : kWidths)
-      for (const double steps : {0.0, 0.1, 0.5}) {
-        std::vector<uint8_t> sole(static_cast<size_t>(n));
-        for (uint8_t& k : sole) k = unit(rng) < 0.3 ? 0 : unit(rng) < 0.4 ? 1 : 255;
-        auto depths = [&] {
-          std::vector<double> row(static_cast<size_t>(n));
-          for (double& d : row) {
+    for (const int n : kOcclusionWidths)
+      for (const double candidates : {0.02, 0.5})
+        for (const double steps : {0.0, 0.1, 0.5}) {
+          std::vector<uint8_t> sole(static_cast<size_t>(n));
+          for (uint8_t& k : sole) {
             const double u = unit(rng);
-            d = u < 0.3 ? kKernelNoDepth : u < 0.35 ? std::nan("") : u < 0.4 ? -0.0 : unit(rng);
+            k = u < candidates / 2 ? 0 : u < candidates ? 1 : u < 0.8 ? 255 : u < 0.9 ? 2 : 128;
           }
-          return row;
-        };
-        const std::vector<double> row0 = depths(), row1 = depths(), last0 = depths(), last1 = depths();
-        std::vector<double> up = depths(), around(static_cast<size_t>(n));
-        for (int x = 0; x < n; ++x)
-          around[size_t(x)] = sole[size_t(x)] == 255 ? std::nan("") : unit(rng) < 0.2 ? HUGE_VAL : unit(rng);
-        // Down, with and without the samples above.
-        for (const bool withUp : {false, true}) {
-          std::vector<double> l0 = last0, l1 = last1, u = up, e0 = last0, e1 = last1, eu = up;
-          kernels->occlusionDown(sole.data(), row0.data(), row1.data(), l0.data(), l1.data(),
-                                 withUp ? u.data() : nullptr, n);
+          const std::vector<double> row0 = occlusionRow(rng, n, 0.3), row1 = occlusionRow(rng, n, 0.3);
+          const std::vector<double> last0 = occlusionRow(rng, n, 0.3), last1 = occlusionRow(rng, n, 0.3);
+          const std::vector<double> upRow = occlusionRow(rng, n, 0.3);  // the sample above each candidate
+          std::vector<double> around(static_cast<size_t>(n));
+          std::vector<double> packed = {std::nan(""), -7.0, 3.0};  // another row's
           for (int x = 0; x < n; ++x) {
-            if (withUp) eu[size_t(x)] = sole[size_t(x)] == 1 ? e0[size_t(x)] : e1[size_t(x)];
-            if (row0[size_t(x)] >= 0.0) e0[size_t(x)] = row0[size_t(x)];
-            if (row1[size_t(x)] >= 0.0) e1[size_t(x)] = row1[size_t(x)];
+            const bool candidate = sole[size_t(x)] <= 1;
+            around[size_t(x)] = !candidate ? std::nan("") : unit(rng) < 0.2 ? HUGE_VAL : unit(rng);
+            if (candidate) packed.push_back(upRow[size_t(x)]);
+          }
+          std::vector<double> r0 = row0, r1 = row1, l0 = last0, l1 = last1;
+          std::vector<double> working(static_cast<size_t>(n), std::nan(""));
+          const int used = kernels->occlusionUp(sole.data(), r0.data(), r1.data(), l0.data(), l1.data(),
+                                                packed.data() + packed.size(), around.data(), steps, n, working.data());
+          ASSERT_EQ(used, int(packed.size()) - 3) << "level " << kernels->level << " n " << n;
+          std::vector<double> e0 = row0, e1 = row1, el0 = last0, el1 = last1;
+          int dropped = 0;
+          for (int x = 0; x < n; ++x) {
+            const size_t i = size_t(x);
+            const double below0 = el0[i], below1 = el1[i];
+            const double value0 = e0[i], value1 = e1[i];
+            if (value0 >= 0.0) el0[i] = value0;
+            if (value1 >= 0.0) el1[i] = value1;
+            const uint8_t k = sole[i];
+            if (k > 1) continue;
+            const double below = k == 1 ? below0 : below1, own = k == 1 ? value1 : value0, above = upRow[i];
+            double farthest = around[i];
+            if (below >= 0.0 && above >= 0.0) farthest = std::min(farthest, std::min(below, above));
+            if (farthest != HUGE_VAL && own < farthest - steps) {
+              (k == 1 ? e1 : e0)[i] = kKernelNoDepth;
+              ++dropped;
+            }
           }
           for (int x = 0; x < n; ++x) {
-            ASSERT_EQ(bitsOf(l0[size_t(x)]), bitsOf(e0[size_t(x)])) << "level " << kernels->level << " x " << x;
-            ASSERT_EQ(bitsOf(l1[size_t(x)]), bitsOf(e1[size_t(x)])) << "level " << kernels->level << " x " << x;
-            ASSERT_EQ(bitsOf(u[size_t(x)]), bitsOf(eu[size_t(x)])) << "level " << kernels->level << " x " << x;
+            const size_t i = size_t(x);
+            ASSERT_EQ(bitsOf(r0[i]), bitsOf(e0[i])) << "level " << kernels->level << " n " << n << " x " << x;
+            ASSERT_EQ(bitsOf(r1[i]), bitsOf(e1[i])) << "level " << kernels->level << " n " << n << " x " << x;
+            ASSERT_EQ(bitsOf(l0[i]), bitsOf(el0[i])) << "level " << kernels->level << " n " << n << " x " << x;
+            ASSERT_EQ(bitsOf(l1[i]), bitsOf(el1[i])) << "level " << kernels->level << " n " << n << " x " << x;
+          }
+          if (n >= 100 && candidates > 0.1) {
+            EXPECT_GT(dropped, 0) << "the rows drop some candidates";
           }
         }
-        // Up.
-        std::vector<double> r0 = row0, r1 = row1, l0 = last0, l1 = last1;
-        std::vector<double> e0 = row0, e1 = row1, el0 = last0, el1 = last1;
-        kernels->occlusionUp(sole.data(), r0.data(), r1.data(), l0.data(), l1.data(), up.data(), around.data(), steps, n);
-        int dropped = 0;
-        for (int x = 0; x < n; ++x) {
-          const double below0 = el0[size_t(x)], below1 = el1[size_t(x)];
-          const double value0 = e0[size_t(x)], value1 = e1[size_t(x)];
-          if (value0 >= 0.0) el0[size_t(x)] = value0;
-          if (value1 >= 0.0) el1[size_t(x)] = value1;
-          const uint8_t k = sole[size_t(x)];
-          if (k == 255) continue;
-          const double below = k == 1 ? below0 : below1, own = k == 1 ? value1 : value0;
-          double farthest = around[size_t(x)];
-          if (below >= 0.0 && up[size_t(x)] >= 0.0) farthest = std::min(farthest, std::min(below, up[size_t(x)]));
-          if (farthest != HUGE_VAL && own < farthest - steps) {
-            (k == 1 ? e1 : e0)[size_t(x)] = kKernelNoDepth;
-            ++dropped;
-          }
-        }
-        for (int x = 0; x < n; ++x) {
-          ASSERT_EQ(bitsOf(r0[size_t(x)]), bitsOf(e0[size_t(x)])) << "level " << kernels->level << " x " << x;
-          ASSERT_EQ(bitsOf(r1[size_t(x)]), bitsOf(e1[size_t(x)])) << "level " << kernels->level << " x " << x;
-          ASSERT_EQ(bitsOf(l0[size_t(x)]), bitsOf(el0[size_t(x)])) << "level " << kernels->level << " x " << x;
-          ASSERT_EQ(bitsOf(l1[size_t(x)]), bitsOf(el1[size_t(x)])) << "level " << kernels->level << " x " << x;
-        }
-        if (n >= 33) {
-          EXPECT_GT(dropped, 0) << "the rows drop some candidates";
-        }
-      }
 }
 
 }  // namespace

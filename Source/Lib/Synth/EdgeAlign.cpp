@@ -56,6 +56,34 @@ void markDepthEdges(const uint16_t* a, const uint16_t* b, int n, const EdgeAlign
   rowKernels().depthEdgePairs(a, b, n, o.missingLevel, o.minStep, flags);
 }
 
+// Whether alignEdge's first test, on the luma contrasts, can pass for the depth edge between samples
+// x and x + 1 of `line`: the texture edge it looks for is one of the contrasts within reach on the far
+// side (it stops earlier where the far surface ends), so the largest of those must be at least
+// minContrast, at least twice and more than the contrast at the depth edge. Most depth edges fail
+// it; here without a branch on the samples (positions past the line's ends read the edge's own
+// contrast instead, which adds nothing), so that they cost little.
+inline bool mayMove(const Line& line, int x, const EdgeAlignOptions& o) {
+  const int n = line.n;
+  auto contrast = [&](int p) { return std::abs(line.y(p + 1) - line.y(p)); };
+  const int toFar = line.d(x) > line.d(x + 1) ? 1 : -1;
+  const int atEdge = contrast(x);
+  int most = 0;
+  for (int k = 1; k <= o.reach; ++k) {
+    const int p = x + k * toFar;
+    const int c = contrast((p >= 0) & (p + 1 < n) ? p : x);
+    most = most > c ? most : c;
+  }
+  return (most >= o.minContrast) & (most >= 2 * atEdge) & (most > atEdge);
+}
+
+// Asks for the cache lines of samples [begin, end) ahead of their use: the edges read the luma and
+// depth of lines crossing a few rows ahead of the one visited, which would otherwise miss the cache
+// at nearly every edge.
+inline void prefetchSamples(const uint16_t* begin, const uint16_t* end) {
+  for (const uint16_t* p = begin; p < end; p += 32) __builtin_prefetch(p);
+  if (end > begin) __builtin_prefetch(end - 1);
+}
+
 // The depth edge between samples x and x + 1 of `line`: moves it onto the texture edge when the tests
 // of EdgeAlign.h hold.
 void alignEdge(const Line& line, int x, const EdgeAlignOptions& o, const EdgeWitness& witness) {
@@ -122,10 +150,13 @@ size_t alignDepthEdges(const Plane& depth, const Plane& luma, const EdgeAlignOpt
     std::vector<uint8_t>& edgeFlags = *flags;
     edgeFlags.resize(size_t(w));
     for (int y = y0; y < y1; ++y) {
+      if (y + 1 < y1) prefetchSamples(luma.row(y + 1), luma.row(y + 1) + w);  // read at the next row's edges
       const Line line{depth.row(y), luma.row(y), out.row(y), 1, w, 0, y, 1, 0};
       const uint16_t* d = depth.row(y);
       markDepthEdges(d, d + 1, w - 1, options, edgeFlags.data());
-      forEachFlag(edgeFlags.data(), w - 1, [&](int x) { alignEdge(line, x, options, witness); });
+      forEachFlag(edgeFlags.data(), w - 1, [&](int x) {
+        if (mayMove(line, x, options)) alignEdge(line, x, options, witness);
+      });
     }
   });
   // Then the columns of the aligned rows, each from top to bottom; a thread takes a range of columns
@@ -136,11 +167,15 @@ size_t alignDepthEdges(const Plane& depth, const Plane& luma, const EdgeAlignOpt
     std::vector<uint8_t>& edgeFlags = *flags;
     edgeFlags.resize(size_t(w));
     for (int y = 0; y + 1 < h; ++y) {
+      // The rows the edges of the rows ahead will read, up to reach + 1 below the pair's first.
+      const int ahead = std::min(h - 1, y + options.reach + 1);
+      prefetchSamples(luma.row(ahead) + x0, luma.row(ahead) + x1);
+      prefetchSamples(scratch.row(ahead) + x0, scratch.row(ahead) + x1);
       markDepthEdges(scratch.row(y) + x0, scratch.row(y + 1) + x0, x1 - x0, options, edgeFlags.data());
       forEachFlag(edgeFlags.data(), x1 - x0, [&](int offset) {
         const int x = x0 + offset;
-        alignEdge({scratch.samples.data() + x, luma.samples.data() + x, out.samples.data() + x, w, h, x, 0, 0, 1}, y,
-                  options, witness);
+        const Line column{scratch.samples.data() + x, luma.samples.data() + x, out.samples.data() + x, w, h, x, 0, 0, 1};
+        if (mayMove(column, y, options)) alignEdge(column, y, options, witness);
       });
     }
   });

@@ -18,15 +18,57 @@ constexpr uint8_t kNone = 255;  // no candidate: no view, or more than one, cove
 
 static_assert(kKernelNoDepth == kNoDepth, "the row kernels' hole is the layers' hole");
 
-// rejectMisplacedSamples' last steps for two views, whose candidates each have one other view: the
-// candidates of view 0 are decided on view 1's surroundings and those of view 1 on view 0's, so both
-// are found in one row pass over the candidates and one pair of column scans that follow both views,
-// and a candidate is dropped where it is decided (the scans read a sample's depth before deciding it,
-// and each thread owns its columns).
-void rejectBetweenTwoViews(WarpedLayer& view0, WarpedLayer& view1, double behind, int firstRow, int lastRow,
+// rejectMisplacedSamples for two views, whose candidates each have one other view: the candidates of
+// view 0 are decided on view 1's surroundings and those of view 1 on view 0's, so both are found in
+// one pass down the columns (which also finds the candidates, and keeps each column's last valid
+// sample above in each view), one row pass over the candidates and one pass up the columns, and a
+// candidate is dropped where it is decided (the scans read a sample's depth before deciding it, and
+// each thread owns its columns).
+void rejectBetweenTwoViews(WarpedLayer& view0, WarpedLayer& view1, const std::vector<double>& weights, double behind,
                            OcclusionScratch& scratch) {
   const int w = view0.width, h = view0.height;
+  const size_t n = size_t(w) * size_t(h);
   double* const depth[2] = {view0.inverseDepth.data(), view1.inverseDepth.data()};
+  scratch.soleView.resize(n);
+  scratch.candidateRows.assign(size_t(h), 0);
+  // `above`: the samples above the candidates that the pass down finds, packed (a range of columns
+  // [x0, x1) from x0 h on), which the pass up takes back in reverse order of rows. Only the
+  // candidates' entries are written: not zeroed, its untouched pages are never faulted in.
+  scratch.around.resize(n);
+  scratch.above.resize(n);
+  scratch.columnLast.resize(3 * size_t(w));  // the lasts of view 0, of view 1, and a row of samples above
+  std::vector<int> packedEnd(static_cast<size_t>(w));  // per range of columns, at its first: the packed samples' count
+  const uint8_t first = weights[0] < 1.0 ? 0 : kNone, second = weights[1] < 1.0 ? 1 : kNone;
+  // Down the columns, row by row in memory order (each thread its range of columns), in a loop
+  // compiled for the CPU's x86-64 level (Synth/Kernels/Rows.h, where the rule is written out).
+  parallelColumns(w, [&](int x0, int x1) {
+    uint8_t* sole = scratch.soleView.data();
+    uint8_t* candidateRow = scratch.candidateRows.data();
+    double* last0 = scratch.columnLast.data();
+    double* last1 = last0 + w;
+    double* packed = scratch.above.data() + size_t(x0) * size_t(h);
+    const double* d0 = depth[0];
+    const double* d1 = depth[1];
+    const int width = w, height = h, count = x1 - x0;
+    std::fill(last0 + x0, last0 + x1, kNoDepth);
+    std::fill(last1 + x0, last1 + x1, kNoDepth);
+    const RowKernels& kernels = rowKernels();
+    int used = 0;
+    for (int y = 0; y < height; ++y) {
+      const size_t at = size_t(y) * width + size_t(x0);
+      const int found =
+          kernels.occlusionDown(d0 + at, d1 + at, first, second, kNone, sole + at, last0 + x0, last1 + x0, packed + used, count);
+      used += found;
+      // Another thread may mark the same row: the same value, stored atomically.
+      if (found) __atomic_store_n(candidateRow + y, uint8_t(1), __ATOMIC_RELAXED);
+    }
+    packedEnd[size_t(x0)] = used;
+  });
+  const uint8_t* candidateRows = scratch.candidateRows.data();
+  int firstRow = 0, lastRow = h - 1;  // the rows holding candidates
+  while (firstRow < h && !candidateRows[size_t(firstRow)]) ++firstRow;
+  while (lastRow >= firstRow && !candidateRows[size_t(lastRow)]) --lastRow;
+  if (firstRow > lastRow) return;
   // Along rows: each candidate takes the farther of the valid samples that close the other view's run
   // of holes around it (HUGE_VAL where the run reaches the border). Only candidates are visited; each
   // view's run is found once and kept while the candidates lie in it.
@@ -64,35 +106,27 @@ void rejectBetweenTwoViews(WarpedLayer& view0, WarpedLayer& view1, double behind
       }
     }
   });
-  // Along columns, row by row in memory order (each thread its range of columns), both views at once:
-  // down to keep each column's last valid sample above in each view, then up with the one below, where
-  // the candidates are decided on the other view's.
+  // Up the columns, row by row in memory order (each thread the range of columns it had on the way
+  // down), both views at once, with the samples below: the candidates are decided on the other view's.
   parallelColumns(w, [&](int x0, int x1) {
     const uint8_t* soleView = scratch.soleView.data();
     const double* rowFarthest = scratch.around.data();
-    double* up = scratch.above.data();
+    const double* packed = scratch.above.data() + size_t(x0) * size_t(h) + packedEnd[size_t(x0)];
+    double* aboveRow = scratch.columnLast.data() + 2 * size_t(w) + x0;
     double* last0 = scratch.columnLast.data();
     double* last1 = last0 + w;
     double* d0 = depth[0];
     double* d1 = depth[1];
-    const int width = w, top = firstRow, bottom = lastRow, height = h;
+    const int width = w, top = firstRow, height = h;
     const double steps = behind;
     std::fill(last0 + x0, last0 + x1, kNoDepth);
     std::fill(last1 + x0, last1 + x1, kNoDepth);
-    // A row of the thread's columns at a time, in loops compiled for the CPU's x86-64 level
-    // (Synth/Kernels/Rows.h; the rule is written out there): down, a candidate of view 1 needs view 0's
-    // sample above and one of view 0 view 1's; up, the candidates are decided.
     const RowKernels& kernels = rowKernels();
-    const int n = x1 - x0;
-    for (int y = 0; y <= bottom; ++y) {
-      const size_t at = size_t(y) * width + size_t(x0);
-      kernels.occlusionDown(soleView + at, d0 + at, d1 + at, last0 + x0, last1 + x0, y >= top ? up + at : nullptr, n);
-    }
-    std::fill(last0 + x0, last0 + x1, kNoDepth);
-    std::fill(last1 + x0, last1 + x1, kNoDepth);
+    const int count = x1 - x0;
     for (int y = height - 1; y >= top; --y) {
       const size_t at = size_t(y) * width + size_t(x0);
-      kernels.occlusionUp(soleView + at, d0 + at, d1 + at, last0 + x0, last1 + x0, up + at, rowFarthest + at, steps, n);
+      packed -= kernels.occlusionUp(soleView + at, d0 + at, d1 + at, last0 + x0, last1 + x0, packed, rowFarthest + at,
+                                    steps, count, aboveRow);
     }
   });
 }
@@ -109,14 +143,17 @@ void rejectMisplacedSamples(const std::vector<WarpedLayer*>& views, const std::v
   const size_t n = size_t(w) * size_t(h);
   VS_CHECK(views.size() < kNone && weights.size() == views.size());
   for (const WarpedLayer* view : views) VS_CHECK(view->width == w && view->height == h);
+  if (views.size() == 2) {
+    rejectBetweenTwoViews(*views[0], *views[1], weights, behind, scratch);
+    return;
+  }
   std::vector<uint8_t>& sole = scratch.soleView;
   sole.resize(n);
   std::vector<uint8_t>& candidateRow = scratch.candidateRows;
   candidateRow.assign(size_t(h), 0);
   // 1 while a candidate is still behind the surroundings in every other view looked at so far.
-  // (Written at every sample, and read, with more than two views only.)
   std::vector<uint8_t>& reject = scratch.stillBehind;
-  if (views.size() > 2) reject.resize(n);
+  reject.resize(n);
   std::vector<const double*> depths;
   for (const WarpedLayer* view : views) depths.push_back(view->inverseDepth.data());
   parallelRanges(h, [&](int y0, int y1) {
@@ -124,31 +161,20 @@ void rejectMisplacedSamples(const std::vector<WarpedLayer*>& views, const std::v
     const size_t viewCount = depths.size(), width = size_t(w);
     uint8_t* out = sole.data();
     uint8_t* stillBehind = reject.data();
-    // Two views (nearly every run): which one covers the sample alone, without branches.
-    const bool two = viewCount == 2;
-    const uint8_t first = weights[0] < 1.0 ? 0 : kNone, second = weights[1] < 1.0 ? 1 : kNone;
-    const RowKernels& kernels = rowKernels();
     for (int y = y0; y < y1; ++y) {
       uint8_t any = 0;
       const size_t begin = size_t(y) * width, end = size_t(y + 1) * width;
-      if (two) {
-        // Which one covers the sample alone (rejectBetweenTwoViews decides each candidate once: no
-        // stillBehind flags), in a loop compiled for the CPU's x86-64 level (Synth/Kernels/Rows.h).
-        any = uint8_t(kernels.soleViewOfTwo(depth[0] + begin, depth[1] + begin, end - begin, first, second, kNone,
-                                            out + begin));
-      } else {
-        for (size_t i = begin; i < end; ++i) {
-          size_t count = 0, only = 0;
-          for (size_t k = 0; k < viewCount; ++k)
-            if (depth[k][i] >= 0.0) {
-              ++count;
-              only = k;
-            }
-          const bool candidate = count == 1 && weights[only] < 1.0;
-          out[i] = candidate ? uint8_t(only) : kNone;
-          stillBehind[i] = candidate;
-          any |= uint8_t(candidate);
-        }
+      for (size_t i = begin; i < end; ++i) {
+        size_t count = 0, only = 0;
+        for (size_t k = 0; k < viewCount; ++k)
+          if (depth[k][i] >= 0.0) {
+            ++count;
+            only = k;
+          }
+        const bool candidate = count == 1 && weights[only] < 1.0;
+        out[i] = candidate ? uint8_t(only) : kNone;
+        stillBehind[i] = candidate;
+        any |= uint8_t(candidate);
       }
       candidateRow[size_t(y)] = any;
     }
@@ -158,15 +184,10 @@ void rejectMisplacedSamples(const std::vector<WarpedLayer*>& views, const std::v
   while (lastRow >= firstRow && !candidateRow[size_t(lastRow)]) --lastRow;
   if (firstRow > lastRow) return;
   UntouchedBuffer<double>& farthest = scratch.around;  // per candidate: the row's, then with the column's
-  std::vector<double>& above = scratch.above;          // per sample: the column's last valid sample above
+  auto& above = scratch.above;                        // per sample: the column's last valid sample above
   std::vector<double>& columnLast = scratch.columnLast;
   farthest.resize(n);
   above.resize(n);
-  if (views.size() == 2) {
-    columnLast.resize(2 * size_t(w));
-    rejectBetweenTwoViews(*views[0], *views[1], behind, firstRow, lastRow, scratch);
-    return;
-  }
   columnLast.resize(size_t(w));
   for (size_t o = 0; o < views.size(); ++o) {
     const double* other = depths[o];

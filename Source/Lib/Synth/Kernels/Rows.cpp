@@ -214,6 +214,30 @@ void rowSegments(const double* xs, const double* ws, int width, const uint8_t* n
   // Those that add nothing to the points are dropped first in a branch-free pass: the rest, about one
   // in ten on real depth maps, are drawn with the branches of the full test.
   int count = 0, pair = 0;
+#if defined(__AVX512F__) && defined(__AVX512DQ__) && defined(__AVX512VL__)
+  // Eight pairs at a time: addsNothing's test in lanes (the same comparisons: the bits of the depths
+  // as signed integers, the positions' magnitudes as doubles, NaN comparing false), the pairs kept
+  // packed in a register (a compress in a register: to memory it is slow on some CPUs) and stored
+  // whole: segments[count, count + 8) lies within the row's width ints, as count <= pair and pair + 9
+  // <= width.
+  {
+    const __m512d one = _mm512_set1_pd(1.0), limit = _mm512_set1_pd(4194304.0);
+    const __m512i zeroBits = _mm512_setzero_si512();
+    const __m256i eight = _mm256_set1_epi32(8);
+    __m256i index = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
+    for (; pair + 9 <= width; pair += 8) {
+      const __m512d x0 = _mm512_loadu_pd(xs + pair), x1 = _mm512_loadu_pd(xs + pair + 1);
+      const __m512i a = _mm512_loadu_si512(ws + pair), b = _mm512_loadu_si512(ws + pair + 1);
+      const __mmask8 nothing = __mmask8(_mm512_cmpeq_epi64_mask(a, b) & _mm512_cmpge_epi64_mask(a, zeroBits) &
+                                        _mm512_cmp_pd_mask(_mm512_abs_pd(_mm512_sub_pd(x1, x0)), one, _CMP_LE_OQ) &
+                                        _mm512_cmp_pd_mask(_mm512_abs_pd(x0), limit, _CMP_LT_OQ));
+      const __mmask8 kept = __mmask8(~nothing);
+      _mm256_storeu_si256(reinterpret_cast<__m256i*>(segments + count), _mm256_maskz_compress_epi32(kept, index));
+      count += __builtin_popcount(unsigned(kept));
+      index = _mm256_add_epi32(index, eight);
+    }
+  }
+#endif
   for (; pair + 2 < width; pair += 2) {
     const TwoInts nothing = addsNothingTwice(xs + pair, ws + pair);
     segments[count] = pair;
@@ -225,6 +249,69 @@ void rowSegments(const double* xs, const double* ws, int width, const uint8_t* n
     segments[count] = pair;
     count += !addsNothing(xs[pair], xs[pair + 1], ws[pair], ws[pair + 1]);
   }
+#if defined(__AVX512F__) && defined(__AVX512DQ__) && defined(__AVX512VL__)
+  // Eight segments at a time: the full test below, coveredRange and the depths along the segments in
+  // lanes (the same operations in the same order, NaN comparing as there; the blends are the ternaries
+  // and std::min, std::max of the scalar code), each lane's centres in turn, the raises one by one
+  // (neighbouring segments share cells; a max does not depend on the order). The zero-masking forms
+  // of the intrinsics: GCC 12's plain ones warn, as in Raster.h.
+  {
+    const __m512d zero = _mm512_setzero_pd(), margin = _mm512_set1_pd(1e-9), below = _mm512_set1_pd(-1e-9);
+    const __m512d lastCentre = _mm512_set1_pd(double(outWidth - 1)), beyond = _mm512_set1_pd(outWidth - 1 + 1e-9);
+    const __m512d jump = _mm512_set1_pd(discontinuity);
+    const __m256i one = _mm256_set1_epi32(1);
+    alignas(64) double values[8];
+    alignas(32) int cells[8];
+    for (int k = 0; k < count; k += 8) {
+      const int lanes = count - k < 8 ? count - k : 8;
+      const __mmask8 live = __mmask8((1u << lanes) - 1);
+      __mmask8 near = live;
+      if (splatting != 1) {
+        near = 0;
+        for (int i = 0; i < lanes; ++i) {
+          const int x = segments[k + i];
+          near = __mmask8(near | (unsigned((nearBoundary[x] | nearBoundary[x + 1]) != 0) << i));
+        }
+      }
+      const __m256i at = _mm256_maskz_loadu_epi32(live, segments + k);
+      const __m512d p0 = _mm512_mask_i32gather_pd(zero, live, at, xs, 8);
+      const __m512d p1 = _mm512_mask_i32gather_pd(zero, live, at, xs + 1, 8);
+      const __m512d w0 = _mm512_mask_i32gather_pd(zero, live, at, ws, 8);
+      const __m512d w1 = _mm512_mask_i32gather_pd(zero, live, at, ws + 1, 8);
+      __mmask8 drawn = __mmask8(near & ~(_mm512_cmp_pd_mask(w0, zero, _CMP_LT_OQ) | _mm512_cmp_pd_mask(w1, zero, _CMP_LT_OQ) |
+                                         _mm512_cmp_pd_mask(_mm512_abs_pd(_mm512_sub_pd(w0, w1)), jump, _CMP_GT_OQ)));
+      const __mmask8 reversed = _mm512_cmp_pd_mask(p1, p0, _CMP_LT_OQ);
+      const __m512d x0 = _mm512_mask_blend_pd(reversed, p0, p1), x1 = _mm512_mask_blend_pd(reversed, p1, p0);
+      const __m512d a = _mm512_mask_blend_pd(reversed, w0, w1), b = _mm512_mask_blend_pd(reversed, w1, w0);
+      // coveredRange(x0, x1, outWidth, first, last)
+      drawn = __mmask8(drawn & ~(_mm512_cmp_pd_mask(x1, below, _CMP_LT_OQ) | _mm512_cmp_pd_mask(x0, beyond, _CMP_GT_OQ)));
+      const __m512d lo0 = _mm512_sub_pd(x0, margin), hi0 = _mm512_add_pd(x1, margin);
+      const __m512d lo = _mm512_mask_blend_pd(_mm512_cmp_pd_mask(lo0, zero, _CMP_LT_OQ), lo0, zero);
+      const __m512d hi = _mm512_mask_blend_pd(_mm512_cmp_pd_mask(lastCentre, hi0, _CMP_LT_OQ), hi0, lastCentre);
+      __m256i first = _mm512_maskz_cvttpd_epi32(drawn, lo);
+      first = _mm256_mask_add_epi32(first, _mm512_cmp_pd_mask(_mm512_maskz_cvtepi32_pd(0xff, first), lo, _CMP_LT_OQ),
+                                    first, one);
+      const __m256i last = _mm512_maskz_cvttpd_epi32(drawn, hi);
+      drawn = __mmask8(drawn & _mm256_cmp_epi32_mask(first, last, _MM_CMPINT_LE));
+      if (!drawn) continue;
+      const __m512d span = _mm512_sub_pd(x1, x0), slope = _mm512_sub_pd(b, a);
+      const __mmask8 spread = _mm512_cmp_pd_mask(span, zero, _CMP_GT_OQ);
+      __m256i px = first;
+      for (__mmask8 going = drawn; going;) {
+        const __m512d t = _mm512_maskz_div_pd(spread, _mm512_sub_pd(_mm512_maskz_cvtepi32_pd(0xff, px), x0), span);
+        _mm512_store_pd(values, _mm512_add_pd(a, _mm512_mul_pd(t, slope)));
+        _mm256_store_si256(reinterpret_cast<__m256i*>(cells), px);
+        for (unsigned m = going; m; m &= m - 1) {
+          const int i = __builtin_ctz(m);
+          raiseCell(z[cells[i]], values[i]);
+        }
+        px = _mm256_add_epi32(px, one);
+        going = __mmask8(going & _mm256_cmp_epi32_mask(px, last, _MM_CMPINT_LE));
+      }
+    }
+    return;
+  }
+#endif
   for (int k = 0; k < count; ++k) {
     const int x = segments[k];
     const double w0 = ws[x], w1 = ws[x + 1];
@@ -898,46 +985,138 @@ void isolatedSamples(const double* row, int width, uint8_t* isolated) {
   for (int x = 1; x + 1 < width; ++x) isolated[x] = uint8_t((row[x] >= 0) & (row[x - 1] < 0) & (row[x + 1] < 0));
 }
 
-bool soleViewOfTwo(const double* d0, const double* d1, size_t n, uint8_t first, uint8_t second, uint8_t none,
-                   uint8_t* sole) {
-  // Byte masks instead of branches: the loop vectorises.
-  uint8_t any = 0;
-  for (size_t i = 0; i < n; ++i) {
-    const uint8_t v0 = uint8_t(d0[i] >= 0.0), v1 = uint8_t(d1[i] >= 0.0);
-    const uint8_t only0 = uint8_t(-uint8_t(v0 & (v1 ^ 1))), only1 = uint8_t(-uint8_t(v1 & (v0 ^ 1)));
-    const uint8_t view = uint8_t((first & only0) | (second & only1) | (none & uint8_t(~(only0 | only1))));
-    sole[i] = view;
-    any |= uint8_t(view != none);
-  }
-  return any != 0;
+// Whether some byte of the eight is 0 or 1 (a candidate of the occlusion rule): some byte of eight &
+// 0xFE..FE is zero (the exact zero-byte test: a borrow reaches the top bit of a byte only past a
+// zero byte below it, which then is found first).
+inline bool anyCandidate(const uint8_t* eightBytes) {
+  uint64_t eight;
+  std::memcpy(&eight, eightBytes, sizeof eight);
+  const uint64_t high = eight & 0xFEFEFEFEFEFEFEFEull;
+  return ((high - 0x0101010101010101ull) & ~high & 0x8080808080808080ull) != 0;
 }
 
 // __restrict: the rows, the lasts and the up samples are distinct arrays, which GCC would otherwise
 // have to check at run time, pair by pair, before it vectorises.
-void occlusionDown(const uint8_t* __restrict sole, const double* __restrict row0, const double* __restrict row1,
-                   double* __restrict last0, double* __restrict last1, double* __restrict up, int n) {
-  if (up)
-    for (int x = 0; x < n; ++x) up[x] = sole[x] == 1 ? last0[x] : last1[x];
-  for (int x = 0; x < n; ++x) {
-    last0[x] = row0[x] >= 0.0 ? row0[x] : last0[x];
-    last1[x] = row1[x] >= 0.0 ? row1[x] : last1[x];
+int occlusionDown(const double* __restrict row0, const double* __restrict row1, uint8_t first, uint8_t second,
+                  uint8_t none, uint8_t* __restrict sole, double* __restrict last0, double* __restrict last1,
+                  double* __restrict up, int n) {
+  int count = 0, x = 0;
+#if defined(__AVX512F__) && defined(__AVX512BW__) && defined(__AVX512VL__)
+  // Eight samples at a time, all in one pass: the candidates as bit masks and their bytes, the
+  // candidates' samples above packed in a register (a compress to memory is slow on some CPUs) and
+  // stored whole (up[count, count + 8) lies in up[0, n), as count <= x), the lasts as blends.
+  {
+    const __m512d zero = _mm512_setzero_pd();
+    const __m128i firstBytes = _mm_set1_epi8(char(first)), secondBytes = _mm_set1_epi8(char(second));
+    const __m128i noneBytes = _mm_set1_epi8(char(none)), ones = _mm_set1_epi8(1);
+    for (; x + 8 <= n; x += 8) {
+      const __m512d value0 = _mm512_loadu_pd(row0 + x), value1 = _mm512_loadu_pd(row1 + x);
+      const __mmask8 valid0 = _mm512_cmp_pd_mask(value0, zero, _CMP_GE_OQ);
+      const __mmask8 valid1 = _mm512_cmp_pd_mask(value1, zero, _CMP_GE_OQ);
+      const __mmask16 only0 = __mmask16(valid0 & ~valid1), only1 = __mmask16(valid1 & ~valid0);
+      const __m128i bytes = _mm_mask_mov_epi8(_mm_mask_mov_epi8(noneBytes, only0, firstBytes), only1, secondBytes);
+      _mm_storel_epi64(reinterpret_cast<__m128i*>(sole + x), bytes);
+      const __m512d below0 = _mm512_loadu_pd(last0 + x), below1 = _mm512_loadu_pd(last1 + x);
+      const __mmask8 candidates = __mmask8(_mm_cmple_epu8_mask(bytes, ones));
+      if (candidates) {
+        const __mmask8 ofSecond = __mmask8(_mm_cmpeq_epi8_mask(bytes, ones));
+        const __m512d above = _mm512_mask_blend_pd(ofSecond, below1, below0);
+        _mm512_storeu_pd(up + count, _mm512_maskz_compress_pd(candidates, above));
+        count += __builtin_popcount(unsigned(candidates));
+      }
+      _mm512_storeu_pd(last0 + x, _mm512_mask_blend_pd(valid0, below0, value0));
+      _mm512_storeu_pd(last1 + x, _mm512_mask_blend_pd(valid1, below1, value1));
+    }
   }
+#endif
+  // The candidates (byte masks instead of branches) and the lasts, in a loop that vectorises.
+  for (int i = x; i < n; ++i) {
+    const double value0 = row0[i], value1 = row1[i];
+    const uint8_t valid0 = uint8_t(value0 >= 0.0), valid1 = uint8_t(value1 >= 0.0);
+    const uint8_t only0 = uint8_t(-uint8_t(valid0 & (valid1 ^ 1))), only1 = uint8_t(-uint8_t(valid1 & (valid0 ^ 1)));
+    sole[i] = uint8_t((first & only0) | (second & only1) | (none & uint8_t(~(only0 | only1))));
+    last0[i] = valid0 ? value0 : last0[i];
+    last1[i] = valid1 ? value1 : last1[i];
+  }
+  // Then the candidates' samples above, packed. A candidate of view k lies in a hole of the other
+  // view, whose last the loop above left as it was: it is read after the loop. Candidates are few:
+  // eight flags are tested at once.
+  auto pack = [&](int at) {
+    const uint8_t k = sole[at];
+    if (k > 1) return;
+    up[count++] = k == 1 ? last0[at] : last1[at];
+  };
+  for (; x + 8 <= n; x += 8)
+    if (anyCandidate(sole + x))
+      for (int k = 0; k < 8; ++k) pack(x + k);
+  for (; x < n; ++x) pack(x);
+  return count;
 }
 
-void occlusionUp(const uint8_t* __restrict sole, double* __restrict row0, double* __restrict row1,
-                 double* __restrict last0, double* __restrict last1, const double* __restrict up,
-                 const double* __restrict around, double steps, int n) {
-  // Every sample decided without a branch.
-  for (int x = 0; x < n; ++x) {
+int occlusionUp(const uint8_t* __restrict sole, double* __restrict row0, double* __restrict row1,
+                double* __restrict last0, double* __restrict last1, const double* __restrict upEnd,
+                const double* __restrict around, double steps, int n, double* __restrict aboveRow) {
+  const double* next = upEnd;
+  int end = n;  // samples [end, n) are done
+#if defined(__AVX512F__) && defined(__AVX512BW__) && defined(__AVX512VL__)
+  // Eight samples at a time from the row's end, the rule in lanes (the same comparisons, NaN comparing
+  // as in the plain loop below): the candidates' samples above taken from the packed list with an
+  // expanding load, around read at the candidates only (a masked load: its pages are touched there
+  // only), the drops as masked stores.
+  {
+    const __m512d zero = _mm512_setzero_pd(), none = _mm512_set1_pd(HUGE_VAL), hole = _mm512_set1_pd(kKernelNoDepth);
+    const __m512d margin = _mm512_set1_pd(steps);
+    const __m128i ones = _mm_set1_epi8(1);
+    for (; end >= 8; end -= 8) {
+      const int x = end - 8;
+      const __m128i bytes = _mm_loadl_epi64(reinterpret_cast<const __m128i*>(sole + x));
+      const __mmask8 candidates = __mmask8(_mm_cmple_epu8_mask(bytes, ones));
+      const __mmask8 ofSecond = __mmask8(_mm_cmpeq_epi8_mask(bytes, ones));
+      const __m512d below0 = _mm512_loadu_pd(last0 + x), below1 = _mm512_loadu_pd(last1 + x);
+      const __m512d value0 = _mm512_loadu_pd(row0 + x), value1 = _mm512_loadu_pd(row1 + x);
+      _mm512_storeu_pd(last0 + x, _mm512_mask_blend_pd(_mm512_cmp_pd_mask(value0, zero, _CMP_GE_OQ), below0, value0));
+      _mm512_storeu_pd(last1 + x, _mm512_mask_blend_pd(_mm512_cmp_pd_mask(value1, zero, _CMP_GE_OQ), below1, value1));
+      if (!candidates) continue;
+      next -= __builtin_popcount(unsigned(candidates));
+      const __m512d above = _mm512_maskz_expandloadu_pd(candidates, next);
+      const __m512d below = _mm512_mask_blend_pd(ofSecond, below1, below0);
+      const __m512d own = _mm512_mask_blend_pd(ofSecond, value0, value1);
+      __m512d farthest = _mm512_mask_loadu_pd(none, candidates, around + x);
+      const __m512d nearer = _mm512_mask_blend_pd(_mm512_cmp_pd_mask(above, below, _CMP_LT_OQ), below, above);
+      const __m512d lowered = _mm512_mask_blend_pd(_mm512_cmp_pd_mask(nearer, farthest, _CMP_LT_OQ), farthest, nearer);
+      const __mmask8 bothValid = __mmask8(_mm512_cmp_pd_mask(below, zero, _CMP_GE_OQ) &
+                                          _mm512_cmp_pd_mask(above, zero, _CMP_GE_OQ));
+      farthest = _mm512_mask_blend_pd(bothValid, farthest, lowered);
+      const __mmask8 drop =
+          __mmask8(candidates & _mm512_cmp_pd_mask(farthest, none, _CMP_NEQ_UQ) &
+                   _mm512_cmp_pd_mask(own, _mm512_sub_pd(farthest, margin), _CMP_LT_OQ));
+      _mm512_mask_storeu_pd(row0 + x, __mmask8(drop & ~ofSecond), hole);
+      _mm512_mask_storeu_pd(row1 + x, __mmask8(drop & ofSecond), hole);
+    }
+  }
+#endif
+  // The rest of the row's packed samples above laid out at their candidates' columns, from the
+  // right; eight flags tested at once.
+  auto unpack = [&](int at) {
+    if (sole[at] <= 1) aboveRow[at] = *--next;
+  };
+  int x = end;
+  for (; x >= 8; x -= 8)
+    if (anyCandidate(sole + x - 8))
+      for (int k = 1; k <= 8; ++k) unpack(x - k);
+  for (; x > 0; --x) unpack(x - 1);
+  // Every sample decided without a branch. (aboveRow is read at every sample: its values are used at
+  // the candidates only.)
+  for (x = 0; x < end; ++x) {
     const double below0 = last0[x], below1 = last1[x];
     const double value0 = row0[x], value1 = row1[x];
     last0[x] = value0 >= 0.0 ? value0 : below0;
     last1[x] = value1 >= 0.0 ? value1 : below1;
     const uint8_t k = sole[x];
     const bool second = k == 1;
-    const double below = second ? below0 : below1, own = second ? value1 : value0, above = up[x];
+    const double below = second ? below0 : below1, own = second ? value1 : value0, above = aboveRow[x];
     double farthest = k <= 1 ? around[x] : HUGE_VAL;  // read at the candidates only (its pages are touched there)
-    const double nearer = above < below ? above : below;   // std::min(below, above)
+    const double nearer = above < below ? above : below;           // std::min(below, above)
     const double lowered = nearer < farthest ? nearer : farthest;  // std::min(farthest, nearer)
     farthest = (below >= 0.0) & (above >= 0.0) ? lowered : farthest;
     const bool drop = (k <= 1) & (farthest != HUGE_VAL) & (own < farthest - steps);
@@ -945,6 +1124,7 @@ void occlusionUp(const uint8_t* __restrict sole, double* __restrict row0, double
     if (drop & !second) row0[x] = kKernelNoDepth;
     if (drop & second) row1[x] = kKernelNoDepth;
   }
+  return int(upEnd - next);
 }
 
 }  // namespace
@@ -978,7 +1158,6 @@ const RowKernels rowKernelsOfLevel = {forwardRow,
                                       chromaBlocks,
                                       chromaTableRow,
                                       isolatedSamples,
-                                      soleViewOfTwo,
                                       occlusionDown,
                                       occlusionUp,
                                       rowTableRow,

@@ -191,23 +191,26 @@ struct RowKernels {
   // row[x - 1] < 0 and row[x + 1] < 0, else 0, for x in [1, width - 1) (the first and last flags are
   // not written).
   void (*isolatedSamples)(const double* row, int width, uint8_t* isolated);
-  // The occlusion rule's candidates of two views (Synth/Occlusion.cpp): sole[i] = first where d0[i] >= 0
-  // and d1[i] is not, second where d1[i] >= 0 and d0[i] is not, else none, for i in [0, n); true where
-  // some sole[i] is not none.
-  bool (*soleViewOfTwo)(const double* d0, const double* d1, size_t n, uint8_t first, uint8_t second, uint8_t none,
-                        uint8_t* sole);
   // The occlusion rule's column scans of two views (Synth/Occlusion.cpp's rejectBetweenTwoViews), one
-  // row of n columns. occlusionDown: where up is not null, up[x] = sole[x] == 1 ? last0[x] : last1[x];
-  // then lastK[x] = rowK[x] >= 0 ? rowK[x] : lastK[x] (K = 0, 1). occlusionUp: with belowK and valueK
-  // the lastK[x] and rowK[x] it finds, lastK[x] = valueK >= 0 ? valueK : belowK; where sole[x] = k is 0
-  // or 1 (a candidate of view k), with below the other view's belowK and own = valuek: around =
-  // around[x], then std::min(around, std::min(below, up[x])) where below >= 0 and up[x] >= 0; the
+  // row of n columns. occlusionDown finds the row's candidates and keeps the columns' last valid
+  // samples: sole[x] = first where row0[x] >= 0 and row1[x] is not, second where row1[x] >= 0 and
+  // row0[x] is not, else none (first is 0 or none, second 1 or none, none above 1: a candidate is a
+  // sole[x] of 0 or 1); the other view's last valid sample above each candidate, up[count++] =
+  // sole[x] == 1 ? last0[x] : last1[x], in the order of x (packed: the candidates are few); then
+  // lastK[x] = rowK[x] >= 0 ? rowK[x] : lastK[x] (K = 0, 1). Returns count. up[count, n) may be
+  // written over too. occlusionUp decides the candidates on the way up: with belowK
+  // and valueK the lastK[x] and rowK[x] it finds, lastK[x] = valueK >= 0 ? valueK : belowK; where
+  // sole[x] = k is 0 or 1 (a candidate of view k), with below the other view's belowK, own = valuek
+  // and above the next of the row's packed samples above (in the order of x): around =
+  // around[x], then std::min(around, std::min(below, above)) where below >= 0 and above >= 0; the
   // candidate's rowk[x] = kKernelNoDepth where around != HUGE_VAL and own < around - steps. (around is
-  // read at the candidates only, up at every x.)
-  void (*occlusionDown)(const uint8_t* sole, const double* row0, const double* row1, double* last0, double* last1,
-                        double* up, int n);
-  void (*occlusionUp)(const uint8_t* sole, double* row0, double* row1, double* last0, double* last1, const double* up,
-                      const double* around, double steps, int n);
+  // read at the candidates only.) The row's packed samples are the last before upEnd: they are taken
+  // from there backwards, and their count is returned. aboveRow: n doubles of working space, read
+  // whatever it holds (initialised memory).
+  int (*occlusionDown)(const double* row0, const double* row1, uint8_t first, uint8_t second, uint8_t none,
+                       uint8_t* sole, double* last0, double* last1, double* up, int n);
+  int (*occlusionUp)(const uint8_t* sole, double* row0, double* row1, double* last0, double* last1, const double* upEnd,
+                     const double* around, double steps, int n, double* aboveRow);
   // The 1D texture warp's row (RowTableRow), for samples with depth not below 0 (NaN included): one
   // whose position u fails (not in [-0.5, lastU]: NaN and the infinities fail) gets depth
   // kKernelNoDepth; any other gets edgeOut = edges[clamp(floor(u + 0.5), 0, lastColumn)] and, where
