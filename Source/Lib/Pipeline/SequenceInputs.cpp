@@ -9,6 +9,7 @@
 #include <utility>
 
 #include "Common/Error.h"
+#include "Common/ParallelRows.h"
 #include "Common/Timing.h"
 
 namespace vs {
@@ -36,19 +37,19 @@ SequenceInputs::SequenceInputs(const SynthesisSettings& settings) : settings_(se
     limit(*depths_[k]);
   }
   if (truth_) limit(*truth_);
-  for (Slot& slot : slots_) {
-    slot.textures.resize(textures_.size());
-    slot.depths.resize(depths_.size());
-  }
-  // The slot read ahead is sized now, before the first frame's buffers: its planes then lie below
-  // them on the heap instead of among them, where the reading thread would otherwise place them
-  // while the first frame allocates (a run of one frame reads nothing ahead). So is the truth's
-  // buffer, which the reading thread fills from the second frame on.
+  current_.textures.resize(textures_.size());
+  current_.depths.resize(depths_.size());
+  ahead_.textures.resize(textures_.size());
+  ahead_.depths.resize(depths_.size());
+  // What is read ahead is sized now, before the first frame's buffers: it then lies below them on
+  // the heap instead of among them, where the reading thread would otherwise place it while the first
+  // frame allocates (a run of one frame reads nothing ahead). So is the truth's buffer, which the
+  // reading thread fills from the second frame on.
   if (available_ > 1) {
-    Slot& ahead = slots_[1];
     for (size_t k = 0; k < textures_.size(); ++k) {
-      ahead.textures[k].reset(textures_[k]->format());
-      ahead.depths[k].resize(depths_[k]->format().width, depths_[k]->format().height);
+      ahead_.textures[k].resize(size_t(textures_[k]->format().frameBytes()));
+      const FrameFormat& depth = depths_[k]->format();
+      ahead_.depths[k].resize(size_t(depth.width) * size_t(depth.height) * size_t(depth.bytesPerSample()));
     }
     if (truth_) truthFrame_.reset(truth_->format());
   }
@@ -91,7 +92,10 @@ void SequenceInputs::readAhead() {
     if (f >= 0) {
       std::exception_ptr error;
       try {
-        read(settings_.startFrame + f, slots_[f % 2], false, false);
+        for (size_t k = 0; k < textures_.size(); ++k) {
+          textures_[k]->readBytes(settings_.startFrame + f, false, ahead_.textures[k]);
+          depths_[k]->readBytes(settings_.startFrame + f, true, ahead_.depths[k]);
+        }
       } catch (...) {
         error = std::current_exception();
       }
@@ -156,15 +160,18 @@ SequenceInputs::FrameInputs SequenceInputs::next(double& readSeconds) {
   const int64_t f = nextFrame_++;
   const auto start = std::chrono::steady_clock::now();
   if (f == 0) {
-    read(settings_.startFrame, slots_[0], true, true);
+    read(settings_.startFrame, current_, true, true);
   } else {
-    std::unique_lock<std::mutex> lock(mutex_);
-    // The truth of the frame before was waited for (truth()) unless the loop did not ask for it.
-    done_.wait(lock, [this] { return readOver_ && truthOver_; });
-    truthError_ = nullptr;
-    if (readError_) std::rethrow_exception(std::exchange(readError_, nullptr));
+    {
+      std::unique_lock<std::mutex> lock(mutex_);
+      // The truth of the frame before was waited for (truth()) unless the loop did not ask for it.
+      done_.wait(lock, [this] { return readOver_ && truthOver_; });
+      truthError_ = nullptr;
+      if (readError_) std::rethrow_exception(std::exchange(readError_, nullptr));
+    }
+    unpackAhead(settings_.startFrame + f);
   }
-  Slot& current = slots_[f % 2];
+  Slot& current = current_;
   readSeconds = std::max(secondsSince(start), f == 0 ? current.seconds : 0.0);
   const bool readNext = f + 1 < available_, readTruth = f > 0 && truth_;
   if (readNext || readTruth) {
@@ -186,6 +193,29 @@ SequenceInputs::FrameInputs SequenceInputs::next(double& readSeconds) {
   for (size_t k = 0; k < textures_.size(); ++k) inputs.references.push_back({&current.textures[k], &current.depths[k]});
   inputs.hasTruth = truth_ != nullptr;
   return inputs;
+}
+
+void SequenceInputs::unpackAhead(int64_t frameIndex) {
+  // A view's texture and depth per job, the jobs on up to Threads threads; a failure is reported as
+  // the first file in the order of read() would be.
+  const int jobs = int(textures_.size());
+  std::vector<std::exception_ptr> failed(size_t(jobs) * 2);
+  parallelRows(jobs, metricThreads(settings_.threads), [&](int begin, int end) {
+    for (int k = begin; k < end; ++k) {
+      try {
+        textures_[size_t(k)]->unpack(frameIndex, ahead_.textures[size_t(k)], current_.textures[size_t(k)]);
+      } catch (...) {
+        failed[size_t(k) * 2] = std::current_exception();
+      }
+      try {
+        depths_[size_t(k)]->unpackLuma(frameIndex, ahead_.depths[size_t(k)], current_.depths[size_t(k)]);
+      } catch (...) {
+        failed[size_t(k) * 2 + 1] = std::current_exception();
+      }
+    }
+  });
+  for (const std::exception_ptr& failure : failed)
+    if (failure) std::rethrow_exception(failure);
 }
 
 const Frame& SequenceInputs::truth() {

@@ -1,9 +1,10 @@
 #pragma once
 // The input sequences of a run: every reference view's texture and depth file and the ground truth of
 // the virtual view. Opens them all, finds how many frames all of them hold from StartFrame on, and
-// reads each next frame's references on a thread of its own while the current one is rendered. The
-// ground truth, read only once a frame is rendered, is read on that thread too, into one buffer:
-// each frame's while the frame is rendered (frame 0's with its references).
+// reads each next frame's references on a thread of its own while the current one is rendered, as
+// the files' bytes (half the memory of samples for 8-bit files), unpacked into the one set of planes
+// when the frame begins. The ground truth, read only once a frame is rendered, is read on that thread
+// too, into one buffer: each frame's while the frame is rendered (frame 0's with its references).
 #include <condition_variable>
 #include <cstdint>
 #include <exception>
@@ -57,14 +58,18 @@ private:
   };
   // The references of frame `frameIndex` into `slot` and, with `withTruth`, its ground truth into truthFrame_.
   void read(int64_t frameIndex, Slot& slot, bool withTruth, bool sideBySide);
-  void readAhead();  // the reading thread: reads each frame asked for into its slot, and each truth
+  void readAhead();  // the reading thread: reads each frame asked for into ahead_, and each truth
+  void unpackAhead(int64_t frameIndex);  // ahead_ into current_, the views side by side
 
   const SynthesisSettings& settings_;
   std::vector<std::unique_ptr<YuvReader>> textures_, depths_;
   std::unique_ptr<YuvReader> truth_;
   int64_t available_ = 0;
   std::string shortest_;
-  Slot slots_[2];
+  Slot current_;  // the references of the frame next() gave last
+  struct AheadBytes {  // the next frame's references as the files' bytes (YuvReader::readBytes)
+    std::vector<std::vector<uint8_t>> textures, depths;
+  } ahead_;
   Frame truthFrame_;       // the ground truth of the frame next() gave last, once its read is over
   int64_t nextFrame_ = 0;  // 0-based from StartFrame
   // One thread for the whole run reads the frame after the current one (a thread per frame cost its
