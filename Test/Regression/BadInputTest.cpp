@@ -945,6 +945,44 @@ TEST(BadInputCatalogue, ReadingAheadKeepsEveryFrameInPlace) {
   EXPECT_FALSE(sequence.substr(0, frameBytes) == sequence.substr(frameBytes, frameBytes));
 }
 
+// The ground truth is read into one buffer while its frame is rendered (Pipeline/SequenceInputs.h):
+// each frame of a whole-sequence run is scored against its own truth, as a run of that frame alone.
+TEST(BadInputCatalogue, EachFrameIsScoredAgainstItsOwnTruth) {
+  const fs::path root = test::scratchDir("read_truth");
+  TinyScene scene(root / "scene");
+  scene.writeAll();
+  // A truth whose frames are flat grey of levels far apart: every frame scores differently.
+  std::string truth;
+  for (int k = 0; k < 3; ++k) truth += std::string(size_t(scene.textureFormat().frameBytes()), char(30 + 80 * k));
+  writeFile(scene.path("truth.yuv"), truth);
+  scene.set("ReferenceVirtualViewImageName", "truth.yuv");
+  scene.writeConfig();
+  // "PSNR Y .. U .. V .. dB" of the log's line for frame k.
+  auto scoreOf = [](const std::string& log, int k) {
+    const size_t line = log.find("frame " + std::to_string(k) + ":");
+    if (line == std::string::npos) return std::string();
+    const size_t psnr = log.find("PSNR", line), end = log.find('\n', line);
+    return psnr < end ? log.substr(psnr, end - psnr) : std::string();
+  };
+  const test::ToolResult whole = test::runTool("ViewSyn", test::quoted(scene.configPath().string()), root, scene.dir);
+  ASSERT_EQ(whole.exitCode, 0) << whole.err;
+  std::vector<std::string> scores;
+  for (int k = 0; k < 3; ++k) {
+    const test::ToolResult one = test::runTool(
+        "ViewSyn",
+        test::quoted(scene.configPath().string()) + " StartFrame=" + std::to_string(k) +
+            " TotalNumberOfFrames=1 OutputVirtualViewImageName=" + test::quoted((root / "one.yuv").string()),
+        root, scene.dir);
+    ASSERT_EQ(one.exitCode, 0) << one.err;
+    ASSERT_FALSE(scoreOf(one.out, k).empty()) << one.out;
+    EXPECT_EQ(scoreOf(whole.out, k), scoreOf(one.out, k)) << "frame " << k;
+    scores.push_back(scoreOf(one.out, k));
+  }
+  // The scores differ from frame to frame, so a truth of the wrong frame would show.
+  EXPECT_NE(scores[0], scores[1]);
+  EXPECT_NE(scores[1], scores[2]);
+}
+
 // Key=Value arguments resolve paths against the working folder; a removed working folder is bad
 // input like any other, not an uncaught std::filesystem::filesystem_error (which aborted ViewSyn).
 TEST(BadInputCatalogue, RemovedWorkingFolderIsNoCrash) {

@@ -178,6 +178,7 @@ TEST(HoleFill, BackgroundFirstFillingEqualsAPlainReference) {
   auto at = [&](int n) { return int(random() % unsigned(n)); };
   std::uniform_real_distribution<float> colour(0.0f, 255.0f);
   const int threadsBefore = vs::workerThreads();
+  HoleFillScratch kept;  // one caller's buffers over every trial, as a sequence keeps them
   for (int trial = 0; trial < 60; ++trial) {
     const int w = 9 + at(70), h = 5 + at(50), channels = 1 + trial % 3;
     BlendedLayer layer;
@@ -226,7 +227,7 @@ TEST(HoleFill, BackgroundFirstFillingEqualsAPlainReference) {
     for (int threads : {1, 2}) {
       vs::setWorkerThreads(threads);
       BlendedLayer filled = layer;
-      fillHoles(filled, options);
+      fillHoles(filled, options, threads == 2 ? &kept : nullptr);
       // With OpenCV's inpainting bit for bit; with the plain mean up to the order of its float sums.
       for (int k = 0; k < channels; ++k) {
         if (options.inpaintLikeOpenCv) {
@@ -243,6 +244,30 @@ TEST(HoleFill, BackgroundFirstFillingEqualsAPlainReference) {
     }
   }
   vs::setWorkerThreads(threadsBefore);
+}
+
+// The estimates' places (HoleFillScratch::HolePlaces): the holes before a sample, counted here one by
+// one, at every column of every row (and one past the last), for widths around the 64-sample blocks
+// and holes from none to all; and a layer of another size indexed with the same places after.
+TEST(HoleFill, HolePlacesCountTheHolesBefore) {
+  std::mt19937 random(31);
+  HoleFillScratch::HolePlaces places;
+  for (const int w : {1, 5, 63, 64, 65, 128, 130, 200})
+    for (const int percent : {0, 3, 40, 100}) {
+      const int h = 1 + int(random() % 9u);
+      std::vector<uint8_t> hole(size_t(w) * size_t(h));
+      for (uint8_t& flag : hole) flag = int(random() % 100u) < percent ? 1 : 0;
+      places.index(hole, w, h);
+      size_t before = 0;
+      for (int y = 0; y < h; ++y) {
+        EXPECT_EQ(places.rowStart(y), before) << w << " " << percent << " % row " << y;
+        for (int x = 0; x <= w; ++x) {
+          ASSERT_EQ(places.at(hole.data(), x, y), before) << w << " " << percent << " % at " << x << ", " << y;
+          if (x < w) before += hole[size_t(y) * size_t(w) + size_t(x)];
+        }
+      }
+      EXPECT_EQ(places.count, before);
+    }
 }
 
 }  // namespace

@@ -405,6 +405,54 @@ TEST(YuvTest, FramesLargerThanOneWriteChunkWriteWhole) {
     }
 }
 
+// A sequence reads the next frame ahead as its file bytes (readBytes) and unpacks them when the frame
+// begins: the same samples as read() and readLuma(), the file's bytes of the frame (or its Y plane)
+// and no more, in every chroma format, at 8 and 10 bits, raw and Y4M; a 10-bit sample above the
+// maximum is the same error when it is unpacked.
+TEST(YuvTest, BytesReadAheadUnpackToTheFrameRead) {
+  const fs::path dir = vs::test::scratchDir("yuv_bytes");
+  for (const vs::ChromaFormat chroma : kAllChroma)
+    for (const int bitDepth : {8, 10})
+      for (const bool y4m : {false, true}) {
+        const vs::FrameFormat format = makeFormat(9, 7, bitDepth, chroma);
+        const fs::path path = dir / ("f" + std::to_string(bitDepth) + (y4m ? ".y4m" : ".yuv"));
+        const std::vector<vs::Frame> frames = {randomFrame(format, 7), randomFrame(format, 8), randomFrame(format, 9)};
+        {
+          vs::YuvWriter writer(path.string(), format);
+          for (const vs::Frame& frame : frames) writer.append(frame);
+          writer.commit();
+        }
+        vs::YuvReader reader(path.string(), format);
+        std::vector<uint8_t> bytes;
+        vs::Frame frame;
+        vs::Plane luma;
+        for (const int f : {2, 0, 1}) {
+          reader.readBytes(f, false, bytes);
+          EXPECT_EQ(bytes.size(), expectedFrameBytes(9, 7, bitDepth, chroma));
+          reader.unpack(f, bytes, frame);
+          EXPECT_TRUE(frame == frames[size_t(f)]) << path << " frame " << f;
+          reader.readBytes(f, true, bytes);
+          EXPECT_EQ(bytes.size(), uint64_t(9 * 7 * (bitDepth > 8 ? 2 : 1)));
+          reader.unpackLuma(f, bytes, luma);
+          EXPECT_TRUE(luma == frames[size_t(f)].planes[0]) << path << " frame " << f;
+        }
+        if (bitDepth == 8 || y4m) continue;
+        // The last luma sample of frame 1 one above the maximum: the error read() gives.
+        std::vector<uint8_t> file = readBytes(path);
+        const size_t last = size_t(format.frameBytes()) + size_t(9 * 7 - 1) * 2;
+        file[last] = 0x00;
+        file[last + 1] = 0x04;
+        writeBytes(path, file);
+        vs::YuvReader damaged(path.string(), format);
+        const std::string expected = inputErrorOf([&] { damaged.read(1, frame); });
+        EXPECT_NE(expected.find("frame 1, plane Y: sample 1024 at (x 8, y 6)"), std::string::npos) << expected;
+        damaged.readBytes(1, false, bytes);
+        EXPECT_EQ(inputErrorOf([&] { damaged.unpack(1, bytes, frame); }), expected);
+        damaged.readBytes(1, true, bytes);
+        EXPECT_EQ(inputErrorOf([&] { damaged.unpackLuma(1, bytes, luma); }), expected);
+      }
+}
+
 TEST(YuvTest, ReadLumaSkipsChroma) {
   const fs::path dir = vs::test::scratchDir("yuv_luma");
   const vs::FrameFormat format = makeFormat(7, 5, 16, vs::ChromaFormat::Yuv420);

@@ -41,9 +41,10 @@ void reserveHugePageHeap(size_t bytes, bool byDefault);
 // with it (doc/meshrender.md, "Sixth round").
 double hugePageFaultMilliseconds();
 
-// Buffers written only here and there (Synth/ScratchPool.h: UntouchedBuffer, the hole filling's
-// estimates) of at least this many bytes are mapped apart on 4 KiB pages instead of coming from the
-// huge-page heap, where one written sample makes its whole 2 MiB page resident. Default 4 MiB; a run
+// Buffers written only here and there (Synth/ScratchPool.h: UntouchedBuffer, the occlusion rule's
+// surroundings and the hole filling's estimates) of at least this many bytes are mapped apart on 4
+// KiB pages instead of coming from the huge-page heap, where one written sample makes its whole 2 MiB
+// page resident. Default 4 MiB; a run
 // sets it from its picture size (Pipeline/FrameLoop.cpp): 4 KiB pages fault ten times more often, which
 // a small picture's run feels, while a large picture's huge pages keep tens of MiB resident for nothing.
 void setSmallPageBuffersFrom(size_t bytes);

@@ -136,55 +136,97 @@ uint64_t YuvReader::seekFrame(int64_t frameIndex) {
   return start;
 }
 
-void YuvReader::readPlanes(int64_t frameIndex, Plane* const* planes, int count) {
-  const int bytesPerSample = format_.bytesPerSample();
+void YuvReader::Unpacker::take(const uint8_t* bytes, uint64_t n) {
+  for (uint64_t used = 0; used < n;) {
+    const uint64_t planeTotal = planeBytes(*planes[p], bytesPerSample);
+    const uint64_t count = std::min(n - used, planeTotal - inPlane);
+    const uint8_t* from = bytes + used;
+    uint16_t* samples = planes[p]->samples.data() + inPlane / uint64_t(bytesPerSample);
+    if (bytesPerSample == 1) {
+      for (uint64_t i = 0; i < count; ++i) samples[i] = from[i];
+    } else {
+      uint16_t most = largest[p];
+      for (uint64_t i = 0; i < count / 2; ++i) {
+        samples[i] = uint16_t(from[2 * i] | (from[2 * i + 1] << 8));
+        most = std::max(most, samples[i]);
+      }
+      largest[p] = most;
+    }
+    used += count;
+    inPlane += count;
+    if (inPlane == planeTotal) {
+      ++p;
+      inPlane = 0;
+    }
+  }
+}
+
+void YuvReader::checkRange(const Unpacker& unpacked, int64_t frameIndex, int count) const {
+  if (unpacked.bytesPerSample > 1)
+    for (int q = 0; q < count; ++q)
+      if (unpacked.largest[q] > format_.maxValue()) throwSampleOutOfRange(*unpacked.planes[q], frameIndex, q);
+}
+
+uint64_t YuvReader::bytesOf(Plane* const* planes, int count) const {
   uint64_t total = 0;
-  for (int p = 0; p < count; ++p) total += planeBytes(*planes[p], bytesPerSample);
+  for (int p = 0; p < count; ++p) total += planeBytes(*planes[p], format_.bytesPerSample());
   VS_CHECK(total <= format_.frameBytes());
+  return total;
+}
+
+void YuvReader::readFileBytes(int64_t frameIndex, uint64_t start, uint64_t done, uint8_t* to, uint64_t n,
+                              uint64_t total) {
+  uint64_t got = 0;  // not gcount() of an earlier read when this one is not attempted
+  if (file_) {
+    file_.read(reinterpret_cast<char*>(to), std::streamsize(n));
+    got = file_.gcount() > 0 ? uint64_t(file_.gcount()) : 0;
+  }
+  if (got != n) throwReadFailure(frameIndex, start, done + got, total);
+}
+
+void YuvReader::readPlanes(int64_t frameIndex, Plane* const* planes, int count) {
+  const uint64_t total = bytesOf(planes, count);
   const uint64_t start = seekFrame(frameIndex);
   // A chunk at a time through a small buffer, widened into the planes as it comes: a whole frame of
   // file bytes beside its samples would be half as much memory again per reader (a buffer of 2^18
   // bytes, even: a 16-bit sample never straddles two chunks).
   constexpr uint64_t kChunk = uint64_t(1) << 18;
   if (buffer_.size() < std::min(total, kChunk)) buffer_.resize(size_t(std::min(total, kChunk)));  // once per reader
-  uint16_t largest[3] = {};
-  int p = 0;
-  uint64_t inPlane = 0;  // bytes of plane p already unpacked
+  Unpacker unpacker{planes, format_.bytesPerSample()};
   for (uint64_t done = 0; done < total;) {
     const uint64_t n = std::min(kChunk, total - done);
-    uint64_t got = 0;  // not gcount() of an earlier read when this one is not attempted
-    if (file_) {
-      file_.read(reinterpret_cast<char*>(buffer_.data()), std::streamsize(n));
-      got = file_.gcount() > 0 ? uint64_t(file_.gcount()) : 0;
-    }
-    if (got != n) throwReadFailure(frameIndex, start, done + got, total);
-    for (uint64_t used = 0; used < n;) {
-      const uint64_t planeTotal = planeBytes(*planes[p], bytesPerSample);
-      const uint64_t take = std::min(n - used, planeTotal - inPlane);
-      const uint8_t* bytes = buffer_.data() + used;
-      uint16_t* samples = planes[p]->samples.data() + inPlane / uint64_t(bytesPerSample);
-      if (bytesPerSample == 1) {
-        for (uint64_t i = 0; i < take; ++i) samples[i] = bytes[i];
-      } else {
-        uint16_t most = largest[p];
-        for (uint64_t i = 0; i < take / 2; ++i) {
-          samples[i] = uint16_t(bytes[2 * i] | (bytes[2 * i + 1] << 8));
-          most = std::max(most, samples[i]);
-        }
-        largest[p] = most;
-      }
-      used += take;
-      inPlane += take;
-      if (inPlane == planeTotal) {
-        ++p;
-        inPlane = 0;
-      }
-    }
+    readFileBytes(frameIndex, start, done, buffer_.data(), n, total);
+    unpacker.take(buffer_.data(), n);
     done += n;
   }
-  if (bytesPerSample > 1)
-    for (int q = 0; q < count; ++q)
-      if (largest[q] > format_.maxValue()) throwSampleOutOfRange(*planes[q], frameIndex, q);
+  checkRange(unpacker, frameIndex, count);
+}
+
+void YuvReader::readBytes(int64_t frameIndex, bool lumaOnly, std::vector<uint8_t>& bytes) {
+  const uint64_t luma = uint64_t(format_.width) * uint64_t(format_.height) * uint64_t(format_.bytesPerSample());
+  const uint64_t total = lumaOnly ? luma : format_.frameBytes();
+  const uint64_t start = seekFrame(frameIndex);
+  bytes.resize(size_t(total));
+  readFileBytes(frameIndex, start, 0, bytes.data(), total, total);
+}
+
+void YuvReader::unpack(int64_t frameIndex, const std::vector<uint8_t>& bytes, Frame& frame) const {
+  frame.reset(format_);
+  Plane* planes[3] = {&frame.planes[0], &frame.planes[1], &frame.planes[2]};
+  const int count = planeCount(format_.chroma);
+  VS_CHECK(bytes.size() == bytesOf(planes, count));
+  Unpacker unpacker{planes, format_.bytesPerSample()};
+  unpacker.take(bytes.data(), bytes.size());
+  checkRange(unpacker, frameIndex, count);
+}
+
+void YuvReader::unpackLuma(int64_t frameIndex, const std::vector<uint8_t>& bytes, Plane& luma) const {
+  luma.resize(format_.width, format_.height);
+  Plane* planes[1] = {&luma};
+  VS_CHECK(bytes.size() == bytesOf(planes, 1));
+  Unpacker unpacker{planes, format_.bytesPerSample()};
+  unpacker.take(bytes.data(), bytes.size());
+  checkRange(unpacker, frameIndex, 1);
 }
 
 void YuvReader::throwReadFailure(int64_t frameIndex, uint64_t start, uint64_t got, uint64_t count) {

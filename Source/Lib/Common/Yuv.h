@@ -43,8 +43,29 @@ public:
   // Reads the Y plane only (depth maps): chroma bytes are skipped, not read. `luma` is resized to the
   // luma size. The frame must still be wholly in the file, as for read().
   void readLuma(int64_t frameIndex, Plane& luma);
+  // The file bytes of frame `frameIndex` as they are (its Y plane's only with `lumaOnly`), into
+  // `bytes`: a frame read ahead takes half the memory of its samples for 8-bit files. unpack() and
+  // unpackLuma() then give what read() and readLuma() would have (the same checks and errors).
+  void readBytes(int64_t frameIndex, bool lumaOnly, std::vector<uint8_t>& bytes);
+  void unpack(int64_t frameIndex, const std::vector<uint8_t>& bytes, Frame& frame) const;
+  void unpackLuma(int64_t frameIndex, const std::vector<uint8_t>& bytes, Plane& luma) const;
 
 private:
+  // File bytes into planes (sized already), as they come: plane p, its bytes already unpacked, and
+  // each plane's largest 16-bit sample.
+  struct Unpacker {
+    Plane* const* planes;
+    int bytesPerSample;
+    int p = 0;
+    uint64_t inPlane = 0;
+    uint16_t largest[3] = {};
+    void take(const uint8_t* bytes, uint64_t n);
+  };
+  // Throws when a 16-bit sample of the first `count` planes exceeds the bit depth's maximum.
+  void checkRange(const Unpacker& unpacked, int64_t frameIndex, int count) const;
+  uint64_t bytesOf(Plane* const* planes, int count) const;  // the file bytes of the first `count` planes
+  // n bytes of the frame that starts at `start`, `done` bytes into it, of `total`.
+  void readFileBytes(int64_t frameIndex, uint64_t start, uint64_t done, uint8_t* to, uint64_t n, uint64_t total);
   // Checks that frame `frameIndex` is wholly in the file and positions the file at its first sample;
   // returns the frame's offset in the file.
   uint64_t seekFrame(int64_t frameIndex);

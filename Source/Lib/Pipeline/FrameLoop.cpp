@@ -102,10 +102,10 @@ struct FrameSteps {
         output, [&](Plane& levels) { return renderer.virtualDepth(frame.references, s.virtualDepthRange, levels); },
         [&](Plane& mask) { return renderer.virtualMask(frame.references, mask); }, toolName);
     times.write = secondsSince(start);
-    FrameRecord record{s.startFrame + f, frame.truth != nullptr, {}, times, {}};
-    if (frame.truth) record.psnr = framePsnr(*frame.truth, output);
-    if (frame.truth && !quality.empty()) {
-      quality.score(*frame.truth, output);
+    FrameRecord record{s.startFrame + f, frame.hasTruth, {}, times, {}};
+    if (frame.hasTruth) record.psnr = framePsnr(inputs.truth(), output);
+    if (frame.hasTruth && !quality.empty()) {
+      quality.score(inputs.truth(), output);
       record.quality = quality.lastValues();
     }
     report.addFrame(record, log);

@@ -9,6 +9,7 @@
 #include <utility>
 
 #include "Common/Error.h"
+#include "Common/ParallelRows.h"
 #include "Common/Timing.h"
 
 namespace vs {
@@ -36,20 +37,21 @@ SequenceInputs::SequenceInputs(const SynthesisSettings& settings) : settings_(se
     limit(*depths_[k]);
   }
   if (truth_) limit(*truth_);
-  for (Slot& slot : slots_) {
-    slot.textures.resize(textures_.size());
-    slot.depths.resize(depths_.size());
-  }
-  // The slot read ahead is sized now, before the first frame's buffers: its planes then lie below
-  // them on the heap instead of among them, where the reading thread would otherwise place them
-  // while the first frame allocates (a run of one frame reads nothing ahead).
+  current_.textures.resize(textures_.size());
+  current_.depths.resize(depths_.size());
+  ahead_.textures.resize(textures_.size());
+  ahead_.depths.resize(depths_.size());
+  // What is read ahead is sized now, before the first frame's buffers: it then lies below them on
+  // the heap instead of among them, where the reading thread would otherwise place it while the first
+  // frame allocates (a run of one frame reads nothing ahead). So is the truth's buffer, which the
+  // reading thread fills from the second frame on.
   if (available_ > 1) {
-    Slot& ahead = slots_[1];
     for (size_t k = 0; k < textures_.size(); ++k) {
-      ahead.textures[k].reset(textures_[k]->format());
-      ahead.depths[k].resize(depths_[k]->format().width, depths_[k]->format().height);
+      ahead_.textures[k].resize(size_t(textures_[k]->format().frameBytes()));
+      const FrameFormat& depth = depths_[k]->format();
+      ahead_.depths[k].resize(size_t(depth.width) * size_t(depth.height) * size_t(depth.bytesPerSample()));
     }
-    if (truth_) ahead.truth.reset(truth_->format());
+    if (truth_) truthFrame_.reset(truth_->format());
   }
   // The first frame is read when the loop asks for it, on the calling thread and beside it; each next
   // one on the reading thread while the frame before is rendered.
@@ -68,21 +70,42 @@ SequenceInputs::~SequenceInputs() {
 void SequenceInputs::readAhead() {
   std::unique_lock<std::mutex> lock(mutex_);
   for (;;) {
-    asked_.wait(lock, [this] { return stop_ || askedFrame_ >= 0; });
+    asked_.wait(lock, [this] { return stop_ || askedFrame_ >= 0 || askedTruth_ >= 0; });
     if (stop_) return;
-    const int64_t f = askedFrame_;
-    askedFrame_ = -1;
+    const int64_t f = askedFrame_, t = askedTruth_;
+    askedFrame_ = askedTruth_ = -1;
     lock.unlock();
-    std::exception_ptr error;
-    try {
-      read(settings_.startFrame + f, slots_[f % 2], false);
-    } catch (...) {
-      error = std::current_exception();
+    // The truth first: the frame being rendered waits for it at its end.
+    if (t >= 0) {
+      std::exception_ptr error;
+      try {
+        truth_->read(settings_.startFrame + t, truthFrame_);
+      } catch (...) {
+        error = std::current_exception();
+      }
+      lock.lock();
+      truthError_ = error;
+      truthOver_ = true;
+      done_.notify_all();
+      lock.unlock();
     }
-    lock.lock();
-    readError_ = error;
-    readOver_ = true;
-    done_.notify_one();
+    if (f >= 0) {
+      std::exception_ptr error;
+      try {
+        for (size_t k = 0; k < textures_.size(); ++k) {
+          textures_[k]->readBytes(settings_.startFrame + f, false, ahead_.textures[k]);
+          depths_[k]->readBytes(settings_.startFrame + f, true, ahead_.depths[k]);
+        }
+      } catch (...) {
+        error = std::current_exception();
+      }
+      lock.lock();
+      readError_ = error;
+      readOver_ = true;
+      done_.notify_all();
+    } else {
+      lock.lock();
+    }
   }
 }
 
@@ -98,14 +121,14 @@ std::string SequenceInputs::shortfall() const {
 }
 
 // The files of one frame: each view's texture and depth (every view its own readers and buffers), then
-// the ground truth. sideBySide: the views (and the truth) are read on up to Threads threads, for the
-// first frame, which nothing else overlaps; a failure is reported as the first file in that order
-// would be read alone.
-void SequenceInputs::read(int64_t frameIndex, Slot& slot, bool sideBySide) {
+// with `withTruth` the ground truth. sideBySide: the views (and the truth) are read on up to Threads
+// threads, for the first frame, which nothing else overlaps; a failure is reported as the first file
+// in that order would be read alone.
+void SequenceInputs::read(int64_t frameIndex, Slot& slot, bool withTruth, bool sideBySide) {
   const auto start = std::chrono::steady_clock::now();
-  const size_t jobs = textures_.size() + (truth_ ? 1 : 0);
+  const size_t jobs = textures_.size() + (withTruth && truth_ ? 1 : 0);
   auto readJob = [&](size_t j) {
-    if (j == textures_.size()) return truth_->read(frameIndex, slot.truth);
+    if (j == textures_.size()) return truth_->read(frameIndex, truthFrame_);
     textures_[j]->read(frameIndex, slot.textures[j]);
     depths_[j]->readLuma(frameIndex, slot.depths[j]);
   };
@@ -137,27 +160,70 @@ SequenceInputs::FrameInputs SequenceInputs::next(double& readSeconds) {
   const int64_t f = nextFrame_++;
   const auto start = std::chrono::steady_clock::now();
   if (f == 0) {
-    read(settings_.startFrame, slots_[0], true);
+    read(settings_.startFrame, current_, true, true);
   } else {
-    std::unique_lock<std::mutex> lock(mutex_);
-    done_.wait(lock, [this] { return readOver_; });
-    if (readError_) std::rethrow_exception(std::exchange(readError_, nullptr));
+    {
+      std::unique_lock<std::mutex> lock(mutex_);
+      // The truth of the frame before was waited for (truth()) unless the loop did not ask for it.
+      done_.wait(lock, [this] { return readOver_ && truthOver_; });
+      truthError_ = nullptr;
+      if (readError_) std::rethrow_exception(std::exchange(readError_, nullptr));
+    }
+    unpackAhead(settings_.startFrame + f);
   }
-  Slot& current = slots_[f % 2];
+  Slot& current = current_;
   readSeconds = std::max(secondsSince(start), f == 0 ? current.seconds : 0.0);
-  if (f + 1 < available_) {
+  const bool readNext = f + 1 < available_, readTruth = f > 0 && truth_;
+  if (readNext || readTruth) {
     if (!reader_.joinable()) reader_ = std::thread([this] { readAhead(); });
     {
       std::lock_guard<std::mutex> lock(mutex_);
-      askedFrame_ = f + 1;
-      readOver_ = false;
+      if (readNext) {
+        askedFrame_ = f + 1;
+        readOver_ = false;
+      }
+      if (readTruth) {
+        askedTruth_ = f;
+        truthOver_ = false;
+      }
     }
     asked_.notify_one();
   }
   FrameInputs inputs;
   for (size_t k = 0; k < textures_.size(); ++k) inputs.references.push_back({&current.textures[k], &current.depths[k]});
-  if (truth_) inputs.truth = &current.truth;
+  inputs.hasTruth = truth_ != nullptr;
   return inputs;
+}
+
+void SequenceInputs::unpackAhead(int64_t frameIndex) {
+  // A view's texture and depth per job, the jobs on up to Threads threads; a failure is reported as
+  // the first file in the order of read() would be.
+  const int jobs = int(textures_.size());
+  std::vector<std::exception_ptr> failed(size_t(jobs) * 2);
+  parallelRows(jobs, metricThreads(settings_.threads), [&](int begin, int end) {
+    for (int k = begin; k < end; ++k) {
+      try {
+        textures_[size_t(k)]->unpack(frameIndex, ahead_.textures[size_t(k)], current_.textures[size_t(k)]);
+      } catch (...) {
+        failed[size_t(k) * 2] = std::current_exception();
+      }
+      try {
+        depths_[size_t(k)]->unpackLuma(frameIndex, ahead_.depths[size_t(k)], current_.depths[size_t(k)]);
+      } catch (...) {
+        failed[size_t(k) * 2 + 1] = std::current_exception();
+      }
+    }
+  });
+  for (const std::exception_ptr& failure : failed)
+    if (failure) std::rethrow_exception(failure);
+}
+
+const Frame& SequenceInputs::truth() {
+  VS_CHECK(truth_ && nextFrame_ > 0);
+  std::unique_lock<std::mutex> lock(mutex_);
+  done_.wait(lock, [this] { return truthOver_; });
+  if (truthError_) std::rethrow_exception(std::exchange(truthError_, nullptr));
+  return truthFrame_;
 }
 
 }  // namespace vs

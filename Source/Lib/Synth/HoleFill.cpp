@@ -11,14 +11,43 @@
 
 namespace vs {
 
+void HoleFillScratch::HolePlaces::index(const std::vector<uint8_t>& hole, int w, int h) {
+  width = w;
+  blocksPerRow = std::max(1, (w + kBlock - 1) / kBlock);
+  // Each block's holes into the entry after its own (rows in parallel), then summed in order.
+  before.resize(size_t(h) * size_t(blocksPerRow) + 1);
+  before[0] = 0;
+  parallelRanges(h, [&](int y0, int y1) {
+    for (int y = y0; y < y1; ++y)
+      for (int b = 0; b < blocksPerRow; ++b) {
+        const uint8_t* p = hole.data() + size_t(y) * size_t(w) + size_t(b) * kBlock;
+        const int n = std::max(0, std::min(kBlock, w - b * kBlock));
+        size_t holes = 0;
+        for (int x = 0; x < n; ++x) holes += p[x] != 0;
+        before[size_t(y) * size_t(blocksPerRow) + size_t(b) + 1] = holes;
+      }
+  });
+  for (size_t k = 1; k < before.size(); ++k) before[k] += before[k - 1];
+  count = before.back();
+}
+
+size_t HoleFillScratch::HolePlaces::at(const uint8_t* hole, int x, int y) const {
+  const int b = x / kBlock;
+  size_t place = before[size_t(y) * size_t(blocksPerRow) + size_t(b)];
+  const uint8_t* row = hole + size_t(y) * size_t(width);
+  for (int i = b * kBlock; i < x; ++i) place += row[i] != 0;
+  return place;
+}
+
 namespace {
 
-// An estimate's buffers for `layer`, sized but not cleared: the estimates write every hole sample
-// (colour 0, background HUGE_VAL and found 0 where they find nothing), and nothing reads them
-// elsewhere.
-void sizeEstimate(const BlendedLayer& layer, UntouchedBuffer<float> estimate[3], UntouchedBuffer<double>& background,
-                  UntouchedBuffer<uint8_t>& found) {
-  const size_t n = layer.hole.size();
+using HolePlaces = HoleFillScratch::HolePlaces;
+
+// An estimate's buffers for the holes (`places`), sized but not cleared: the estimates write every
+// hole's (colour 0, background HUGE_VAL and found 0 where they find nothing).
+void sizeEstimate(const BlendedLayer& layer, const HolePlaces& places, UntouchedBuffer<float> estimate[3],
+                  UntouchedBuffer<double>& background, UntouchedBuffer<uint8_t>& found) {
+  const size_t n = places.count;
   for (int k = 0; k < layer.channels; ++k) estimate[k].resize(n);
   background.resize(n);
   found.resize(n);
@@ -30,12 +59,12 @@ void sizeEstimate(const BlendedLayer& layer, UntouchedBuffer<float> estimate[3],
 // run's ends. A row's run is found once; a column's ends are kept per column while its samples come
 // row after row, and only found anew where the sample above was not a hole of this range of rows.
 // The diagonals, which leave a run of holes soon, are walked.
-void directionalFill(const BlendedLayer& layer, const HoleFillOptions& options, UntouchedBuffer<float> estimate[3],
-                     UntouchedBuffer<double>& background, UntouchedBuffer<uint8_t>& found,
-                     ScratchPool<std::vector<int>>& columnRows) {
+void directionalFill(const BlendedLayer& layer, const HoleFillOptions& options, const HolePlaces& places,
+                     UntouchedBuffer<float> estimate[3], UntouchedBuffer<double>& background,
+                     UntouchedBuffer<uint8_t>& found, ScratchPool<std::vector<int>>& columnRows) {
   static const int diagonals[4][2] = {{1, 1}, {-1, -1}, {1, -1}, {-1, 1}};
   const int w = layer.width, h = layer.height;
-  sizeEstimate(layer, estimate, background, found);
+  sizeEstimate(layer, places, estimate, background, found);
   // Each hole sample writes only its own estimate: rows in parallel.
   parallelRanges(h, [&](int rowBegin, int rowEnd) {
   // Per column: the last row of this range whose hole was estimated, and the nearest valid rows
@@ -57,10 +86,11 @@ void directionalFill(const BlendedLayer& layer, const HoleFillOptions& options, 
   double* far = background.data();
   uint8_t* any = found.data();
   for (int y = rowBegin; y < rowEnd; ++y) {
-    // Each run of holes [runStart, runEnd) of the row, and each of its samples x.
+    // Each run of holes [runStart, runEnd) of the row, and each of its samples x, at its place p.
+    size_t place = places.rowStart(y);
     forEachRun(hole + size_t(y) * w, w, [&](int runStart, int runEnd) {
     for (int x = runStart; x < runEnd; ++x) {
-      const size_t i = size_t(y) * w + x;
+      const size_t i = size_t(y) * w + x, p = place++;
       if (lastRow[x] != y - 1) {
         int r = y - 1;
         while (r >= 0 && hole[size_t(r) * w + x]) --r;
@@ -100,9 +130,9 @@ void directionalFill(const BlendedLayer& layer, const HoleFillOptions& options, 
         }
       }
       if (count == 0) {
-        for (int k = 0; k < channels; ++k) out[k][i] = 0.0f;
-        far[i] = HUGE_VAL;
-        any[i] = 0;
+        for (int k = 0; k < channels; ++k) out[k][p] = 0.0f;
+        far[p] = HUGE_VAL;
+        any[p] = 0;
         continue;
       }
       double weightSum = 0;
@@ -113,9 +143,9 @@ void directionalFill(const BlendedLayer& layer, const HoleFillOptions& options, 
         weightSum += weight;
         for (int k = 0; k < channels; ++k) sum[k] += weight * colour[k][hit[c]];
       }
-      for (int k = 0; k < channels; ++k) out[k][i] = float(sum[k] / weightSum);
-      far[i] = farthest;
-      any[i] = 1;
+      for (int k = 0; k < channels; ++k) out[k][p] = float(sum[k] / weightSum);
+      far[p] = farthest;
+      any[p] = 1;
     }
     });
   }
@@ -128,13 +158,15 @@ void directionalFill(const BlendedLayer& layer, const HoleFillOptions& options, 
 // -2, -1, -1/2, 0, 1/2, 1, 2 samples across per row). One colour per run cannot streak, and the
 // candidates above and below reach background that the row's ends, often foreground on both sides,
 // do not. `background` receives that surface's inverse depth; `found` is 0 where no candidate exists.
-void rowRunFill(const BlendedLayer& layer, const HoleFillOptions& options, UntouchedBuffer<float> estimate[3],
-                UntouchedBuffer<double>& background, UntouchedBuffer<uint8_t>& found) {
+void rowRunFill(const BlendedLayer& layer, const HoleFillOptions& options, const HolePlaces& places,
+                UntouchedBuffer<float> estimate[3], UntouchedBuffer<double>& background,
+                UntouchedBuffer<uint8_t>& found) {
   const int w = layer.width, h = layer.height;
-  sizeEstimate(layer, estimate, background, found);
+  sizeEstimate(layer, places, estimate, background, found);
   // Each run is one row's: rows in parallel.
   parallelRanges(h, [&](int rowBegin, int rowEnd) {
     for (int y = rowBegin; y < rowEnd; ++y) {
+      size_t place = places.rowStart(y);  // the next hole's
       forEachRun(layer.hole.data() + size_t(y) * w, w, [&](int begin, int right) {
         const int left = begin - 1;  // the run is (left, right), ends excluded
         size_t candidate[16];
@@ -174,7 +206,7 @@ void rowRunFill(const BlendedLayer& layer, const HoleFillOptions& options, Untou
           ++onFarthest;
         }
         for (int i = left + 1; i < right; ++i) {  // no candidate: colour 0, background HUGE_VAL, not found
-          const size_t k = size_t(y) * w + i;
+          const size_t k = place++;
           for (int c = 0; c < layer.channels; ++c) estimate[c][k] = count > 0 ? float(sum[c] / onFarthest) : 0.0f;
           background[k] = farthest;
           found[k] = count > 0;
@@ -190,8 +222,9 @@ void rowRunFill(const BlendedLayer& layer, const HoleFillOptions& options, Untou
 // the least of them (a NaN marks nothing either way): each run of holes along a row marks, in each
 // row within `band`, the samples nearer than the least threshold of its holes within `band` columns,
 // one pass over its span per row instead of one window per hole.
-void backgroundOnlyMask(const BlendedLayer& layer, const UntouchedBuffer<double>& background, double tolerance, int band,
-                        std::vector<uint8_t>& mask, ScratchPool<HoleFillScratch::Thresholds>& thresholdRows) {
+void backgroundOnlyMask(const BlendedLayer& layer, const HolePlaces& places, const UntouchedBuffer<double>& background,
+                        double tolerance, int band, std::vector<uint8_t>& mask,
+                        ScratchPool<HoleFillScratch::Thresholds>& thresholdRows) {
   const int w = layer.width, h = layer.height;
   mask = layer.hole;
   // Holes of a block of rows mark samples up to `band` rows outside it. Blocks of at least 2 band + 1
@@ -216,13 +249,15 @@ void backgroundOnlyMask(const BlendedLayer& layer, const UntouchedBuffer<double>
       for (int b = first; b < last; ++b) {
         const int block = 2 * b + parity;
         for (int y = block * blockRows; y < std::min(h, (block + 1) * blockRows); ++y) {
-          const double* farRow = far + size_t(y) * w;
+          size_t place = places.rowStart(y);  // the next run's first hole's
           forEachRun(hole + size_t(y) * w, w, [&](int x, int end) {
             // The run [x, end) and its holes' thresholds; HUGE_VAL (no background) marks nothing.
+            const double* farRun = far + place;
+            place += size_t(end - x);
             bool any = false;
             for (int i = x; i < end; ++i) {
-              const bool known = farRow[i] != HUGE_VAL;
-              run[i - x] = known ? farRow[i] + tolerance : HUGE_VAL;
+              const bool known = farRun[i - x] != HUGE_VAL;
+              run[i - x] = known ? farRun[i - x] + tolerance : HUGE_VAL;
               any |= known;
             }
             if (any) {
@@ -327,8 +362,9 @@ void planInpaint(const BlendedLayer& layer, const std::vector<uint8_t>& mask, in
   const int link = (2 * reach + 1 + kBlock - 1) / kBlock;
   BlockGroups& groups = scratch.inpaintGroups;
   groupBlocks(mask, layer.width, layer.height, link, groups);
-  // Every mask sample is in one group and is written by its task; nothing reads the others.
-  for (int k = 0; k < layer.channels; ++k) result[k].resize(layer.colour[k].size());
+  // Every hole is a mask sample in one group and is written by its task, at its place; nothing reads
+  // the mask's other samples.
+  for (int k = 0; k < layer.channels; ++k) result[k].resize(scratch.places.count);
   // One task per group, its crop its blocks and `reach` samples around them.
   std::vector<HoleFillScratch::InpaintTask>& tasks = scratch.tasks;
   tasks.clear();
@@ -344,7 +380,7 @@ void planInpaint(const BlendedLayer& layer, const std::vector<uint8_t>& mask, in
 
 // Inpaints one group of `layer`'s mask samples in its crop, all channels in one march, into `result`.
 void inpaintGroup(const BlendedLayer& layer, const std::vector<uint8_t>& mask, int radius, bool likeOpenCv,
-                  const BlockGroups& groups,
+                  const BlockGroups& groups, const HolePlaces& places,
                   const HoleFillScratch::InpaintTask& task, UntouchedBuffer<float> result[3],
                   ScratchPool<HoleFillScratch::InpaintBuffers>& buffers) {
   const auto scratch = buffers.take();
@@ -408,13 +444,18 @@ void inpaintGroup(const BlendedLayer& layer, const std::vector<uint8_t>& mask, i
     }
   }
   teleaInpaint(groupMask.data(), cw, c.width, c.height, samples.data(), cw, radius, telea, likeOpenCv);
-  // Every mask sample is in one group: one writer.
+  // Every hole is in one group: one writer. The crop row's holes in order from the place of its first.
   float* out[3] = {result[0].data(), result[1].data(), result[2].data()};
+  const uint8_t* hole = layer.hole.data();
   for (int y = 0; y < c.height; ++y) {
     const size_t local = size_t(y) * cw, i = size_t(c.y + y) * w + c.x;
     const float* from = samples.data() + local * 4;
-    forEachFlag(groupMask.data() + local, c.width, [&](int x) {
-      for (int k = 0; k < channels; ++k) out[k][i + size_t(x)] = from[size_t(x) * 4 + k];
+    const uint8_t* ours = groupMask.data() + local;
+    size_t place = places.at(hole, c.x, c.y + y);
+    forEachFlag(hole + i, c.width, [&](int x) {
+      const size_t p = place++;
+      if (!ours[x]) return;
+      for (int k = 0; k < channels; ++k) out[k][p] = from[size_t(x) * 4 + k];
     });
   }
 }
@@ -442,7 +483,7 @@ void inpaintAll(const std::vector<LayerFill>& fills) {
       const LayerFill& f = fills[jobs[size_t(j)].fill];
       HoleFillScratch& s = *f.scratch;
       inpaintGroup(*f.layer, *s.inpaintMask, f.options->inpaintRadius, f.options->inpaintLikeOpenCv, s.inpaintGroups,
-                   s.tasks[jobs[size_t(j)].task], s.inpainted, s.inpaintBuffers);
+                   s.places, s.tasks[jobs[size_t(j)].task], s.inpainted, s.inpaintBuffers);
     }
   });
 }
@@ -462,13 +503,14 @@ void fillHoles(const std::vector<HoleFillJob>& jobs) {
       std::fill(layer.hole.begin(), layer.hole.end(), uint8_t(0));
       continue;
     }
+    s.places.index(layer.hole, layer.width, layer.height);
     // The inpainting's mask: the holes themselves (not copied) or the background-only mask.
     s.inpaintMask = &layer.hole;
     if (options.backgroundFirst) {
-      directionalFill(layer, options, s.directional, s.background, s.found, s.columnRows);
-      rowRunFill(layer, options, s.runs, s.runBackground, s.runFound);
+      directionalFill(layer, options, s.places, s.directional, s.background, s.found, s.columnRows);
+      rowRunFill(layer, options, s.places, s.runs, s.runBackground, s.runFound);
       if (options.inpaintNearerSurface) {
-        backgroundOnlyMask(layer, s.background, options.depthTolerance, options.inpaintRadius + 1, s.mask, s.thresholdRows);
+        backgroundOnlyMask(layer, s.places, s.background, options.depthTolerance, options.inpaintRadius + 1, s.mask, s.thresholdRows);
         s.inpaintMask = &s.mask;
       }
     }
@@ -483,8 +525,8 @@ void fillHoles(const std::vector<HoleFillJob>& jobs) {
     const size_t n = layer.hole.size();
     if (!options.backgroundFirst) {
       for (int k = 0; k < layer.channels; ++k)
-        for (size_t i = 0; i < n; ++i)
-          if (layer.hole[i]) layer.colour[k][i] = s.inpainted[k][i];
+        for (size_t i = 0, p = 0; i < n; ++i)
+          if (layer.hole[i]) layer.colour[k][i] = s.inpainted[k][p++];
     } else {
       // Three estimates of the background, mixed by weight (2 : 3 : 1 by default) over those that
       // found one; their errors differ, and the mix has a lower error than any of them.
@@ -509,17 +551,18 @@ void fillHoles(const std::vector<HoleFillJob>& jobs) {
           inpaintedColour[k] = s.inpainted[k].data();
         }
         const size_t begin = size_t(y0) * layer.width;
+        size_t place = s.places.rowStart(y0);  // the next hole's
         forEachFlag(hole + begin, int(size_t(y1 - y0) * layer.width), [&](int offset) {
-          const size_t i = begin + size_t(offset);
-          const float directional = found[i] ? directionalWeight : 0.0f;
-          const float run = runFound[i] ? rowRunWeight : 0.0f, inpainted = inpaintWeight;
+          const size_t i = begin + size_t(offset), p = place++;
+          const float directional = found[p] ? directionalWeight : 0.0f;
+          const float run = runFound[p] ? rowRunWeight : 0.0f, inpainted = inpaintWeight;
           const float sum = directional + run + inpainted;
           for (int k = 0; k < channels; ++k)
-            colour[k][i] = sum > 0 ? (directional * directionalColour[k][i] + run * runColour[k][i] +
-                                      inpainted * inpaintedColour[k][i]) / sum
-                                   : inpaintedColour[k][i];
-          if (found[i]) depth[i] = background[i];
-          else if (runFound[i]) depth[i] = runBackground[i];
+            colour[k][i] = sum > 0 ? (directional * directionalColour[k][p] + run * runColour[k][p] +
+                                      inpainted * inpaintedColour[k][p]) / sum
+                                   : inpaintedColour[k][p];
+          if (found[p]) depth[i] = background[p];
+          else if (runFound[p]) depth[i] = runBackground[p];
         });
       });
     }

@@ -38,7 +38,23 @@ struct SampleBox {
 // Working buffers of fillHoles, kept by a caller that fills every frame so that nothing is allocated
 // per frame once they have grown to the picture's size.
 struct HoleFillScratch {
-  // Written and read at hole (inpainting: mask) samples only: never touched elsewhere.
+  // Where each hole sample's estimates are: the hole samples one after another in raster order, a
+  // hole's place the number of holes before it. Stored per hole instead of per picture sample, the
+  // estimates take what the holes need (the 1920x1080 demo's few per cent of the samples) and lie
+  // together, where a picture-sized buffer written at the holes only made a 4 KiB page resident per
+  // row of every hole's column (doc/speed.md, fifth round).
+  struct HolePlaces {
+    static constexpr int kBlock = 64;  // samples per block of a row
+    int width = 0, blocksPerRow = 0;
+    size_t count = 0;                  // hole samples in the layer
+    std::vector<size_t> before;        // per row and block: the holes before its first sample
+    // Counts the holes of `hole` (width x height, non-zero: a hole).
+    void index(const std::vector<uint8_t>& hole, int width, int height);
+    // The place of the first hole at or after column x of row y (x <= width).
+    size_t at(const uint8_t* hole, int x, int y) const;
+    size_t rowStart(int y) const { return before[size_t(y) * size_t(blocksPerRow)]; }
+  } places;
+  // The estimates, by hole place (`places`): written and read at hole samples only.
   UntouchedBuffer<float> directional[3], runs[3], inpainted[3];
   UntouchedBuffer<double> background, runBackground;
   UntouchedBuffer<uint8_t> found, runFound;

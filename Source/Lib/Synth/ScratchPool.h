@@ -72,7 +72,7 @@ private:
 };
 
 // A frame-sized working buffer whose contents are left unset when it grows: for buffers that are
-// written only where they are later read (the hole filling's estimates, at hole samples). A
+// written only where they are later read (the occlusion rule's surroundings, at its candidates). A
 // std::vector would zero every element, touching every page of memory that is then never read;
 // this one allocates without writing, so pages nothing writes are never faulted in. resize() keeps
 // the memory when the size does not grow, and its contents are unspecified after a resize.
@@ -80,8 +80,9 @@ private:
 // A large one (Common/Memory.h: smallPageBuffersFrom(), 1 or 4 MiB by the picture size) is mapped
 // apart from the heap and asked to stay on 4 KiB pages: the heap is on transparent huge pages, where
 // one written sample makes its whole 2 MiB page resident, so a sparsely written buffer there became
-// resident almost whole (at 1920x1080 the hole filling's estimates are 83 MB, of which the demo's
-// holes touch about 15). Dense buffers keep the huge pages.
+// resident almost whole (at 1920x1080 the hole filling's estimates were 83 MB per picture sample, of
+// which the demo's holes touched about 15; they are stored per hole since, HoleFill.h). Dense buffers
+// keep the huge pages.
 template <class T>
 class UntouchedBuffer {
   static_assert(std::is_trivially_default_constructible_v<T> && std::is_trivially_destructible_v<T>,
