@@ -135,25 +135,5 @@ TEST(Memory, WorkerThreadsAllocateFromTheMainHeap) {
 #endif
 }
 
-// The number of mappings in /proc/self/maps.
-size_t mappingCount() {
-  std::ifstream maps("/proc/self/maps");
-  std::string line;
-  size_t count = 0;
-  while (std::getline(maps, line)) ++count;
-  return count;
-}
-
-// hugePageFaultMilliseconds times one huge page in a mapping of its own and unmaps it: a time (or
-// infinity where huge pages cannot be asked for), never NaN or negative, and no mapping left behind.
-TEST(Memory, HugePageProbeLeavesNoMappingBehind) {
-  const size_t before = mappingCount();
-  for (int k = 0; k < 3; ++k) {
-    const double milliseconds = hugePageFaultMilliseconds();
-    EXPECT_GE(milliseconds, 0.0);  // false for NaN too
-  }
-  EXPECT_EQ(mappingCount(), before);
-}
-
 }  // namespace
 }  // namespace vs

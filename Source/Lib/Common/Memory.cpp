@@ -2,10 +2,8 @@
 
 #include <algorithm>
 #include <atomic>
-#include <chrono>
 #include <cstdint>
 #include <cstdlib>  // brings in the C library's feature macros (__GLIBC__)
-#include <limits>
 #include <string_view>
 #if defined(__GLIBC__)
 #include <malloc.h>
@@ -64,25 +62,6 @@ void reserveHugePageHeap(size_t bytes, bool byDefault) {
 #else
   (void)bytes;
   (void)byDefault;
-#endif
-}
-
-double hugePageFaultMilliseconds() {
-#if defined(__linux__) && defined(MADV_HUGEPAGE) && !defined(__SANITIZE_ADDRESS__)
-  constexpr size_t kHugePage = size_t(2) << 20;
-  void* mapping = mmap(nullptr, 2 * kHugePage, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
-  if (mapping == MAP_FAILED) return std::numeric_limits<double>::infinity();
-  char* page = reinterpret_cast<char*>((uintptr_t(mapping) + kHugePage - 1) & ~uintptr_t(kHugePage - 1));
-  double milliseconds = std::numeric_limits<double>::infinity();
-  if (madvise(page, kHugePage, MADV_HUGEPAGE) == 0) {
-    const auto start = std::chrono::steady_clock::now();
-    *reinterpret_cast<volatile char*>(page) = 1;  // one fault: a whole huge page zeroed (a small one without THP)
-    milliseconds = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-  }
-  munmap(mapping, 2 * kHugePage);
-  return milliseconds;
-#else
-  return std::numeric_limits<double>::infinity();
 #endif
 }
 

@@ -33,20 +33,12 @@ bool hugePagesWanted(const char* variable, bool byDefault);
 // huge pages are off, the advice has no effect.
 void reserveHugePageHeap(size_t bytes, bool byDefault);
 
-// How long the kernel takes now to serve a transparent huge page: faults one in, in a mapping of its
-// own (unmapped again), and times it, in milliseconds. A warm machine zeroes one in about 0.2 ms; on a
-// virtual machine whose host has taken back the free memory (the first run after some idle time) it
-// may cost several times that, while 512 small pages cost about 0.7 to 1 ms. Infinity where huge
-// pages cannot be asked for (or under a sanitizer). MeshRender's one-frame runs choose their pages
-// with it (doc/meshrender.md, "Sixth round").
-double hugePageFaultMilliseconds();
-
 // Buffers written only here and there (Synth/ScratchPool.h: UntouchedBuffer, the occlusion rule's
 // surroundings and the hole filling's estimates) of at least this many bytes are mapped apart on 4
 // KiB pages instead of coming from the huge-page heap, where one written sample makes its whole 2 MiB
-// page resident. Default 4 MiB; a run
-// sets it from its picture size (Pipeline/FrameLoop.cpp): 4 KiB pages fault ten times more often, which
-// a small picture's run feels, while a large picture's huge pages keep tens of MiB resident for nothing.
+// page resident. Default 4 MiB; a run sets it from its picture size (Pipeline/FrameLoop.cpp): 4 KiB
+// pages fault ten times more often, which a small picture's run feels, while a large picture's huge
+// pages keep tens of MiB resident for nothing.
 void setSmallPageBuffersFrom(size_t bytes);
 size_t smallPageBuffersFrom();
 

@@ -4,10 +4,8 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
 
 #include "Common/Error.h"
-#include "Common/Memory.h"
 #include "Mesh/MeshPly.h"
 #include "Plan/MissingDepth.h"
 #include "Synth/Colour.h"
@@ -44,8 +42,8 @@ void releaseLayer(WarpedLayer& layer) {
 
 class MeshFrameRenderer : public FrameRenderer {
 public:
-  MeshFrameRenderer(const Scene& scene, const Plan& plan, const MeshSettings& settings, std::string pagesLine)
-      : scene_(scene), synthesizer_(scene_, plan, settings), pagesLine_(std::move(pagesLine)) {
+  MeshFrameRenderer(const Scene& scene, const Plan& plan, const MeshSettings& settings)
+      : scene_(scene), synthesizer_(scene_, plan, settings) {
     if (scene_.settings.frameCount <= 1) synthesizer_.releaseBuffersAfterEachStep();
   }
   void render(const std::vector<ReferenceFrame>& references, Frame& output, StageTimes& times) override {
@@ -61,11 +59,7 @@ public:
     lines.push_back(synthesizer_.meshSizeLine());
     return lines;
   }
-  std::vector<std::string> plan() const override {
-    std::vector<std::string> lines = synthesizer_.plan();
-    if (!pagesLine_.empty()) lines.push_back(pagesLine_);
-    return lines;
-  }
+  std::vector<std::string> plan() const override { return synthesizer_.plan(); }
   std::vector<std::pair<std::string, std::string>> decisions() const override {
     std::vector<std::pair<std::string, std::string>> fields = synthesizer_.decisions().fields();
     for (const auto& field : synthesizer_.meshSizeFields()) fields.push_back(field);
@@ -84,7 +78,6 @@ public:
 private:
   Scene scene_;  // a copy: a pose trace moves its virtual camera
   MeshSynthesizer synthesizer_;
-  std::string pagesLine_;  // chooseOneFramePages
 };
 
 }  // namespace
@@ -394,34 +387,6 @@ std::vector<std::pair<std::string, std::string>> MeshSynthesizer::meshSizeFields
   return fields;
 }
 
-namespace {
-
-// A run of one frame, unless VS_HUGE_PAGES decides: huge pages for the heap when the machine serves one
-// quickly now, 4 KiB pages otherwise (doc/meshrender.md, "Sixth round"). A warm one-frame run of Art
-// takes about a sixth less time on huge pages, while the first run after some idle time took about
-// twice a warm one on them (and hardly more on 4 KiB pages): a huge page that takes longer than 512
-// small ones would (kHugePageSlowMs) is the sign of the latter. Called before the context's thread and
-// the mesh builders allocate, so that their memory is on the pages chosen too; a sequence's pages are
-// the frame loop's. Returns the plan's line on it (empty: not decided here).
-constexpr double kHugePageSlowMs = 0.5;
-
-std::string chooseOneFramePages(const SynthesisSettings& s) {
-  if (s.frameCount > 1 || std::getenv("VS_HUGE_PAGES")) return "";
-  const double milliseconds = hugePageFaultMilliseconds();
-  const bool huge = milliseconds < kHugePageSlowMs;
-  if (huge) {
-    // As much room as the frame loop reserves for a frame (Pipeline/FrameLoop.cpp); only address space.
-    const size_t samples = size_t(s.virtualFormat().width) * size_t(s.virtualFormat().height);
-    reserveHugePageHeap(samples * (144 + 96 * s.references.size()), true);
-  }
-  char line[160];
-  std::snprintf(line, sizeof line, "memory: %s (one huge page took %.2f ms; under %.1f ms: huge pages)",
-                huge ? "huge pages" : "4 KiB pages", milliseconds, kHugePageSlowMs);
-  return line;
-}
-
-}  // namespace
-
 int runMeshRender(const Config& config) {
   RunReport report("MeshRender", config);
   runReported(report, [&] {
@@ -429,8 +394,7 @@ int runMeshRender(const Config& config) {
     const MeshSettings settings = readMeshSettings(config);
     // The plan refuses what MeshRender cannot do before anything is opened.
     const Plan plan = makePlan(scene, Tool::MeshRender);
-    const std::string pages = chooseOneFramePages(scene.settings);
-    MeshFrameRenderer renderer(scene, plan, settings, pages);
+    MeshFrameRenderer renderer(scene, plan, settings);
     setWorkerThreads(scene.settings.threads);
     return runSequence("MeshRender", scene, renderer, report);
   });
