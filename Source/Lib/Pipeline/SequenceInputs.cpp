@@ -75,14 +75,18 @@ void SequenceInputs::readAhead() {
     const int64_t f = askedFrame_, t = askedTruth_;
     askedFrame_ = askedTruth_ = -1;
     lock.unlock();
+    // Runs a read outside the lock; what it threw is handed to the waiting frame under the lock.
+    auto caught = [](auto&& read) -> std::exception_ptr {
+      try {
+        read();
+      } catch (...) {
+        return std::current_exception();
+      }
+      return nullptr;
+    };
     // The truth first: the frame being rendered waits for it at its end.
     if (t >= 0) {
-      std::exception_ptr error;
-      try {
-        truth_->read(settings_.startFrame + t, truthFrame_);
-      } catch (...) {
-        error = std::current_exception();
-      }
+      std::exception_ptr error = caught([&] { truth_->read(settings_.startFrame + t, truthFrame_); });
       lock.lock();
       truthError_ = error;
       truthOver_ = true;
@@ -90,15 +94,12 @@ void SequenceInputs::readAhead() {
       lock.unlock();
     }
     if (f >= 0) {
-      std::exception_ptr error;
-      try {
+      std::exception_ptr error = caught([&] {
         for (size_t k = 0; k < textures_.size(); ++k) {
           textures_[k]->readBytes(settings_.startFrame + f, false, ahead_.textures[k]);
           depths_[k]->readBytes(settings_.startFrame + f, true, ahead_.depths[k]);
         }
-      } catch (...) {
-        error = std::current_exception();
-      }
+      });
       lock.lock();
       readError_ = error;
       readOver_ = true;
