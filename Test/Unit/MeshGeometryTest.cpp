@@ -191,7 +191,7 @@ TEST(MeshDepth, DiscontinuitiesDropTrianglesAndMarkTheirVertices) {
   for (int r = 0; r < mesh.rows; ++r)
     for (int c = 0; c < mesh.columns; ++c) {
       const bool onStep = mesh.gridU[c] == 3 || mesh.gridU[c] == 4;
-      EXPECT_EQ(mesh.boundary[size_t(r) * mesh.columns + c], onStep ? 1.0f : 0.0f) << c << ", " << r;
+      EXPECT_EQ(mesh.boundary[size_t(r) * mesh.columns + c], onStep ? 1 : 0) << c << ", " << r;
     }
   EXPECT_EQ(mesh.points.size(), size_t(2 * mesh.rows));
   options.discontinuityThreshold = step * 1.01;

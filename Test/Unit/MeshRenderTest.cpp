@@ -252,7 +252,7 @@ TEST(MeshRenderGl, KnownPointsLandWhereThePinholeModelPutsThem) {
       double u, v, z;
       ASSERT_TRUE(reference.project(corner, u, v, z));
       mesh.vertices.insert(mesh.vertices.end(), {float(u), float(v), 1.0f, float(1.0 / z)});
-      mesh.boundary.push_back(0.0f);
+      mesh.boundary.push_back(0);
       mesh.valid.push_back(1);
     }
     const vs::Mat4 clip = vs::meshClipMatrix(reference, virtualCamera, grid, vs::clipPlanes({1.0 / 400, 1.0 / 150}));

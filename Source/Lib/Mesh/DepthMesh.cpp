@@ -137,16 +137,14 @@ void DepthMeshBuilder::build(const Plane& depth, DepthMesh& mesh, const Plane* l
   mesh.gridU = gridU_;
   mesh.gridV = gridV_;
   mesh.vertices.assign(count * 4, 0.0f);
-  mesh.boundary.assign(count, 0.0f);
+  mesh.boundary.assign(count, 0);
   mesh.valid.assign(count, 0);
-  mesh.cellSplit.assign(size_t(columns - 1) * size_t(rows - 1), 0);
   mesh.triangles.clear();
   mesh.points.clear();
   mesh.farthestOrphans.clear();
   mesh.droppedTriangles = 0;
   mesh.gridTriangles = 0;
   std::vector<double> cameraInverseZ(count, 0.0);
-  std::vector<uint16_t> level(count, 0);  // depth level of each valid vertex (a depth sample: 16 bits)
 
   const bool world = options_.depthType == kDepthTypeWorld;
   // Levels are affine in the image on a plane only for camera depth (DepthType 0).
@@ -169,7 +167,6 @@ void DepthMeshBuilder::build(const Plane& depth, DepthMesh& mesh, const Plane* l
         vertex[3] = float(w);
         mesh.valid[i] = 1;
         cameraInverseZ[i] = w;
-        level[i] = sampleLevel;
         continue;
       }
       // referenceVertex() without recomputing the ray per vertex: the same formula, D_z cached.
@@ -191,7 +188,6 @@ void DepthMeshBuilder::build(const Plane& depth, DepthMesh& mesh, const Plane* l
       vertex[3] = float(w);
       mesh.valid[i] = 1;
       cameraInverseZ[i] = w / a;
-      level[i] = sampleLevel;
     }
   }
 
@@ -212,7 +208,9 @@ void DepthMeshBuilder::build(const Plane& depth, DepthMesh& mesh, const Plane* l
       const int r = ra + k * dr, c = ca + k * dc;
       const bool inside = r >= 0 && c >= 0 && r < rows && c < columns;
       const size_t i = inside ? size_t(r) * columns + c : 0;
-      line[k + 2] = inside && mesh.valid[i] ? int(level[i]) : std::numeric_limits<int>::min();
+      // A valid vertex's level is the depth sample it read.
+      line[k + 2] = inside && mesh.valid[i] ? int(depth.row(pixelV_[size_t(r)])[pixelU_[size_t(c)]])
+                                            : std::numeric_limits<int>::min();
     }
     if (!erpRays_.empty()) return erpEdgeOnPlane(reference_, gridU_, gridV_, erpPoleRows_, ra, ca, dr, dc, line);
     const int step = line[3] - line[2];
@@ -266,7 +264,9 @@ void DepthMeshBuilder::build(const Plane& depth, DepthMesh& mesh, const Plane* l
   };
   // Each cell's split and kept triangles (kCellTriangles); the vertices of kept triangles are `used`.
   const int cellsX = columns - 1;
-  std::vector<uint8_t> cellCode(size_t(cellsX) * size_t(rows - 1), kNoTriangle);
+  // Kept in the mesh (cellSplit): edgeAt reads the split from it.
+  std::vector<uint8_t>& cellCode = mesh.cellSplit;
+  cellCode.assign(size_t(cellsX) * size_t(rows - 1), kNoTriangle);
   std::vector<uint8_t> used(count, 0);
   auto emit = [&](const uint32_t q[4], const int k[3], int column) {
     const uint32_t a = q[k[0]], b = q[k[1]], c = q[k[2]];
@@ -276,7 +276,7 @@ void DepthMeshBuilder::build(const Plane& depth, DepthMesh& mesh, const Plane* l
       return true;
     }
     ++mesh.droppedTriangles;
-    mesh.boundary[a] = mesh.boundary[b] = mesh.boundary[c] = 1.0f;
+    mesh.boundary[a] = mesh.boundary[b] = mesh.boundary[c] = 1;
     return false;
   };
   if (rows > 1) sameRow(0, sameBottom);
@@ -304,7 +304,7 @@ void DepthMeshBuilder::build(const Plane& depth, DepthMesh& mesh, const Plane* l
       if (validCount < 4) {
         // Next to missing data: what is left is a mesh border.
         for (uint32_t corner : q)
-          if (mesh.valid[corner]) mesh.boundary[corner] = 1.0f;
+          if (mesh.valid[corner]) mesh.boundary[corner] = 1;
         if (validCount < 3) {
           mesh.droppedTriangles += 2;
           continue;
@@ -315,7 +315,6 @@ void DepthMeshBuilder::build(const Plane& depth, DepthMesh& mesh, const Plane* l
         code = uint8_t(2 + missing);
       } else {
         const bool anti = (cellSplitRow[size_t(c)] & 1) != 0;
-        if (anti) mesh.cellSplit[size_t(r) * size_t(cellsX) + size_t(c)] = 1;
         code = anti ? kSplitAnti : kSplitMain;
         // Every edge within the threshold (the common case): both triangles kept, as kept() finds.
         if ((cellSplitRow[size_t(c)] & 2) && sameTop[size_t(c)] && sameBottom[size_t(c)] && sameDown[size_t(c)] &&
@@ -350,7 +349,7 @@ void DepthMeshBuilder::build(const Plane& depth, DepthMesh& mesh, const Plane* l
     return true;
   };
   for (size_t i = 0; i < count; ++i) {
-    if (used[i] ? mesh.boundary[i] > 0.0f : mesh.valid[i] && !farthestAround(i)) mesh.points.push_back(uint32_t(i));
+    if (used[i] ? mesh.boundary[i] != 0 : mesh.valid[i] && !farthestAround(i)) mesh.points.push_back(uint32_t(i));
     else if (!used[i] && mesh.valid[i]) mesh.farthestOrphans.push_back(uint32_t(i));
   }
   // The adaptive mesh has at most the grid's triangles (a merged block of s x s cells, s >= 2, is at
@@ -371,14 +370,14 @@ bool DepthMesh::edgeAt(double u, double v) const {
   const int c = cellOf(gridU, gridStep, u), r = cellOf(gridV, gridStep, v);
   const size_t q0 = size_t(r) * size_t(columns) + size_t(c), q1 = q0 + 1, q2 = q0 + size_t(columns), q3 = q2 + 1;
   // Most cells have no corner on a dropped triangle: no weight can make them an edge.
-  if (!(boundary[q0] > 0.0f || boundary[q1] > 0.0f || boundary[q2] > 0.0f || boundary[q3] > 0.0f)) return false;
+  if (!(boundary[q0] | boundary[q1] | boundary[q2] | boundary[q3])) return false;
   const double fu = (u - gridU[size_t(c)]) / (gridU[size_t(c) + 1] - gridU[size_t(c)]);
   const double fv = (v - gridV[size_t(r)]) / (gridV[size_t(r) + 1] - gridV[size_t(r)]);
   // Barycentric weights of the triangle's corners; a corner counts when its weight is above the
   // position's float rounding (as the interpolated flag of a rasterised triangle is above 0 there).
   constexpr double kWeight = 1e-3;
-  auto on = [&](size_t corner, double weight) { return weight > kWeight && boundary[corner] > 0.0f; };
-  if (cellSplit[size_t(r) * size_t(columns - 1) + size_t(c)] == 0)
+  auto on = [&](size_t corner, double weight) { return weight > kWeight && boundary[corner] != 0; };
+  if ((cellSplit[size_t(r) * size_t(columns - 1) + size_t(c)] & 7) != kSplitAnti)
     return fu >= fv ? on(q0, 1.0 - fu) || on(q1, fu - fv) || on(q3, fv) : on(q0, 1.0 - fv) || on(q3, fu) || on(q2, fv - fu);
   return fu + fv <= 1.0 ? on(q0, 1.0 - fu - fv) || on(q1, fu) || on(q2, fv)
                         : on(q1, 1.0 - fv) || on(q2, 1.0 - fu) || on(q3, fu + fv - 1.0);
@@ -423,6 +422,19 @@ bool DepthMeshBuilder::merge(DepthMesh& mesh, const std::vector<double>& inverse
       const double bottom = (1.0 - fx) * luma->at(x0, y1) + fx * luma->at(x1, y1);
       return (1.0 - fy) * top + fy * bottom;
     };
+    // Rectified or parallel cameras: the shift is the same at every vertex (ReferenceShift::uniform), so
+    // it and its length are computed once, and the bound of each whole luma step once (a table): the
+    // same expressions on the same values, without a shift, a square root and two divisions per vertex.
+    double uniformLimit = 0.0, uniformDu = 0.0, uniformDv = 0.0, uniformLength = 0.0;
+    const bool uniform = shift_.uniform(uniformLimit);
+    const bool uniformShifts = uniform && shift_(0.0, 0.0, 0.0, uniformDu, uniformDv);
+    if (uniformShifts) uniformLength = std::sqrt(uniformDu * uniformDu + uniformDv * uniformDv);
+    constexpr int kStepTable = 1024;  // whole luma steps 0 .. 1023 (10-bit samples)
+    float stepBound[kStepTable];
+    if (uniformShifts && uniformLength > 0.0 && std::isfinite(uniformLength)) {
+      stepBound[0] = kNoBound;
+      for (int step = 1; step < kStepTable; ++step) stepBound[step] = float(halfColour / (double(step) * uniformLength));
+    }
     for (int r = 0; r < rows; ++r) {
       const int py = pixelV_[size_t(r)];
       const uint16_t* row = luma->row(py);
@@ -434,9 +446,18 @@ bool DepthMeshBuilder::merge(DepthMesh& mesh, const std::vector<double>& inverse
                             (r > 0 && c < cellsX && ok[0][size_t(r - 1) * size_t(cellsX) + size_t(c)]) ||
                             (r < cellsY && c > 0 && ok[0][size_t(r) * size_t(cellsX) + size_t(c - 1)]) ||
                             (r < cellsY && c < cellsX && ok[0][size_t(r) * size_t(cellsX) + size_t(c)]);
-        double du = 0.0, dv = 0.0;
-        if (!tested || !shift_(mesh.gridU[size_t(c)], mesh.gridV[size_t(r)], inverseCameraZ[i], du, dv)) continue;
-        const double length = std::sqrt(du * du + dv * dv);
+        if (!tested) continue;
+        double du = 0.0, dv = 0.0, length;
+        const bool same = uniform && std::fabs(inverseCameraZ[i]) <= uniformLimit;
+        if (same) {
+          if (!uniformShifts) continue;
+          du = uniformDu;
+          dv = uniformDv;
+          length = uniformLength;
+        } else {
+          if (!shift_(mesh.gridU[size_t(c)], mesh.gridV[size_t(r)], inverseCameraZ[i], du, dv)) continue;
+          length = std::sqrt(du * du + dv * dv);
+        }
         if (!(length > 0.0) || !std::isfinite(length)) continue;
         const int px = pixelU_[size_t(c)];
         const double centre = row[px];
@@ -444,6 +465,15 @@ bool DepthMeshBuilder::merge(DepthMesh& mesh, const std::vector<double>& inverse
         if (dv == 0.0) {  // along the row (rectified cameras): the neighbours themselves
           const int ahead = du > 0.0 ? std::min(px + 1, width_ - 1) : std::max(px - 1, 0);
           const int behind = du > 0.0 ? std::max(px - 1, 0) : std::min(px + 1, width_ - 1);
+          if (same) {  // whole steps: the table
+            const int forwardStep = std::abs(int(row[ahead]) - int(row[px]));
+            const int backwardStep = std::abs(int(row[behind]) - int(row[px]));
+            if (forwardStep < kStepTable && backwardStep < kStepTable) {
+              colourAbove[2 * i] = stepBound[backwardStep];
+              colourBelow[2 * i] = stepBound[forwardStep];
+              continue;
+            }
+          }
           forward = std::fabs(row[ahead] - centre);
           backward = std::fabs(row[behind] - centre);
         } else {
@@ -461,8 +491,12 @@ bool DepthMeshBuilder::merge(DepthMesh& mesh, const std::vector<double>& inverse
   // largest displacement rate at the corners; half the bound, since the drawn triangles interpolate
   // vertices that are themselves up to the tolerance off.
   std::vector<double> blockDu;  // planarBlock's scratch: each column's du in the block
-  // Each vertex's displacement rate, computed when a block first has it as a corner (NaN before).
-  std::vector<double> cornerRate(mesh.vertexCount(), std::numeric_limits<double>::quiet_NaN());
+  // Rectified or parallel cameras: one rate for every vertex (DisplacementRate::uniform). Otherwise each
+  // vertex's displacement rate, computed when a block first has it as a corner (NaN before).
+  double uniformRateLimit = 0.0;
+  const bool uniformRate = rate_.uniform(uniformRateLimit);
+  const double rateEverywhere = uniformRate ? rate_(0.0, 0.0, 0.0) : 0.0;
+  std::vector<double> cornerRate(uniformRate ? 0 : mesh.vertexCount(), std::numeric_limits<double>::quiet_NaN());
   auto planarBlock = [&](int x0, int y0, int width, int height) {
     const int x1 = x0 + width, y1 = y0 + height;
     const double u0 = mesh.gridU[size_t(x0)], u1 = mesh.gridU[size_t(x1)];
@@ -473,9 +507,16 @@ bool DepthMeshBuilder::merge(DepthMesh& mesh, const std::vector<double>& inverse
     const int cornerX[4] = {x0, x1, x0, x1}, cornerY[4] = {y0, y0, y1, y1};
     for (int k = 0; k < 4; ++k) {
       const size_t i = vertexIndex(cornerX[k], cornerY[k]);
-      if (std::isnan(cornerRate[i]))
-        cornerRate[i] = rate_(mesh.gridU[size_t(cornerX[k])], mesh.gridV[size_t(cornerY[k])], inverseCameraZ[i]);
-      const double r = cornerRate[i];
+      double r;
+      if (uniformRate) {
+        r = std::fabs(inverseCameraZ[i]) <= uniformRateLimit
+                ? rateEverywhere
+                : rate_(mesh.gridU[size_t(cornerX[k])], mesh.gridV[size_t(cornerY[k])], inverseCameraZ[i]);
+      } else {
+        if (std::isnan(cornerRate[i]))
+          cornerRate[i] = rate_(mesh.gridU[size_t(cornerX[k])], mesh.gridV[size_t(cornerY[k])], inverseCameraZ[i]);
+        r = cornerRate[i];
+      }
       if (!(r < std::numeric_limits<double>::infinity())) return false;  // not in front of the virtual camera
       rate = std::max(rate, r);
     }

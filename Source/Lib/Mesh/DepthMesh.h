@@ -56,6 +56,7 @@
 // triangle), so the mesh has no T-junctions and no cracks. A cell with a dropped triangle (a depth edge) or an invalid vertex is
 // never merged: it stays as it is, and the merged blocks beside it pass through all its vertices, so
 // the mesh's outline keeps full resolution.
+#include <algorithm>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -105,6 +106,26 @@ public:
     return terms;
   }
   explicit operator bool() const { return pinhole_ || bool(general_); }
+  // Whether the value is the same, to the bit, at every reference pixel (u, v) with |u|, |v| <= 1e9 and
+  // every q with |q| <= qLimit (written here): so for pinhole terms whose H has the last row (0, 0, c) and
+  // whose e_z is 0 (the virtual image plane parallel to the reference's, no move along the optical
+  // axis: rectified or parallel cameras). There h_z = c whatever (u, v, q) (H's zeros make (0 u + 0 v) + c
+  // = c, and q e_z = 0), and each formula adds to its terms in c only products h_x 0, h_y 0, which are
+  // zeros while h_x, h_y are finite; qLimit keeps them finite. The adaptive mesh then computes it once.
+  bool uniform(double& qLimit) const {
+    qLimit = 0.0;
+    if (!pinhole_ || !(H_[2][0] == 0.0 && H_[2][1] == 0.0 && e_.z == 0.0)) return false;
+    double largest = 0.0;
+    for (int r = 0; r < 3; ++r)
+      for (int k = 0; k < 3; ++k) {
+        if (!std::isfinite(H_[r][k])) return false;
+        largest = std::max(largest, std::fabs(H_[r][k]));
+      }
+    if (!std::isfinite(e_.x) || !std::isfinite(e_.y) || !(largest < 1e280)) return false;
+    // |h_x| <= largest (|u| + |v| + 1) + |q| |e_x| stays far below the largest double.
+    qLimit = 1e290 / (1.0 + std::fabs(e_.x) + std::fabs(e_.y));
+    return true;
+  }
   template <typename... Arguments>
   auto operator()(Arguments&&... arguments) const {
     if (!pinhole_) return general_(std::forward<Arguments>(arguments)...);
@@ -175,9 +196,10 @@ struct DepthMesh {
   int gridStep = 1;                    // MeshGridStep: spacing of the inner grid lines (gridU, gridV)
   std::vector<double> gridU, gridV;    // reference pixel position of each grid column and row
   std::vector<float> vertices;         // 4 floats a vertex, row-major over the grid: (a u, a v, a, w)
-  std::vector<float> boundary;         // 1 float a vertex: 1 where it belongs to a dropped triangle
-  // Per grid cell, the diagonal its quad was split along: 0 from corner (c, r) to (c+1, r+1), 1 from
-  // (c+1, r) to (c, r+1). With `boundary`, it tells whether the grid triangle under a reference
+  std::vector<uint8_t> boundary;       // 1 a vertex: 1 where it belongs to a dropped triangle
+  // Per grid cell, how its quad was split and which of its triangles were kept (DepthMesh.cpp's cell
+  // code); its low 3 bits are 1 where the split runs from (c+1, r) to (c, r+1), otherwise from corner
+  // (c, r) to (c+1, r+1). With `boundary`, it tells whether the grid triangle under a reference
   // position touches a dropped one (edgeAt), whatever triangles the adaptive mesh drew there.
   std::vector<uint8_t> cellSplit;
   std::vector<uint8_t> valid;            // 1 a vertex: a finite point in front of the reference camera
