@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <limits>
+#include <random>
 #include <set>
 #include <utility>
 #include <vector>
@@ -18,6 +19,7 @@
 #include "Common/Depth.h"
 #include "Common/Frame.h"
 #include "Mesh/DepthMesh.h"
+#include "Mesh/MeshProjection.h"
 
 namespace {
 
@@ -244,6 +246,73 @@ TEST(MeshAdaptive, LargerBoundsMergeMore) {
     build(maxError, true, mesh);
     EXPECT_LE(mesh.triangleCount(), previous) << "MeshMaxError " << maxError;
     previous = mesh.triangleCount();
+  }
+}
+
+// Rectified cameras (the same rotation and focal length, the centre moved along the rows, another
+// principal point): the pinhole shift and rate are the same at every (u, v, q), to the bit, so the builder
+// computes them once (ReferenceShift::uniform, DisplacementRate::uniform). Truth: the formula evaluated at
+// each point, and the mesh built through the same terms wrapped in a function, which the builder calls at
+// every vertex and block corner. A rotated virtual camera is not uniform and builds the same way too.
+TEST(MeshAdaptive, PinholeTermsComputedOnceGiveTheMeshOfTermsComputedAtEveryVertex) {
+  const vs::Camera reference = camera();
+  vs::Camera rectified = camera();
+  rectified.t.x = 3.0;
+  rectified.K[0][2] = 51.25;
+  vs::Camera rotated = rectified;
+  const double angle = 0.03;
+  rotated.R[0][0] = rotated.R[2][2] = std::cos(angle);
+  rotated.R[0][2] = std::sin(angle);
+  rotated.R[2][0] = -std::sin(angle);
+  // A texture with steps of every size up to 255 and, at 16 bits, beyond the builder's table of steps.
+  vs::Plane luma(kWidth, kHeight), deepLuma(kWidth, kHeight);
+  std::mt19937 random(7);
+  for (uint16_t& sample : luma.samples) sample = uint16_t(random() % 256);
+  for (uint16_t& sample : deepLuma.samples) sample = uint16_t(random() % 4096);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  for (const vs::Camera* virtualCamera : {&rectified, &rotated}) {
+    const vs::RenderGrid grid = vs::lumaGrid(*virtualCamera, kWidth, kHeight);
+    const vs::DisplacementRate rate = vs::pinholeDisplacementRate(reference, *virtualCamera, grid);
+    const vs::ReferenceShift shift = vs::pinholeReferenceShift(reference, *virtualCamera, grid);
+    double rateLimit = 0.0, shiftLimit = 0.0;
+    const bool uniform = virtualCamera == &rectified;
+    ASSERT_EQ(rate.uniform(rateLimit), uniform);
+    ASSERT_EQ(shift.uniform(shiftLimit), uniform);
+    if (uniform) {
+      ASSERT_GT(rateLimit, 1.0);
+      ASSERT_GT(shiftLimit, 1.0);
+      double du0 = 0.0, dv0 = 0.0;
+      ASSERT_TRUE(shift(0.0, 0.0, 0.0, du0, dv0));
+      const double rate0 = rate(0.0, 0.0, 0.0);
+      for (int k = 0; k < 200; ++k) {
+        const double u = -0.5 + kWidth * unit(random), v = -0.5 + kHeight * unit(random), q = 0.02 * unit(random);
+        double du = 0.0, dv = 0.0;
+        ASSERT_TRUE(shift(u, v, q, du, dv));
+        EXPECT_EQ(du, du0);
+        EXPECT_EQ(dv, dv0);
+        EXPECT_EQ(rate(u, v, q), rate0);
+      }
+    }
+    const vs::DisplacementRate rateEveryVertex = [rate](double u, double v, double q) { return rate(u, v, q); };
+    const vs::ReferenceShift shiftEveryVertex = [shift](double u, double v, double q, double& du, double& dv) {
+      return shift(u, v, q, du, dv);
+    };
+    double limit = 0.0;
+    ASSERT_FALSE(rateEveryVertex.uniform(limit));
+    ASSERT_FALSE(shiftEveryVertex.uniform(limit));
+    vs::MeshOptions options;
+    options.maxError = 0.5;
+    const vs::Plane* textures[3] = {&luma, &deepLuma, nullptr};
+    for (const vs::Plane* texture : textures) {
+      const vs::DepthMeshBuilder once(reference, range8(), kWidth, kHeight, options, rate, shift);
+      const vs::DepthMeshBuilder everywhere(reference, range8(), kWidth, kHeight, options, rateEveryVertex, shiftEveryVertex);
+      vs::DepthMesh a, b;
+      once.build(depthMap(), a, texture);
+      everywhere.build(depthMap(), b, texture);
+      EXPECT_EQ(a.triangles, b.triangles);
+      EXPECT_EQ(a.points, b.points);
+      EXPECT_LT(a.triangleCount(), a.gridTriangles) << "some blocks merge";
+    }
   }
 }
 
