@@ -290,8 +290,12 @@ void DepthMeshBuilder::build(const Plane& depth, DepthMesh& mesh, const Plane* l
       // A cell of four valid corners is split along the diagonal whose ends are closer in depth: across
       // a depth step that keeps one triangle whole on each side instead of stretching both. Its
       // diagonal's sameSurface() beside it (bit 1).
+      constexpr double kInfinity = std::numeric_limits<double>::infinity();
       for (int c = 0; c + 1 < columns; ++c) {
-        const bool anti = !(relativeStep(z0[c], z1[c + 1]) <= relativeStep(z0[c + 1], z1[c]));
+        // Equal finite ends (flat depth) have relative step 0, which is at most the other diagonal's
+        // unless that is NaN (both its ends infinite): the same decision without the two divisions.
+        const bool flat = z0[c] == z1[c + 1] && z0[c] < kInfinity && std::min(z0[c + 1], z1[c]) < kInfinity;
+        const bool anti = !flat && !(relativeStep(z0[c], z1[c + 1]) <= relativeStep(z0[c + 1], z1[c]));
         const bool same = anti ? sameSurface(z0[c + 1], z1[c], threshold) : sameSurface(z0[c], z1[c + 1], threshold);
         cellSplitRow[size_t(c)] = uint8_t((anti ? 1 : 0) | (same ? 2 : 0));
       }
