@@ -170,6 +170,17 @@ void DepthMeshBuilder::build(const Plane& depth, DepthMesh& mesh, const Plane* l
         continue;
       }
       // referenceVertex() without recomputing the ray per vertex: the same formula, D_z cached.
+      if (!world) {  // a = 1 (a negative w would make it -1: not in front): a u, a v, w / a are u, v, w
+        if (w < 0.0) continue;
+        float* vertex = &mesh.vertices[i * 4];
+        vertex[0] = float(gridU_[size_t(c)]);
+        vertex[1] = float(gridV_[size_t(r)]);
+        vertex[2] = 1.0f;
+        vertex[3] = float(w);
+        mesh.valid[i] = 1;
+        cameraInverseZ[i] = w;
+        continue;
+      }
       double a = 1.0;
       if (world) {
         const double rayZ = worldRayZ_[i];
