@@ -316,4 +316,28 @@ TEST(MeshAdaptive, PinholeTermsComputedOnceGiveTheMeshOfTermsComputedAtEveryVert
   }
 }
 
+// largestFactorWithin: |e| rate <= bound exactly when |e| <= the threshold, for every double e, checked
+// against the product itself near the threshold, far from it, for NaN and the infinities.
+TEST(MeshAdaptive, LargestFactorWithinIsExactlyWhereTheProductPasses) {
+  std::mt19937 random(3);
+  std::uniform_real_distribution<double> exponent(-8.0, 9.0), unit(0.0, 1.0);
+  std::vector<std::pair<double, double>> cases = {{0.0, 1.0}, {1.0, 0.0}, {4e-320, 1.0}, {3.0, 1.0}, {0.1, 0.3}};
+  for (int k = 0; k < 200; ++k) cases.push_back({std::pow(10.0, exponent(random)), unit(random) < 0.1 ? 0.0 : unit(random)});
+  const double infinity = std::numeric_limits<double>::infinity(), nan = std::numeric_limits<double>::quiet_NaN();
+  for (const auto& [rate, bound] : cases) {
+    const double threshold = vs::largestFactorWithin(rate, bound);
+    ASSERT_GE(threshold, 0.0) << rate << " " << bound;
+    EXPECT_LE(threshold * rate, bound);
+    const double next = std::nextafter(threshold, infinity);
+    EXPECT_FALSE(next * rate <= bound) << rate << " " << bound;
+    std::vector<double> errors = {0.0, -0.0, threshold, -threshold, next, -next, infinity, -infinity, nan,
+                                  std::nextafter(threshold, 0.0), std::numeric_limits<double>::max()};
+    for (int j = 0; j < 50; ++j) errors.push_back((unit(random) - 0.5) * 4.0 * (threshold > 0.0 ? threshold : 1e-300));
+    for (double error : errors)
+      EXPECT_EQ(std::fabs(error) * rate <= bound, std::fabs(error) <= threshold) << rate << " " << bound << " " << error;
+  }
+  EXPECT_LT(vs::largestFactorWithin(infinity, 1.0), 0.0);
+  EXPECT_LT(vs::largestFactorWithin(nan, 1.0), 0.0);
+}
+
 }  // namespace

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <functional>
 #include <limits>
 #include <utility>
@@ -78,6 +79,27 @@ inline int cellOf(const std::vector<double>& lines, int step, double position) {
 }
 
 }  // namespace
+
+double largestFactorWithin(double rate, double bound) {
+  if (!(rate >= 0.0 && rate < std::numeric_limits<double>::infinity() && bound >= 0.0)) return -1.0;
+  auto within = [&](uint64_t bits) {
+    double x;
+    std::memcpy(&x, &bits, sizeof x);
+    return x * rate <= bound;
+  };
+  // Bisection over the non-negative doubles, whose bit patterns are in the order of their values:
+  // within(lo) (0 rate = 0), not within(hi) (infinity rate is infinite, or NaN for rate 0).
+  const double infinity = std::numeric_limits<double>::infinity();
+  uint64_t lo = 0, hi = 0;
+  std::memcpy(&hi, &infinity, sizeof hi);
+  while (hi - lo > 1) {
+    const uint64_t mid = lo + (hi - lo) / 2;
+    (within(mid) ? lo : hi) = mid;
+  }
+  double x;
+  std::memcpy(&x, &lo, sizeof x);
+  return x;
+}
 
 bool referenceVertex(const Camera& reference, int depthType, double u, double v, double inverseZ, double vertex[4],
                      double& inverseCameraZ) {
@@ -512,6 +534,44 @@ bool DepthMeshBuilder::merge(DepthMesh& mesh, const std::vector<double>& inverse
   const bool uniformRate = rate_.uniform(uniformRateLimit);
   const double rateEverywhere = uniformRate ? rate_(0.0, 0.0, 0.0) : 0.0;
   std::vector<double> cornerRate(uniformRate ? 0 : mesh.vertexCount(), std::numeric_limits<double>::quiet_NaN());
+  // |error| rateEverywhere <= halfBound iff |error| <= rateThreshold (largestFactorWithin).
+  const double rateThreshold = uniformRate ? largestFactorWithin(rateEverywhere, halfBound) : 0.0;
+  // The rows of planarBlock's block; withinRate(error): the displacement test.
+  auto rowsWithin = [&](int x0, int y0, int y1, int n, double q00, double upperU, double upperV, double lowerU,
+                            double lowerV, double sv, auto withinRate) {
+    const double v0 = mesh.gridV[size_t(y0)];
+    for (int y = y0; y <= y1; ++y) {
+      const double dv = (mesh.gridV[size_t(y)] - v0) * sv;
+      const double upperRow = dv * upperV, lowerRow = q00 + dv * lowerV;
+      const double* q = &inverseCameraZ[vertexIndex(x0, y)];
+      const bool above = !colourBound.empty();
+      // Within the tolerance: the displacement (q's error times the rate) within half MeshMaxError, and
+      // q's error within the colour tolerance on its side. A whole row is tested without a branch per
+      // vertex (the same arithmetic; a NaN error fails), and the block fails after the first row that does.
+      // Neither colour bound is negative, so the one on the other side than the error always holds: testing
+      // both is testing the one on its side, without a branch on the error's sign (which is unpredictable).
+      const double* du = blockDu.data();
+      int split = 0;  // the lower triangle's part of the row: du < dv
+      while (split < n && !(du[split] >= dv)) ++split;
+      bool rowWithin = true;
+      if (above) {
+        const float* bound = colourBound.data() + 2 * vertexIndex(x0, y);  // (above, below) per vertex
+        for (int i = 0; i < split; ++i) {
+          const double error = (lowerRow + du[i] * lowerU) - q[i];
+          rowWithin &= withinRate(error) & (error <= double(bound[2 * i])) & (-error <= double(bound[2 * i + 1]));
+        }
+        for (int i = split; i < n; ++i) {
+          const double error = (q00 + du[i] * upperU + upperRow) - q[i];
+          rowWithin &= withinRate(error) & (error <= double(bound[2 * i])) & (-error <= double(bound[2 * i + 1]));
+        }
+      } else {
+        for (int i = 0; i < split; ++i) rowWithin &= withinRate((lowerRow + du[i] * lowerU) - q[i]);
+        for (int i = split; i < n; ++i) rowWithin &= withinRate((q00 + du[i] * upperU + upperRow) - q[i]);
+      }
+      if (!rowWithin) return false;
+    }
+    return true;
+  };
   auto planarBlock = [&](int x0, int y0, int width, int height) {
     const int x1 = x0 + width, y1 = y0 + height;
     const double u0 = mesh.gridU[size_t(x0)], u1 = mesh.gridU[size_t(x1)];
@@ -542,39 +602,13 @@ bool DepthMeshBuilder::merge(DepthMesh& mesh, const std::vector<double>& inverse
     // The plane at (du, dv): q00 + du (q10 - q00) + dv (q11 - q10) where du >= dv, else
     // q00 + dv (q01 - q00) + du (q11 - q01); each row's dv terms are computed once.
     const double upperU = q10 - q00, upperV = q11 - q10, lowerU = q11 - q01, lowerV = q01 - q00;
-    for (int y = y0; y <= y1; ++y) {
-      const double dv = (mesh.gridV[size_t(y)] - v0) * sv;
-      const double upperRow = dv * upperV, lowerRow = q00 + dv * lowerV;
-      const double* q = &inverseCameraZ[vertexIndex(x0, y)];
-      const bool above = !colourBound.empty();
-      // Within the tolerance: the displacement (q's error times the rate) within half MeshMaxError, and
-      // q's error within the colour tolerance on its side. A whole row is tested without a branch per
-      // vertex (the same arithmetic; a NaN error fails), and the block fails after the first row that does.
-      // Neither colour bound is negative, so the one on the other side than the error always holds: testing
-      // both is testing the one on its side, without a branch on the error's sign (which is unpredictable).
-      const double* du = blockDu.data();
-      int split = 0;  // the lower triangle's part of the row: du < dv
-      while (split < n && !(du[split] >= dv)) ++split;
-      bool rowWithin = true;
-      if (above) {
-        const float* bound = colourBound.data() + 2 * vertexIndex(x0, y);  // (above, below) per vertex
-        for (int i = 0; i < split; ++i) {
-          const double error = (lowerRow + du[i] * lowerU) - q[i];
-          rowWithin &= (std::fabs(error) * rate <= halfBound) & (error <= double(bound[2 * i])) &
-                       (-error <= double(bound[2 * i + 1]));
-        }
-        for (int i = split; i < n; ++i) {
-          const double error = (q00 + du[i] * upperU + upperRow) - q[i];
-          rowWithin &= (std::fabs(error) * rate <= halfBound) & (error <= double(bound[2 * i])) &
-                       (-error <= double(bound[2 * i + 1]));
-        }
-      } else {
-        for (int i = 0; i < split; ++i) rowWithin &= std::fabs((lowerRow + du[i] * lowerU) - q[i]) * rate <= halfBound;
-        for (int i = split; i < n; ++i) rowWithin &= std::fabs((q00 + du[i] * upperU + upperRow) - q[i]) * rate <= halfBound;
-      }
-      if (!rowWithin) return false;
-    }
-    return true;
+    // |error| rate <= halfBound, or, at the rate every vertex has (rectified cameras), the same as
+    // |error| <= rateThreshold (product below): one multiplication less per vertex.
+    if (uniformRate && rate == rateEverywhere && rateEverywhere < std::numeric_limits<double>::infinity())
+      return rowsWithin(x0, y0, y1, n, q00, upperU, upperV, lowerU, lowerV, sv,
+                        [threshold = rateThreshold](double error) { return std::fabs(error) <= threshold; });
+    return rowsWithin(x0, y0, y1, n, q00, upperU, upperV, lowerU, lowerV, sv,
+                      [rate, halfBound](double error) { return std::fabs(error) * rate <= halfBound; });
   };
   for (int k = 1; k <= kMaxLevel; ++k) {
     const int bx = cellsX >> k, by = cellsY >> k;

@@ -224,6 +224,12 @@ struct DepthMesh {
 bool referenceVertex(const Camera& reference, int depthType, double u, double v, double inverseZ, double vertex[4],
                      double& inverseCameraZ);
 
+// The largest double x >= 0 with x * rate <= bound in double arithmetic (rate >= 0 finite, bound >= 0;
+// -1 otherwise). The product rounds monotonically in x, so for every double e, NaN and infinities
+// included, |e| * rate <= bound holds exactly when |e| <= largestFactorWithin(rate, bound): the merge's
+// test of a vertex at the rate every vertex has (rectified cameras) without a multiplication.
+double largestFactorWithin(double rate, double bound);
+
 class DepthMeshBuilder {
 public:
   // For depth maps of `width` x `height` samples with levels in `range`, seen by `reference`. Without
