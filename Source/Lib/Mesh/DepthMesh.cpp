@@ -538,7 +538,7 @@ bool DepthMeshBuilder::merge(DepthMesh& mesh, const std::vector<double>& inverse
   const double rateThreshold = uniformRate ? largestFactorWithin(rateEverywhere, halfBound) : 0.0;
   // The rows of planarBlock's block; withinRate(error): the displacement test.
   auto rowsWithin = [&](int x0, int y0, int y1, int n, double q00, double upperU, double upperV, double lowerU,
-                            double lowerV, double sv, auto withinRate) {
+                        double lowerV, double sv, auto withinRate) {
     const double v0 = mesh.gridV[size_t(y0)];
     for (int y = y0; y <= y1; ++y) {
       const double dv = (mesh.gridV[size_t(y)] - v0) * sv;
