@@ -61,6 +61,17 @@ public:
     return Lease(*this, std::move(item));
   }
 
+  // Makes sure the pool holds at least `count` sets and passes each to `prepare` (to size its
+  // buffers): where a run frees large buffers in order and allocates others in their place, sets
+  // grown here, before those buffers, do not end up among them, splitting the memory they leave
+  // (Synthesizer::keepAheadOfSpentBuffers). Not while bodies hold sets.
+  template <class Prepare>
+  void prepare(size_t count, const Prepare& prepare) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    while (free_.size() < count) free_.push_back(std::make_unique<T>());
+    for (std::unique_ptr<T>& item : free_) prepare(*item);
+  }
+
 private:
   void giveBack(std::unique_ptr<T> item) {
     std::lock_guard<std::mutex> lock(mutex_);
