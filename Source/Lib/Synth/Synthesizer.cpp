@@ -192,8 +192,9 @@ void Synthesizer::keepAheadOfSpentBuffers(const std::vector<ReferenceFrame>& ref
   }
   for (size_t k = 0; k < views_.size(); ++k) {
     ViewState& view = views_[k];
-    view.luma.resize(outputFormat_.width, outputFormat_.height, plan_.rgb ? 3 : 1);
-    view.referenceEdge.resize(references[k].depth->samples.size());
+    // Placed, not written: each view's thread writes its own (the depth warp, markReferenceEdges).
+    view.luma.reserve(outputFormat_.width, outputFormat_.height, plan_.rgb ? 3 : 1);
+    view.referenceEdge.reserve(references[k].depth->samples.size());
   }
   // The depth warps' row buffers, which the pools keep: grown among the depth steps' buffers, one
   // thread's set split the memory those leave for the occlusion rule's in about half the runs of one
