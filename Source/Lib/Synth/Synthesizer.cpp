@@ -176,11 +176,12 @@ void Synthesizer::takeBackFirstViewLayers() {
 void Synthesizer::keepAheadOfSpentBuffers(const std::vector<ReferenceFrame>& references) {
   // A run of one frame: room for the depth steps' own buffers (per view the aligned depth and its
   // scratch, 2 + 2 bytes per reference sample, the reference steps and the dilation's rows, 1 + 1),
-  // and 9 bytes per output sample more, is taken first and handed back once the buffers kept past the
-  // steps are placed above it. The depth steps then allocate there, from its start, below the layers;
-  // freed after the depth warp, they leave one block that the occlusion rule's column scan and
-  // surroundings (8 + 8 bytes per output sample: together more than the depth steps') fit in, then the
-  // chroma layers, instead of fresh pages at the heap's top (Art: 5900 or 6650 page faults, by the
+  // and 9 bytes per output sample more, and 2 per view for the texture steps' flags (boundary noise,
+  // crowded holes), is taken first and handed back once the buffers kept past the steps are placed
+  // above it. The depth steps then allocate there, from its start, below the layers; freed after the
+  // depth warp, they leave one block that the texture steps' flags and the occlusion rule's column scan
+  // and surroundings (8 + 8 bytes per output sample: together more than the depth steps') fit in, then
+  // the chroma layers, instead of fresh pages at the heap's top (Art: 5900 or 6650 page faults, by the
   // threads' order, doc/speed.md). Only address space: malloc writes none of it, and what nothing
   // takes is never touched.
   void* depthStepsRoom = nullptr;
@@ -188,7 +189,7 @@ void Synthesizer::keepAheadOfSpentBuffers(const std::vector<ReferenceFrame>& ref
     size_t samples = 0;
     for (const ReferenceFrame& reference : references) samples += reference.depth->samples.size();
     const size_t outputSamples = size_t(outputFormat_.width) * size_t(outputFormat_.height);
-    depthStepsRoom = std::malloc(6 * samples + 9 * outputSamples + (size_t(64) << 10));
+    depthStepsRoom = std::malloc(6 * samples + (9 + 2 * views_.size()) * outputSamples + (size_t(64) << 10));
   }
   for (size_t k = 0; k < views_.size(); ++k) {
     ViewState& view = views_[k];
