@@ -88,7 +88,8 @@ private:
 // this one allocates without writing, so pages nothing writes are never faulted in. resize() keeps
 // the memory when the size does not grow, and its contents are unspecified after a resize.
 //
-// A large one (Common/Memory.h: smallPageBuffersFrom(), 1 or 4 MiB by the picture size) is mapped
+// A large one (Common/Memory.h: smallPageBuffersFrom(), 1 or 4 MiB by the picture size, or never
+// where the heap is not on huge pages, as in a run of one frame by default) is mapped
 // apart from the heap and asked to stay on 4 KiB pages: the heap is on transparent huge pages, where
 // one written sample makes its whole 2 MiB page resident, so a sparsely written buffer there became
 // resident almost whole (at 1920x1080 the hole filling's estimates were 83 MB per picture sample, of
