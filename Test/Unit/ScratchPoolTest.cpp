@@ -46,6 +46,37 @@ TEST(ScratchPool, LeasesHeldAtOnceAreDistinctAndReturnedOnesAreReused) {
   EXPECT_EQ(Counted::made.load(), 3);
 }
 
+// prepare() makes the sets a pool lacks and passes every set it holds to the sizing function; the
+// bodies that take them later find them so, and no further set is made for as many bodies at once.
+TEST(ScratchPool, PreparedSetsAreMadeAheadAndSizedOnce) {
+  ScratchPool<Counted> pool;
+  Counted::made = 0;
+  int calls = 0;
+  pool.prepare(3, [&](Counted& set) {
+    ++calls;
+    set.buffer.resize(17);
+  });
+  EXPECT_EQ(Counted::made.load(), 3);
+  EXPECT_EQ(calls, 3);
+  {
+    const auto a = pool.take();
+    const auto b = pool.take();
+    const auto c = pool.take();
+    EXPECT_TRUE(&*a != &*b && &*b != &*c && &*a != &*c);
+    for (const Counted* set : {&*a, &*b, &*c}) EXPECT_EQ(set->buffer.size(), 17u);
+  }
+  EXPECT_EQ(Counted::made.load(), 3);
+  // Fewer asked for than held: every held set is passed again, none made.
+  pool.prepare(1, [&](Counted& set) {
+    ++calls;
+    set.buffer.resize(5);
+  });
+  EXPECT_EQ(Counted::made.load(), 3);
+  EXPECT_EQ(calls, 6);
+  const auto d = pool.take();
+  EXPECT_EQ(d->buffer.size(), 5u);
+}
+
 // In parallel loops a set is held by one body at a time, and no more sets are made than bodies run
 // at once (at most the thread count), however many bodies and loops there are.
 TEST(ScratchPool, ParallelLoopsMakeNoMoreSetsThanThreadsAndNeverShareOne) {

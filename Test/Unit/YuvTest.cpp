@@ -324,8 +324,10 @@ TEST(YuvTest, SampleAboveBitDepthMaximumIsAnInputError) {
   EXPECT_NO_THROW(reader.readLuma(1, luma));
 }
 
-// Frames larger than the reader's chunk of file bytes (256 KiB): planes that start and end inside a
-// chunk, chunks that end inside a plane. The file is laid out here byte by byte, not by YuvWriter.
+// Large frames of odd plane sizes (none a multiple of the in-place widening's block of 256 samples),
+// each plane read into its own memory and 8-bit samples widened there, into a frame that held the
+// other frame's samples before. (Until 2026-11-26, sixth round: frames larger than the reader's
+// 256 KiB chunk.) The file is laid out here byte by byte, not by YuvWriter.
 TEST(YuvTest, FramesLargerThanOneReadChunkReadWhole) {
   const fs::path dir = vs::test::scratchDir("yuv_chunks");
   for (const int bitDepth : {8, 12}) {

@@ -38,7 +38,8 @@ void reserveHugePageHeap(size_t bytes, bool byDefault);
 // KiB pages instead of coming from the huge-page heap, where one written sample makes its whole 2 MiB
 // page resident. Default 4 MiB; a run sets it from its picture size (Pipeline/FrameLoop.cpp): 4 KiB
 // pages fault ten times more often, which a small picture's run feels, while a large picture's huge
-// pages keep tens of MiB resident for nothing.
+// pages keep tens of MiB resident for nothing. A run whose heap is not on huge pages sets SIZE_MAX:
+// there the heap's freed memory serves them better than fresh pages of a mapping of their own.
 void setSmallPageBuffersFrom(size_t bytes);
 size_t smallPageBuffersFrom();
 

@@ -34,9 +34,12 @@ std::string named(const std::string& role, const std::string& path) {
 // reads only live slots, with async-signal-safe calls (unlink, signal, raise).
 constexpr int kSlots = 64;
 constexpr size_t kSlotPath = 4096;
+// Every member initialised, so that the array is constant-initialised (zero pages of the program's
+// bss, touched only where a slot is used): with `path` left out, a start-up initialiser wrote each
+// slot's state, 64 pages faulted in by every process before main.
 struct TemporarySlot {
   std::atomic<int> state{0};
-  char path[kSlotPath];
+  char path[kSlotPath] = {};
 };
 TemporarySlot g_temporaries[kSlots];
 

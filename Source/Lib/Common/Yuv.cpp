@@ -184,20 +184,53 @@ void YuvReader::readFileBytes(int64_t frameIndex, uint64_t start, uint64_t done,
   if (got != n) throwReadFailure(frameIndex, start, done + got, total);
 }
 
+namespace {
+
+// Widens n 8-bit samples that lie in the upper half of the samples' own memory (bytes n to 2n) into
+// them, in place: a block is copied out before it is written, and writing samples [i, i + B) (bytes
+// 2i to 2i + 2B) never reaches the bytes not yet read (from n + i + B on) while i + B <= n.
+void widenInPlace(uint16_t* samples, uint64_t n) {
+  const uint8_t* bytes = reinterpret_cast<const uint8_t*>(samples) + n;
+  constexpr uint64_t kBlock = 256;
+  uint8_t block[kBlock];
+  for (uint64_t i = 0; i < n; i += kBlock) {
+    const uint64_t count = std::min(kBlock, n - i);
+    std::memcpy(block, bytes + i, size_t(count));
+    for (uint64_t k = 0; k < count; ++k) samples[i + k] = block[k];
+  }
+}
+
+}  // namespace
+
 void YuvReader::readPlanes(int64_t frameIndex, Plane* const* planes, int count) {
   const uint64_t total = bytesOf(planes, count);
   const uint64_t start = seekFrame(frameIndex);
-  // A chunk at a time through a small buffer, widened into the planes as it comes: a whole frame of
-  // file bytes beside its samples would be half as much memory again per reader (a buffer of 2^18
-  // bytes, even: a 16-bit sample never straddles two chunks).
-  constexpr uint64_t kChunk = uint64_t(1) << 18;
-  if (buffer_.size() < std::min(total, kChunk)) buffer_.resize(size_t(std::min(total, kChunk)));  // once per reader
-  Unpacker unpacker{planes, format_.bytesPerSample()};
-  for (uint64_t done = 0; done < total;) {
-    const uint64_t n = std::min(kChunk, total - done);
-    readFileBytes(frameIndex, start, done, buffer_.data(), n, total);
-    unpacker.take(buffer_.data(), n);
-    done += n;
+  // Each plane's file bytes are read straight into the plane's own memory and widened there: no
+  // buffer beside the samples (a chunk of 256 KiB per reader until 2026-11-26, sixth round: 64 pages
+  // first touched per reader in a run of one frame). 8-bit samples land in the plane's upper half and
+  // are widened in place; 16-bit ones are the file's little-endian words already.
+  const int bytesPerSample = format_.bytesPerSample();
+  Unpacker unpacker{planes, bytesPerSample};
+  uint64_t done = 0;
+  for (int p = 0; p < count; ++p) {
+    uint16_t* samples = planes[p]->samples.data();
+    const uint64_t n = planes[p]->samples.size(), bytes = planeBytes(*planes[p], bytesPerSample);
+    uint8_t* memory = reinterpret_cast<uint8_t*>(samples);
+    if (bytesPerSample == 1) {
+      readFileBytes(frameIndex, start, done, memory + n, bytes, total);
+      widenInPlace(samples, n);
+    } else {
+      readFileBytes(frameIndex, start, done, memory, bytes, total);
+      uint16_t most = 0;
+      for (uint64_t i = 0; i < n; ++i) {
+#if defined(__BYTE_ORDER__) && __BYTE_ORDER__ == __ORDER_BIG_ENDIAN__
+        samples[i] = uint16_t(memory[2 * i] | (memory[2 * i + 1] << 8));
+#endif
+        most = std::max(most, samples[i]);
+      }
+      unpacker.largest[p] = most;
+    }
+    done += bytes;
   }
   checkRange(unpacker, frameIndex, count);
 }

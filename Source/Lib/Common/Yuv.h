@@ -69,8 +69,8 @@ private:
   // Checks that frame `frameIndex` is wholly in the file and positions the file at its first sample;
   // returns the frame's offset in the file.
   uint64_t seekFrame(int64_t frameIndex);
-  // Reads the first `count` planes of frame `frameIndex` (sized already) from the file, a chunk at a
-  // time through buffer_.
+  // Reads the first `count` planes of frame `frameIndex` (sized already) from the file, each into its
+  // own memory.
   void readPlanes(int64_t frameIndex, Plane* const* planes, int count);
   [[noreturn]] void throwReadFailure(int64_t frameIndex, uint64_t start, uint64_t got, uint64_t count);
   [[noreturn]] void throwSampleOutOfRange(const Plane& plane, int64_t frameIndex, int planeIndex) const;
@@ -87,7 +87,6 @@ private:
   std::shared_ptr<const Y4mHeader> y4m_;
   uint64_t dataStart_ = 0;         // Y4M: the stream header's bytes
   uint64_t frameHeaderBytes_ = 0;  // Y4M: "FRAME...\n" before each frame
-  std::vector<uint8_t> buffer_;  // a chunk of file bytes (at most 256 KiB), allocated on first use
 };
 
 class SafeOutputFile;

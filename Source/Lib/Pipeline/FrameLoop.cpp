@@ -1,6 +1,8 @@
 #include "Pipeline/FrameLoop.h"
 
 #include <chrono>
+#include <cstdint>
+#include <cstdlib>
 
 #include "Common/Error.h"
 #include "Common/InputCheck.h"
@@ -25,8 +27,13 @@ void checkBeforeOpening(const Scene& scene, FrameRenderer& renderer, RunReport& 
   reserveHugePageHeap(samples * (144 + 96 * s.references.size()), s.frameCount > 1);
   // Sparse buffers on 4 KiB pages from 1 MiB for pictures of a megapixel or more (1920x1080: 23 MiB
   // less resident than from 4 MiB), from 4 MiB below (Art, 688x554: 5 ms more CPU of 60 in page faults
-  // with its 1.5 to 3 MB estimates on 4 KiB pages); doc/speed.md.
-  setSmallPageBuffersFrom(samples >= 1000000 ? size_t(1) << 20 : size_t(4) << 20);
+  // with its 1.5 to 3 MB estimates on 4 KiB pages); doc/speed.md. Where the heap is not on huge
+  // pages (a single frame, by default) they stay on the heap whatever their size: its 4 KiB pages
+  // already fault in only where written, and a mapping of their own is fresh pages, where the heap
+  // has the memory the earlier steps freed (the occlusion rule's surroundings of a 1920x1080 frame:
+  // about 3 600 page faults).
+  const bool hugePages = hugePagesWanted(std::getenv("VS_HUGE_PAGES"), s.frameCount > 1);
+  setSmallPageBuffersFrom(!hugePages ? SIZE_MAX : samples >= 1000000 ? size_t(1) << 20 : size_t(4) << 20);
   report.recordDecisions(renderer.decisions());
   report.begin(scene, renderer.plan(), log);
   const std::vector<std::string> inputWarnings = checkInputs(scene);

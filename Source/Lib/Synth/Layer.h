@@ -25,6 +25,14 @@ struct WarpedLayer {
   // Sizes the planes for w x h samples of c channels and leaves what they hold: for a writer that
   // writes every sample anyway (reset's fill would only be written over).
   void resize(int w, int h, int c);
+  // Places the planes' memory for w x h samples of c channels without writing it (their size is
+  // unchanged): resize() then writes only where it grows, on the thread that calls it.
+  void reserve(int w, int h, int c) {
+    const size_t n = size_t(w) * size_t(h);
+    inverseDepth.reserve(n);
+    for (int k = 0; k < c && k < 3; ++k) colour[k].reserve(n);
+    edge.reserve(n);
+  }
   bool valid(size_t i) const { return inverseDepth[i] >= 0.0; }
 };
 

@@ -61,6 +61,17 @@ public:
     return Lease(*this, std::move(item));
   }
 
+  // Makes sure the pool holds at least `count` sets and passes each to `prepare` (to size its
+  // buffers): where a run frees large buffers in order and allocates others in their place, sets
+  // grown here, before those buffers, do not end up among them, splitting the memory they leave
+  // (Synthesizer::keepAheadOfSpentBuffers). Not while bodies hold sets.
+  template <class Prepare>
+  void prepare(size_t count, const Prepare& prepare) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    while (free_.size() < count) free_.push_back(std::make_unique<T>());
+    for (std::unique_ptr<T>& item : free_) prepare(*item);
+  }
+
 private:
   void giveBack(std::unique_ptr<T> item) {
     std::lock_guard<std::mutex> lock(mutex_);
@@ -77,7 +88,8 @@ private:
 // this one allocates without writing, so pages nothing writes are never faulted in. resize() keeps
 // the memory when the size does not grow, and its contents are unspecified after a resize.
 //
-// A large one (Common/Memory.h: smallPageBuffersFrom(), 1 or 4 MiB by the picture size) is mapped
+// A large one (Common/Memory.h: smallPageBuffersFrom(), 1 or 4 MiB by the picture size, or never
+// where the heap is not on huge pages, as in a run of one frame by default) is mapped
 // apart from the heap and asked to stay on 4 KiB pages: the heap is on transparent huge pages, where
 // one written sample makes its whole 2 MiB page resident, so a sparsely written buffer there became
 // resident almost whole (at 1920x1080 the hole filling's estimates were 83 MB per picture sample, of

@@ -1,9 +1,11 @@
 #include "Synth/Synthesizer.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <cstdlib>
 #include <utility>
 
 #include "Common/Depth.h"
@@ -172,11 +174,51 @@ void Synthesizer::takeBackFirstViewLayers() {
 }
 
 void Synthesizer::keepAheadOfSpentBuffers(const std::vector<ReferenceFrame>& references) {
+  // A run of one frame: room for the depth steps' own buffers (per view the aligned depth and its
+  // scratch, 2 + 2 bytes per reference sample, the reference steps and the dilation's rows, 1 + 1),
+  // and 9 bytes per output sample more, and 2 per view for the texture steps' flags (boundary noise,
+  // crowded holes), is taken first and handed back once the buffers kept past the steps are placed
+  // above it. The depth steps then allocate there, from its start, below the layers; freed after the
+  // depth warp, they leave one block that the texture steps' flags and the occlusion rule's column scan
+  // and surroundings (8 + 8 bytes per output sample: together more than the depth steps') fit in, then
+  // the chroma layers, instead of fresh pages at the heap's top (Art: 5900 or 6650 page faults, by the
+  // threads' order, doc/speed.md). Only address space: malloc writes none of it, and what nothing
+  // takes is never touched.
+  void* depthStepsRoom = nullptr;
+  if (releaseSpent_) {
+    size_t samples = 0;
+    for (const ReferenceFrame& reference : references) samples += reference.depth->samples.size();
+    const size_t outputSamples = size_t(outputFormat_.width) * size_t(outputFormat_.height);
+    depthStepsRoom = std::malloc(6 * samples + (9 + 2 * views_.size()) * outputSamples + (size_t(64) << 10));
+  }
   for (size_t k = 0; k < views_.size(); ++k) {
     ViewState& view = views_[k];
-    view.luma.resize(outputFormat_.width, outputFormat_.height, plan_.rgb ? 3 : 1);
-    view.referenceEdge.resize(references[k].depth->samples.size());
+    // Placed, not written: each view's thread writes its own (the depth warp, markReferenceEdges).
+    view.luma.reserve(outputFormat_.width, outputFormat_.height, plan_.rgb ? 3 : 1);
+    view.referenceEdge.reserve(references[k].depth->samples.size());
   }
+  // The depth warps' row buffers, which the pools keep: grown among the depth steps' buffers, one
+  // thread's set split the memory those leave for the occlusion rule's in about half the runs of one
+  // frame (Art: 740 more page faults). Sized as the warps size them (DepthWarp.cpp, RowPath.cpp,
+  // RowWarp.cpp). (Crack closing's row flags, byteRows_, grown here too put the occlusion rule's
+  // buffers at the heap's top again: 6290 page faults.)
+  size_t width = 0;
+  for (const ReferenceFrame& reference : references) width = std::max(width, size_t(reference.depth->width));
+  const size_t outWidth = size_t(outputFormat_.width), sets = size_t(std::max(1, workerThreads()));
+  if (rowPath_) {
+    rowWarpRows_.prepare(sets, [&](RowWarpRows& rows) {
+      rows.nearEdge.resize(width);
+      rows.isolated.resize(outWidth);
+      for (std::vector<double>* row : {&rows.warp.xs, &rows.warp.ws}) row->resize(width);
+      rows.warp.segments.resize(width);
+    });
+  } else {
+    depthRows_.prepare(sets, [&](DepthRows& rows) {
+      rows.inverse.resize(width);
+      rows.positions.resize(width * 6);
+    });
+  }
+  std::free(depthStepsRoom);
 }
 
 void Synthesizer::synthesize(const std::vector<ReferenceFrame>& references, Frame& output, StageTimes& times) {
@@ -189,7 +231,7 @@ void Synthesizer::synthesize(const std::vector<ReferenceFrame>& references, Fram
     lumas.push_back(&reference.texture->planes[0]);
     depths.push_back(reference.depth);
   }
-  if (!releaseSpent_) keepAheadOfSpentBuffers(references);
+  keepAheadOfSpentBuffers(references);
   auto depthSteps = [&](size_t k) {
     ViewState& view = views_[k];
     const Plane* depth = references[k].depth;

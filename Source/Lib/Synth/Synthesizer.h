@@ -123,9 +123,10 @@ private:
   // The blended layers hold the first view's planes since the last frame's blend (blendLayersIntoFirst):
   // they go back to the view, the view's former planes to the blended layers, for the view's warp.
   void takeBackFirstViewLayers();
-  // A sequence: the buffers kept from frame to frame that the steps would first allocate among
-  // those they free (the views' luma layers, the reference edges) are sized before the steps, so
-  // that what the steps free lies together at the heap's top for the next steps.
+  // The buffers kept past the depth steps that the steps would first allocate among those they free
+  // (the views' luma layers, the reference edges, the depth warps' row sets) are placed before the
+  // steps, so that what the steps free lies together for the next steps: in a sequence at the heap's
+  // top, in a run of one frame in room taken for them below the kept ones (Synthesizer.cpp).
   void keepAheadOfSpentBuffers(const std::vector<ReferenceFrame>& references);
   bool reuseFirstFrameFill(size_t k, const Plane& depth);  // view k's fill from firstFrameFill_; false: none fits
   void markReferenceEdges(ViewState& view, const Plane& depth);               // ReferenceEdges.cpp
