@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <mutex>
 #include <string>
 
 #include "Common/Error.h"
@@ -409,6 +410,23 @@ struct GlMeshRenderer::Impl {
     }
     return sampler ? sampler->sample(plane, x, y) : bilinear(plane, x, y);
   }
+
+  // Calls f(sample) with a callable sample(plane, x, y) that gives sample()'s value, bit for bit, its
+  // kind (sphere edges, ViewSyn's sampler and its tap count, plain bilinear) chosen once for a whole
+  // pass instead of once per sample.
+  template <class F>
+  void withSampling(F&& f) const {
+    if (sphere.any() || !sampler) {
+      f([this](const Plane& plane, double x, double y) { return sample(plane, x, y); });
+      return;
+    }
+    const SubPixelSampler& chosen = *sampler;
+    chosen.withTaps([&](auto taps) {
+      f([&chosen](const Plane& plane, double x, double y) {
+        return chosen.sampleTaps<decltype(taps)::value>(plane, x, y);
+      });
+    });
+  }
 };
 
 GlMeshRenderer::GlMeshRenderer() : impl_(std::make_unique<Impl>()) {}
@@ -528,27 +546,55 @@ void GlMeshRenderer::finishRender(const RenderGrid& grid, const TexelMap& texelM
   s.renderedWidth = width;
   s.renderedHeight = height;
 
+  // One pass over the read-back, on the threads, row by row: each sample's orphan rule, edge flag,
+  // depth and colour, every sample of the layer written once (holes included). The read-back is not
+  // written during the pass, so the orphan rule reads the marks as drawn; its rejections are applied
+  // to the read-back afterwards (the chroma and the extras read them).
   // A locally farthest orphan (mark 2) stays only in a hole of its own: a sample whose 4 neighbours
   // in the grid are drawn. In a disocclusion it would be a speck of background (DepthMesh.h).
   float* samples = s.readBack.data();
   auto drawn = [&](int x, int y) {
     return x < 0 || y < 0 || x >= width || y >= height || samples[(size_t(y) * size_t(width) + size_t(x)) * 4 + 3] != 0.0f;
   };
-  std::vector<size_t> rejected;
-  for (size_t i = 0; i < n; ++i)
-    if (samples[i * 4 + 3] == 2.0f) {
-      const int x = int(i % size_t(width)), y = int(i / size_t(width));
-      if (!(drawn(x - 1, y) && drawn(x + 1, y) && drawn(x, y - 1) && drawn(x, y + 1))) rejected.push_back(i);
-    }
-  for (size_t i : rejected) samples[i * 4 + 3] = 0.0f;
-  // Each drawn sample's edge flag, once: the luma and the chroma samplings read it.
+  auto rejectedOrphan = [&](int x, int y) {
+    return !(drawn(x - 1, y) && drawn(x + 1, y) && drawn(x, y - 1) && drawn(x, y + 1));
+  };
+  const int channels = int(s.planes.size());
+  VS_CHECK(channels >= 1 && channels <= 3);
+  layer.resize(width, height, channels);
   s.edges.resize(n);
-  parallelRanges(height, [&](int y0, int y1) {
-    for (size_t i = size_t(y0) * size_t(width); i < size_t(y1) * size_t(width); ++i)
-      s.edges[i] = samples[i * 4 + 3] != 0.0f && s.edgeAt(samples + i * 4) ? 1 : 0;
+  std::mutex rejectedMutex;
+  std::vector<size_t> rejected;
+  s.withSampling([&](const auto& sample) {
+    parallelRanges(height, [&](int y0, int y1) {
+      for (int y = y0; y < y1; ++y) {
+        const size_t rowStart = size_t(y) * size_t(width);
+        for (int x = 0; x < width; ++x) {
+          const size_t i = rowStart + size_t(x);
+          const float* r = samples + i * 4;
+          if (r[3] == 0.0f || (r[3] == 2.0f && rejectedOrphan(x, y))) {
+            if (r[3] != 0.0f) {
+              const std::lock_guard<std::mutex> lock(rejectedMutex);
+              rejected.push_back(i);
+            }
+            s.edges[i] = 0;
+            layer.inverseDepth[i] = kNoDepth;
+            for (int k = 0; k < channels; ++k) layer.colour[k][i] = 0.0f;
+            layer.edge[i] = 0;
+            continue;
+          }
+          const uint8_t edge = s.edgeAt(r) ? 1 : 0;
+          s.edges[i] = edge;
+          const double u = texelMap.scale * r[0] + texelMap.offset, v = texelMap.scale * r[1] + texelMap.offset;
+          layer.inverseDepth[i] = double(r[2]);
+          for (int k = 0; k < channels; ++k) layer.colour[k][i] = sample(s.planes[size_t(k)], u, v);
+          layer.edge[i] = edge;
+        }
+      }
+    });
   });
+  for (size_t i : rejected) samples[i * 4 + 3] = 0.0f;
 
-  sampleRender(s.planes, texelMap, layer);
   if (extras) {
     extras->referenceU.assign(n, std::nanf(""));
     extras->referenceV.assign(n, std::nanf(""));
@@ -649,15 +695,17 @@ void GlMeshRenderer::sampleRender(const std::vector<Plane>& planes, const TexelM
   VS_CHECK(channels >= 1 && channels <= 3 && width > 0);
   layer.reset(width, height, channels);
   const float* samples = s.readBack.data();
-  parallelRanges(height, [&](int y0, int y1) {
-    for (size_t i = size_t(y0) * size_t(width); i < size_t(y1) * size_t(width); ++i) {
-      const float* r = samples + i * 4;
-      if (r[3] == 0.0f) continue;  // nothing drawn
-      const double x = texelMap.scale * r[0] + texelMap.offset, y = texelMap.scale * r[1] + texelMap.offset;
-      layer.inverseDepth[i] = double(r[2]);
-      for (int k = 0; k < channels; ++k) layer.colour[k][i] = s.sample(planes[size_t(k)], x, y);
-      layer.edge[i] = s.edges[i];
-    }
+  s.withSampling([&](const auto& sample) {
+    parallelRanges(height, [&](int y0, int y1) {
+      for (size_t i = size_t(y0) * size_t(width); i < size_t(y1) * size_t(width); ++i) {
+        const float* r = samples + i * 4;
+        if (r[3] == 0.0f) continue;  // nothing drawn
+        const double x = texelMap.scale * r[0] + texelMap.offset, y = texelMap.scale * r[1] + texelMap.offset;
+        layer.inverseDepth[i] = double(r[2]);
+        for (int k = 0; k < channels; ++k) layer.colour[k][i] = sample(planes[size_t(k)], x, y);
+        layer.edge[i] = s.edges[i];
+      }
+    });
   });
 }
 
@@ -671,6 +719,7 @@ void GlMeshRenderer::sampleChroma420(const std::vector<const Plane*>& planes, do
   const float* samples = s.readBack.data();
   // Reference columns in a turn: the uploaded texture's width, for a reference that wraps; 0 none.
   const double turn = s.sphere.wrap && !s.planes.empty() ? double(s.planes[0].width) : 0.0;
+  s.withSampling([&](const auto& sample) {
   parallelRanges(height, [&](int j0, int j1) {
     for (int j = j0; j < j1; ++j)
       for (int i = 0; i < width; ++i) {
@@ -723,8 +772,9 @@ void GlMeshRenderer::sampleChroma420(const std::vector<const Plane*>& planes, do
         layer.inverseDepth[c] = q;
         layer.edge[c] = edge ? 1 : 0;
         // Chroma texel position of reference pixel (u, v): (u, v) / 2 - 1/4.
-        for (int k = 0; k < 2; ++k) layer.colour[k][c] = s.sample(*planes[size_t(k)], 0.5 * u - 0.25, 0.5 * v - 0.25);
+        for (int k = 0; k < 2; ++k) layer.colour[k][c] = sample(*planes[size_t(k)], 0.5 * u - 0.25, 0.5 * v - 0.25);
       }
+  });
   });
 }
 
