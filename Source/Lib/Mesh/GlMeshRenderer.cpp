@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <limits>
 #include <mutex>
 #include <string>
@@ -254,10 +255,12 @@ struct GlMeshRenderer::Impl {
   GLsizei triangleIndexCount = 0;  // indices of the triangles at the start of `indices`
   GLsizeiptr vertexBytes = 0, indexBytes = 0;  // buffer sizes, kept across frames
   GLint maxRenderbufferSize = 0, maxViewport[2] = {0, 0};
-  std::vector<Plane> planes;                // the "texture": the reference planes, sampled on the CPU
+  std::vector<const Plane*> planes;         // the "texture": the reference planes (the caller's), sampled on the CPU
   std::unique_ptr<SubPixelSampler> sampler;  // null: exact bilinear
   std::vector<float> readBack;              // last render: (u, v, q, flags) per sample
   std::vector<uint8_t> edges;               // last render: edgeAt() of each drawn sample
+  std::vector<uint64_t> usedVertices;       // uploadMesh: one bit a grid vertex, set where a list uses it
+  std::vector<uint32_t> usedBefore;         // uploadMesh: used vertices before each 64-bit word
   const DepthMesh* mesh = nullptr;          // the uploaded mesh (its edge flags)
   int renderedWidth = 0, renderedHeight = 0;
   std::unique_ptr<ProjectedPass> projected;  // ERP cameras (uploadProjectedMesh)
@@ -447,19 +450,58 @@ void GlMeshRenderer::uploadMesh(const DepthMesh& mesh) {
   VS_CHECK(mesh.triangles.size() + mesh.points.size() + mesh.farthestOrphans.size() <=
            size_t(std::numeric_limits<GLsizei>::max()));
   gl.BindVertexArray(s.vertexArray);
-  s.upload(GL_ARRAY_BUFFER, s.vertexBuffer, GLsizeiptr(mesh.vertices.size() * sizeof(float)), mesh.vertices.data(),
-           s.vertexBytes);
   s.mesh = &mesh;
-  // Triangles, then points, then locally farthest orphans, each written into the index buffer where it
-  // goes (no copy of the three lists into one on this side).
+  // Only the vertices that the triangles, points and orphans use go to the driver, in grid order (an
+  // adaptive mesh uses about a fifth of the grid's): the lists' indices are renumbered into them by
+  // rank, each vertex keeps its values and each triangle its corners in their order, so the renders
+  // are the same to the bit, with less to copy and a smaller buffer for the driver to hold. Used
+  // vertices: one bit each; the rank of vertex v is the used vertices before its word plus those
+  // before it within the word.
   const std::vector<uint32_t>* lists[3] = {&mesh.triangles, &mesh.points, &mesh.farthestOrphans};
+  const size_t vertexCount = mesh.vertexCount(), words = (vertexCount + 63) / 64;
+  s.usedVertices.assign(words, 0);
+  for (const std::vector<uint32_t>* list : lists)
+    for (const uint32_t v : *list) {
+      VS_CHECK(v < vertexCount);
+      s.usedVertices[v >> 6] |= uint64_t(1) << (v & 63);
+    }
+  s.usedBefore.resize(words);
+  uint32_t used = 0;
+  for (size_t w = 0; w < words; ++w) {
+    s.usedBefore[w] = used;
+    used += uint32_t(__builtin_popcountll(s.usedVertices[w]));
+  }
+  auto rank = [&](uint32_t v) {
+    const uint64_t below = s.usedVertices[v >> 6] & ((uint64_t(1) << (v & 63)) - 1);
+    return s.usedBefore[v >> 6] + uint32_t(__builtin_popcountll(below));
+  };
+  // Written straight into the driver's buffers (mapped), with no copy on this side.
+  auto mapped = [&](GLenum target, GLuint buffer, GLsizeiptr bytes, GLsizeiptr& capacity) -> void* {
+    s.upload(target, buffer, bytes, nullptr, capacity);
+    if (bytes == 0) return nullptr;
+    void* memory = gl.MapBufferRange(target, 0, bytes, GL_MAP_WRITE_BIT | GL_MAP_INVALIDATE_BUFFER_BIT);
+    if (!memory) s.checkErrors("mapping a buffer");
+    VS_CHECK(memory != nullptr);
+    return memory;
+  };
+  auto unmap = [&](GLenum target) {
+    if (gl.UnmapBuffer(target) != GL_TRUE) throw InputError("OpenGL lost a buffer's content while MeshRender wrote it (" + s.context.description() + ")");
+  };
+  if (auto* to = static_cast<float*>(mapped(GL_ARRAY_BUFFER, s.vertexBuffer, GLsizeiptr(size_t(used) * 4 * sizeof(float)), s.vertexBytes))) {
+    for (size_t w = 0; w < words; ++w)
+      for (uint64_t bits = s.usedVertices[w]; bits != 0; bits &= bits - 1) {
+        const size_t v = w * 64 + size_t(__builtin_ctzll(bits));
+        std::memcpy(to, mesh.vertices.data() + v * 4, 4 * sizeof(float));
+        to += 4;
+      }
+    unmap(GL_ARRAY_BUFFER);
+  }
+  // Triangles, then points, then locally farthest orphans, one after the other.
   const size_t indexCount = mesh.triangles.size() + mesh.points.size() + mesh.farthestOrphans.size();
-  s.upload(GL_ELEMENT_ARRAY_BUFFER, s.indexBuffer, GLsizeiptr(indexCount * sizeof(uint32_t)), nullptr, s.indexBytes);
-  GLintptr offset = 0;
-  for (const std::vector<uint32_t>* list : lists) {
-    const GLsizeiptr bytes = GLsizeiptr(list->size() * sizeof(uint32_t));
-    if (bytes > 0) gl.BufferSubData(GL_ELEMENT_ARRAY_BUFFER, offset, bytes, list->data());
-    offset += bytes;
+  if (auto* to = static_cast<uint32_t*>(mapped(GL_ELEMENT_ARRAY_BUFFER, s.indexBuffer, GLsizeiptr(indexCount * sizeof(uint32_t)), s.indexBytes))) {
+    for (const std::vector<uint32_t>* list : lists)
+      for (const uint32_t v : *list) *to++ = rank(v);
+    unmap(GL_ELEMENT_ARRAY_BUFFER);
   }
   s.triangleIndexCount = GLsizei(mesh.triangles.size());
   s.pointCount = GLsizei(mesh.points.size());
@@ -470,11 +512,8 @@ void GlMeshRenderer::uploadMesh(const DepthMesh& mesh) {
 void GlMeshRenderer::uploadTexture(const std::vector<const Plane*>& planes) {
   Impl& s = *impl_;
   VS_CHECK(!planes.empty() && planes.size() <= 3);
-  s.planes.resize(planes.size());
-  for (size_t c = 0; c < planes.size(); ++c) {
-    VS_CHECK(planes[c]->width == planes[0]->width && planes[c]->height == planes[0]->height);
-    s.planes[c] = *planes[c];
-  }
+  for (const Plane* plane : planes) VS_CHECK(plane->width == planes[0]->width && plane->height == planes[0]->height);
+  s.planes = planes;
 }
 
 void GlMeshRenderer::render(const Mat4& clip, const RenderGrid& grid, const TexelMap& texelMap, WarpedLayer& layer,
@@ -587,7 +626,7 @@ void GlMeshRenderer::finishRender(const RenderGrid& grid, const TexelMap& texelM
           s.edges[i] = edge;
           const double u = texelMap.scale * r[0] + texelMap.offset, v = texelMap.scale * r[1] + texelMap.offset;
           layer.inverseDepth[i] = double(r[2]);
-          for (int k = 0; k < channels; ++k) layer.colour[k][i] = sample(s.planes[size_t(k)], u, v);
+          for (int k = 0; k < channels; ++k) layer.colour[k][i] = sample(*s.planes[size_t(k)], u, v);
           layer.edge[i] = edge;
         }
       }
@@ -612,7 +651,7 @@ void GlMeshRenderer::releaseRenderBuffers() {
   Impl& s = *impl_;
   std::vector<float>().swap(s.readBack);
   std::vector<uint8_t>().swap(s.edges);
-  std::vector<Plane>().swap(s.planes);
+  std::vector<const Plane*>().swap(s.planes);
   s.mesh = nullptr;
   s.renderedWidth = s.renderedHeight = 0;
 }
@@ -718,7 +757,7 @@ void GlMeshRenderer::sampleChroma420(const std::vector<const Plane*>& planes, do
   layer.reset(width, height, 2);
   const float* samples = s.readBack.data();
   // Reference columns in a turn: the uploaded texture's width, for a reference that wraps; 0 none.
-  const double turn = s.sphere.wrap && !s.planes.empty() ? double(s.planes[0].width) : 0.0;
+  const double turn = s.sphere.wrap && !s.planes.empty() ? double(s.planes[0]->width) : 0.0;
   s.withSampling([&](const auto& sample) {
   parallelRanges(height, [&](int j0, int j1) {
     for (int j = j0; j < j1; ++j)
