@@ -7,6 +7,9 @@
 #include <limits>
 #include <mutex>
 #include <string>
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 #include "Common/Error.h"
 #include "Synth/Parallel.h"
@@ -201,6 +204,67 @@ float bilinearSphere(const Plane& plane, double x, double y, const SphereEdges& 
   const double top = rowValue(y0), bottom = rowValue(y0 + 1);
   return float(top + ay * (bottom - top));
 }
+
+// SubPixelSampler::sampleTaps<4> (ViewSyn's bicubic, the default Filter), bit for bit, faster where all
+// 16 taps lie inside the plane: the four rows' sums side by side in the lanes of one SSE register, each
+// ((0 + k0 t0) + k1 t1) + k2 t2) + k3 t3 as the sampler computes it, then the rows weighted and added in
+// row order. The sampler skips a row of weight 0; adding its 0 * sum (+0 or -0, the row sums being
+// finite) leaves the total as it is, and the total is never -0 (it starts at +0, and a sum of two
+// numbers is -0 only when both are), so the value is the same. Anywhere else, and without SSE2, the
+// sampler's own code. The rounding to the 1/precision grid is the sampler's (gridPosition).
+class FourTapSampler {
+public:
+  explicit FourTapSampler(const SubPixelSampler& sampler)
+      : sampler_(sampler), precision_(sampler.precision()), mask_(sampler.precision() - 1), first_(sampler.first()) {
+    while ((1 << shift_) < precision_) ++shift_;
+  }
+  float operator()(const Plane& plane, double x, double y) const {
+#if defined(__SSE2__)
+    long long ix, iy;
+    int px, py;
+    if (gridPosition(x, ix, px) && gridPosition(y, iy, py)) {
+      const long long left = ix + first_, top = iy + first_;
+      if (left >= 0 && top >= 0 && left + 3 <= plane.width - 1 && top + 3 <= plane.height - 1) {
+        if (px == 0 && py == 0) return float(plane.at(int(ix), int(iy)));
+        auto load = [&](long long row) {
+          return _mm_loadl_epi64(reinterpret_cast<const __m128i*>(plane.row(int(row)) + left));
+        };
+        const __m128i rows01 = _mm_unpacklo_epi16(load(top), load(top + 1));      // r0[0] r1[0] r0[1] r1[1] ...
+        const __m128i rows23 = _mm_unpacklo_epi16(load(top + 2), load(top + 3));  // r2[0] r3[0] r2[1] r3[1] ...
+        const __m128i columns01 = _mm_unpacklo_epi32(rows01, rows23);              // column 0, then column 1
+        const __m128i columns23 = _mm_unpackhi_epi32(rows01, rows23);              // column 2, then column 3
+        const __m128i zero = _mm_setzero_si128();
+        const float* kx = sampler_.kernel(px);
+        __m128 rowSums = _mm_setzero_ps();
+        rowSums = _mm_add_ps(rowSums, _mm_mul_ps(_mm_set1_ps(kx[0]), _mm_cvtepi32_ps(_mm_unpacklo_epi16(columns01, zero))));
+        rowSums = _mm_add_ps(rowSums, _mm_mul_ps(_mm_set1_ps(kx[1]), _mm_cvtepi32_ps(_mm_unpackhi_epi16(columns01, zero))));
+        rowSums = _mm_add_ps(rowSums, _mm_mul_ps(_mm_set1_ps(kx[2]), _mm_cvtepi32_ps(_mm_unpacklo_epi16(columns23, zero))));
+        rowSums = _mm_add_ps(rowSums, _mm_mul_ps(_mm_set1_ps(kx[3]), _mm_cvtepi32_ps(_mm_unpackhi_epi16(columns23, zero))));
+        alignas(16) float weighted[4];
+        _mm_store_ps(weighted, _mm_mul_ps(_mm_loadu_ps(sampler_.kernel(py)), rowSums));
+        float sum = 0.0f;
+        for (const float term : weighted) sum += term;
+        return sum;
+      }
+    }
+#endif
+    return sampler_.sampleTaps<4>(plane, x, y);
+  }
+
+private:
+  // SubPixelSampler's rounding: false far outside any plane (the sampler's own code then).
+  bool gridPosition(double x, long long& whole, int& phase) const {
+    const double g = std::floor(x * precision_ + 0.5);
+    if (!(std::fabs(g) < 4503599627370496.0)) return false;  // 2^52
+    const long long index = (long long)g;
+    whole = index >> shift_;
+    phase = int(index & mask_);
+    return true;
+  }
+
+  const SubPixelSampler& sampler_;
+  int precision_, mask_, first_, shift_ = 0;
+};
 
 // Compiles and links a vertex and a fragment shader into a program; throws InputError when the driver
 // cannot.
@@ -424,6 +488,11 @@ struct GlMeshRenderer::Impl {
       return;
     }
     const SubPixelSampler& chosen = *sampler;
+    if (chosen.taps() == 4) {
+      const FourTapSampler fourTaps(chosen);
+      f(fourTaps);
+      return;
+    }
     chosen.withTaps([&](auto taps) {
       f([&chosen](const Plane& plane, double x, double y) {
         return chosen.sampleTaps<decltype(taps)::value>(plane, x, y);
