@@ -305,19 +305,27 @@ struct ProjectedPass {
   std::vector<uint32_t> indices;  // triangles, then points, then locally farthest orphans
 };
 
+// One uploaded mesh (uploadMesh's slot): its vertex array, buffers and lists' sizes.
+struct MeshSlot {
+  GLuint vertexArray = 0, vertexBuffer = 0, indexBuffer = 0;
+  GLsizeiptr vertexBytes = 0, indexBytes = 0;  // buffer sizes, kept across frames
+  GLsizei triangleIndexCount = 0;  // indices of the triangles, first in the index buffer
+  GLsizei pointCount = 0;          // then the points
+  GLsizei orphanCount = 0;         // then the locally farthest orphans
+  const DepthMesh* mesh = nullptr;  // its edge flags (null: none uploaded, or released)
+};
+
 struct GlMeshRenderer::Impl {
   EglContext context;
   const GlFunctions& gl;
-  GLuint program = 0, triangleProgram = 0, vertexArray = 0, vertexBuffer = 0, indexBuffer = 0;
-  GLsizei pointCount = 0;
-  GLsizei orphanCount = 0;  // locally farthest orphans, after the points in the index buffer
+  GLuint program = 0, triangleProgram = 0;
+  std::vector<MeshSlot> slots;  // uploadMesh's meshes, by slot
+  size_t slot = 0;              // the one the next render draws (useMesh)
   GLuint framebuffer = 0, colourBuffer = 0, depthBuffer = 0;
   GLint triangleClipLocation = -1;
   GLint clipLocation = -1, referenceFromClipLocation = -1, viewportLocation = -1, drawingPointsLocation = -1,
         drawnMarkLocation = -1;
   int framebufferWidth = 0, framebufferHeight = 0;
-  GLsizei triangleIndexCount = 0;  // indices of the triangles at the start of `indices`
-  GLsizeiptr vertexBytes = 0, indexBytes = 0;  // buffer sizes, kept across frames
   GLint maxRenderbufferSize = 0, maxViewport[2] = {0, 0};
   std::vector<const Plane*> planes;         // the "texture": the reference planes (the caller's), sampled on the CPU
   std::unique_ptr<SubPixelSampler> sampler;  // null: exact bilinear
@@ -349,14 +357,7 @@ struct GlMeshRenderer::Impl {
              drawnMarkLocation >= 0);
     gl.UseProgram(program);
 
-    gl.GenVertexArrays(1, &vertexArray);
-    gl.BindVertexArray(vertexArray);
-    gl.GenBuffers(1, &vertexBuffer);
-    gl.GenBuffers(1, &indexBuffer);
-    gl.BindBuffer(GL_ARRAY_BUFFER, vertexBuffer);
-    gl.VertexAttribPointer(0, 4, GL_FLOAT, GL_FALSE, 0, nullptr);
-    gl.EnableVertexAttribArray(0);
-    gl.BindBuffer(GL_ELEMENT_ARRAY_BUFFER, indexBuffer);  // part of the vertex array's state
+    addSlot();
 
     gl.GetIntegerv(GL_MAX_RENDERBUFFER_SIZE, &maxRenderbufferSize);
     gl.GetIntegerv(GL_MAX_VIEWPORT_DIMS, maxViewport);
@@ -376,11 +377,27 @@ struct GlMeshRenderer::Impl {
     gl.DeleteFramebuffers(1, &framebuffer);
     gl.DeleteRenderbuffers(1, &colourBuffer);
     gl.DeleteRenderbuffers(1, &depthBuffer);
-    gl.DeleteBuffers(1, &vertexBuffer);
-    gl.DeleteBuffers(1, &indexBuffer);
-    gl.DeleteVertexArrays(1, &vertexArray);
+    for (MeshSlot& mesh : slots) {
+      gl.DeleteBuffers(1, &mesh.vertexBuffer);
+      gl.DeleteBuffers(1, &mesh.indexBuffer);
+      gl.DeleteVertexArrays(1, &mesh.vertexArray);
+    }
     gl.DeleteProgram(program);
     gl.DeleteProgram(triangleProgram);
+  }
+
+  // A vertex array with a vertex buffer (attribute 0: the vertex) and an index buffer.
+  void addSlot() {
+    MeshSlot mesh;
+    gl.GenVertexArrays(1, &mesh.vertexArray);
+    gl.BindVertexArray(mesh.vertexArray);
+    gl.GenBuffers(1, &mesh.vertexBuffer);
+    gl.GenBuffers(1, &mesh.indexBuffer);
+    gl.BindBuffer(GL_ARRAY_BUFFER, mesh.vertexBuffer);
+    gl.VertexAttribPointer(0, 4, GL_FLOAT, GL_FALSE, 0, nullptr);
+    gl.EnableVertexAttribArray(0);
+    gl.BindBuffer(GL_ELEMENT_ARRAY_BUFFER, mesh.indexBuffer);  // part of the vertex array's state
+    slots.push_back(mesh);
   }
 
   void checkErrors(const char* what) const {
@@ -511,15 +528,17 @@ void GlMeshRenderer::setSampling(const SubPixelSampler* sampler) {
   impl_->sampler = sampler ? std::make_unique<SubPixelSampler>(*sampler) : nullptr;
 }
 
-void GlMeshRenderer::uploadMesh(const DepthMesh& mesh) {
+void GlMeshRenderer::uploadMesh(const DepthMesh& mesh, size_t slot) {
   Impl& s = *impl_;
   const GlFunctions& gl = s.gl;
   s.context.makeCurrent();
+  VS_CHECK(slot < 64);
+  while (s.slots.size() <= slot) s.addSlot();
+  MeshSlot& target = s.slots[slot];
   VS_CHECK(mesh.vertices.size() == mesh.vertexCount() * 4 && mesh.boundary.size() == mesh.vertexCount());
   VS_CHECK(mesh.triangles.size() + mesh.points.size() + mesh.farthestOrphans.size() <=
            size_t(std::numeric_limits<GLsizei>::max()));
-  gl.BindVertexArray(s.vertexArray);
-  s.mesh = &mesh;
+  gl.BindVertexArray(target.vertexArray);
   // Only the vertices that the triangles, points and orphans use go to the driver, in grid order (an
   // adaptive mesh uses about a fifth of the grid's): the lists' indices are renumbered into them by
   // rank, each vertex keeps its values and each triangle its corners in their order, so the renders
@@ -556,7 +575,7 @@ void GlMeshRenderer::uploadMesh(const DepthMesh& mesh) {
   auto unmap = [&](GLenum target) {
     if (gl.UnmapBuffer(target) != GL_TRUE) throw InputError("OpenGL lost a buffer's content while MeshRender wrote it (" + s.context.description() + ")");
   };
-  if (auto* to = static_cast<float*>(mapped(GL_ARRAY_BUFFER, s.vertexBuffer, GLsizeiptr(size_t(used) * 4 * sizeof(float)), s.vertexBytes))) {
+  if (auto* to = static_cast<float*>(mapped(GL_ARRAY_BUFFER, target.vertexBuffer, GLsizeiptr(size_t(used) * 4 * sizeof(float)), target.vertexBytes))) {
     for (size_t w = 0; w < words; ++w)
       for (uint64_t bits = s.usedVertices[w]; bits != 0; bits &= bits - 1) {
         const size_t v = w * 64 + size_t(__builtin_ctzll(bits));
@@ -567,15 +586,24 @@ void GlMeshRenderer::uploadMesh(const DepthMesh& mesh) {
   }
   // Triangles, then points, then locally farthest orphans, one after the other.
   const size_t indexCount = mesh.triangles.size() + mesh.points.size() + mesh.farthestOrphans.size();
-  if (auto* to = static_cast<uint32_t*>(mapped(GL_ELEMENT_ARRAY_BUFFER, s.indexBuffer, GLsizeiptr(indexCount * sizeof(uint32_t)), s.indexBytes))) {
+  if (auto* to = static_cast<uint32_t*>(mapped(GL_ELEMENT_ARRAY_BUFFER, target.indexBuffer, GLsizeiptr(indexCount * sizeof(uint32_t)), target.indexBytes))) {
     for (const std::vector<uint32_t>* list : lists)
       for (const uint32_t v : *list) *to++ = rank(v);
     unmap(GL_ELEMENT_ARRAY_BUFFER);
   }
-  s.triangleIndexCount = GLsizei(mesh.triangles.size());
-  s.pointCount = GLsizei(mesh.points.size());
-  s.orphanCount = GLsizei(mesh.farthestOrphans.size());
+  target.triangleIndexCount = GLsizei(mesh.triangles.size());
+  target.pointCount = GLsizei(mesh.points.size());
+  target.orphanCount = GLsizei(mesh.farthestOrphans.size());
+  target.mesh = &mesh;
   s.checkErrors("uploading the mesh");
+  useMesh(slot);
+}
+
+void GlMeshRenderer::useMesh(size_t slot) {
+  Impl& s = *impl_;
+  VS_CHECK(slot < s.slots.size() && s.slots[slot].mesh != nullptr);
+  s.slot = slot;
+  s.mesh = s.slots[slot].mesh;
 }
 
 void GlMeshRenderer::uploadTexture(const std::vector<const Plane*>& planes) {
@@ -593,14 +621,16 @@ void GlMeshRenderer::render(const Mat4& clip, const RenderGrid& grid, const Texe
 
   float matrix[16];
   toGlMatrix(clip, matrix);
-  gl.BindVertexArray(s.vertexArray);
-  if (s.triangleIndexCount > 0) {
+  const MeshSlot& drawn = s.slots[s.slot];
+  VS_CHECK(drawn.mesh != nullptr && drawn.mesh == s.mesh);
+  gl.BindVertexArray(drawn.vertexArray);
+  if (drawn.triangleIndexCount > 0) {
     gl.UseProgram(s.triangleProgram);
     gl.UniformMatrix4fv(s.triangleClipLocation, 1, GL_FALSE, matrix);
     // In parts, each flushed: a software rasteriser (llvmpipe) bins a part's triangles on this thread
     // and rasterises a flushed part on its own threads, so binning the next part overlaps rasterising
     // this one instead of leaving the other cores idle. Same triangles in the same order: same pixels.
-    const GLsizei triangles = s.triangleIndexCount / 3;
+    const GLsizei triangles = drawn.triangleIndexCount / 3;
     for (int part = 0; part < kDrawParts; ++part) {
       const GLsizei first = GLsizei(int64_t(triangles) * part / kDrawParts), last = GLsizei(int64_t(triangles) * (part + 1) / kDrawParts);
       if (last == first) continue;
@@ -622,17 +652,17 @@ void GlMeshRenderer::render(const Mat4& clip, const RenderGrid& grid, const Texe
   // Marked 3: drawn, and on an edge.
   gl.Uniform1i(s.drawingPointsLocation, invertible ? 1 : 0);
   gl.Uniform1f(s.drawnMarkLocation, 3.0f);
-  if (s.pointCount > 0)
-    gl.DrawElements(GL_POINTS, s.pointCount, GL_UNSIGNED_INT,
-                    reinterpret_cast<const void*>(size_t(s.triangleIndexCount) * sizeof(uint32_t)));
+  if (drawn.pointCount > 0)
+    gl.DrawElements(GL_POINTS, drawn.pointCount, GL_UNSIGNED_INT,
+                    reinterpret_cast<const void*>(size_t(drawn.triangleIndexCount) * sizeof(uint32_t)));
   // Locally farthest orphans last, only where nothing is drawn: every fragment's window depth is 1, the
   // cleared value, and passes GL_LEQUAL there only. Marked 2; kept below only in a lone hole.
-  if (s.orphanCount > 0) {
+  if (drawn.orphanCount > 0) {
     gl.Uniform1f(s.drawnMarkLocation, 2.0f);
     gl.DepthRange(1.0, 1.0);
     gl.DepthFunc(GL_LEQUAL);
-    gl.DrawElements(GL_POINTS, s.orphanCount, GL_UNSIGNED_INT,
-                    reinterpret_cast<const void*>(size_t(s.triangleIndexCount + s.pointCount) * sizeof(uint32_t)));
+    gl.DrawElements(GL_POINTS, drawn.orphanCount, GL_UNSIGNED_INT,
+                    reinterpret_cast<const void*>(size_t(drawn.triangleIndexCount + drawn.pointCount) * sizeof(uint32_t)));
     gl.DepthRange(0.0, 1.0);
     gl.DepthFunc(GL_LESS);
   }
@@ -722,6 +752,7 @@ void GlMeshRenderer::releaseRenderBuffers() {
   std::vector<uint8_t>().swap(s.edges);
   std::vector<const Plane*>().swap(s.planes);
   s.mesh = nullptr;
+  for (MeshSlot& mesh : s.slots) mesh.mesh = nullptr;
   s.renderedWidth = s.renderedHeight = 0;
 }
 

@@ -52,9 +52,13 @@ public:
   // sampler's own kernel weights), or, with nullptr (the default), bilinear at the exact position.
   void setSampling(const SubPixelSampler* sampler);
 
-  // Uploads the mesh's vertices and triangles (kept until the next call). The renders read the mesh's
-  // edge flags (DepthMesh::edgeAt): it must outlive them.
-  void uploadMesh(const DepthMesh& mesh);
+  // Uploads the mesh's vertices and triangles into `slot` (kept until the next upload there; each slot
+  // has buffers of its own, so the meshes of several views can be uploaded before the first is drawn
+  // and their arrays freed) and makes it the one the next renders draw. The renders read the mesh's
+  // edge flags (DepthMesh::edgeAt): it must outlive them; its vertices and lists are not read again.
+  void uploadMesh(const DepthMesh& mesh, size_t slot = 0);
+  // Makes the mesh uploaded into `slot` the one the next renders draw.
+  void useMesh(size_t slot);
   // Keeps pointers to 1 to 3 planes of one size: the texture the next renders are coloured with
   // (looked up on the CPU, where each render's fragments say). The planes must outlive those renders
   // and the sampleChroma420 after them (no copy is made).
