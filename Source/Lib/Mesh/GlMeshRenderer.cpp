@@ -329,10 +329,12 @@ struct GlMeshRenderer::Impl {
   GLint maxRenderbufferSize = 0, maxViewport[2] = {0, 0};
   std::vector<const Plane*> planes;         // the "texture": the reference planes (the caller's), sampled on the CPU
   std::unique_ptr<SubPixelSampler> sampler;  // null: exact bilinear
-  MeshReadBack last;                        // render(), renderProjected(): the last render
+  std::vector<float> readBack;              // last render: (u, v, q, flags) per sample
+  std::vector<uint8_t> edges;               // last render: edgeAt() of each drawn sample
   std::vector<uint64_t> usedVertices;       // uploadMesh: one bit a grid vertex, set where a list uses it
   std::vector<uint32_t> usedBefore;         // uploadMesh: used vertices before each 64-bit word
   const DepthMesh* mesh = nullptr;          // the uploaded mesh (its edge flags)
+  int renderedWidth = 0, renderedHeight = 0;
   std::unique_ptr<ProjectedPass> projected;  // ERP cameras (uploadProjectedMesh)
   SphereEdges sphere;                        // setReferenceSphere: how the reference continues beyond its edges
 
@@ -478,14 +480,12 @@ struct GlMeshRenderer::Impl {
 
   // The edge flag of a sample: every point is on an edge (a border vertex, or an orphan); a triangle's
   // fragment is when the grid triangle under its reference position touches a dropped one.
-  static bool edgeAt(const DepthMesh* mesh, const float* sample) {
-    return sample[3] != 1.0f || (mesh && mesh->edgeAt(sample[0], sample[1]));
-  }
+  bool edgeAt(const float* sample) const { return sample[3] != 1.0f || (mesh && mesh->edgeAt(sample[0], sample[1])); }
 
   // The colour of plane `k` at texel position (x, y). An ERP reference's texture is read round its wrap
   // and across its poles within four samples of its edges (as ViewSyn's warps: Synth/TextureWarp.cpp),
   // where alone the two rules may differ; everywhere else, and for any other reference, as it was.
-  float sample(const SphereEdges& sphere, const Plane& plane, double x, double y) const {
+  float sample(const Plane& plane, double x, double y) const {
     if (sphere.any() && SubPixelSampler::nearEdge(x, y, plane.width, plane.height)) {
       if (!sampler) return bilinearSphere(plane, x, y, sphere);
       return sampler->withTaps([&](auto taps) {
@@ -499,9 +499,9 @@ struct GlMeshRenderer::Impl {
   // kind (sphere edges, ViewSyn's sampler and its tap count, plain bilinear) chosen once for a whole
   // pass instead of once per sample.
   template <class F>
-  void withSampling(const SphereEdges& sphere, F&& f) const {
+  void withSampling(F&& f) const {
     if (sphere.any() || !sampler) {
-      f([this, &sphere](const Plane& plane, double x, double y) { return sample(sphere, plane, x, y); });
+      f([this](const Plane& plane, double x, double y) { return sample(plane, x, y); });
       return;
     }
     const SubPixelSampler& chosen = *sampler;
@@ -615,12 +615,6 @@ void GlMeshRenderer::uploadTexture(const std::vector<const Plane*>& planes) {
 
 void GlMeshRenderer::render(const Mat4& clip, const RenderGrid& grid, const TexelMap& texelMap, WarpedLayer& layer,
                             RenderExtras* extras) {
-  draw(clip, grid, impl_->last);
-  colour(impl_->last, texelMap, layer);
-  finishExtras(extras);
-}
-
-void GlMeshRenderer::draw(const Mat4& clip, const RenderGrid& grid, MeshReadBack& target) {
   Impl& s = *impl_;
   const GlFunctions& gl = s.gl;
   s.beginRender(grid);
@@ -672,29 +666,23 @@ void GlMeshRenderer::draw(const Mat4& clip, const RenderGrid& grid, MeshReadBack
     gl.DepthRange(0.0, 1.0);
     gl.DepthFunc(GL_LESS);
   }
-  readBack(grid, target);
+
+  finishRender(grid, texelMap, layer, extras);
 }
 
-void GlMeshRenderer::readBack(const RenderGrid& grid, MeshReadBack& target) {
+void GlMeshRenderer::finishRender(const RenderGrid& grid, const TexelMap& texelMap, WarpedLayer& layer,
+                                  RenderExtras* extras) {
   Impl& s = *impl_;
   const GlFunctions& gl = s.gl;
   // Framebuffer row 0 is image row 0 (MeshProjection.h): read back as it lies.
   const int width = grid.width, height = grid.height;
-  target.samples.resize(size_t(width) * size_t(height) * 4);
-  gl.ReadBuffer(GL_COLOR_ATTACHMENT0);
-  gl.ReadPixels(0, 0, width, height, GL_RGBA, GL_FLOAT, target.samples.data());
-  s.checkErrors("rendering the mesh");
-  target.width = width;
-  target.height = height;
-  target.mesh = s.mesh;
-  target.planes = s.planes;
-  target.sphere = s.sphere;
-}
-
-void GlMeshRenderer::colour(MeshReadBack& view, const TexelMap& texelMap, WarpedLayer& layer) const {
-  const Impl& s = *impl_;
-  const int width = view.width, height = view.height;
   const size_t n = size_t(width) * size_t(height);
+  s.readBack.resize(n * 4);
+  gl.ReadBuffer(GL_COLOR_ATTACHMENT0);
+  gl.ReadPixels(0, 0, width, height, GL_RGBA, GL_FLOAT, s.readBack.data());
+  s.checkErrors("rendering the mesh");
+  s.renderedWidth = width;
+  s.renderedHeight = height;
 
   // One pass over the read-back, on the threads, row by row: each sample's orphan rule, edge flag,
   // depth and colour, every sample of the layer written once (holes included). The read-back is not
@@ -702,20 +690,20 @@ void GlMeshRenderer::colour(MeshReadBack& view, const TexelMap& texelMap, Warped
   // to the read-back afterwards (the chroma and the extras read them).
   // A locally farthest orphan (mark 2) stays only in a hole of its own: a sample whose 4 neighbours
   // in the grid are drawn. In a disocclusion it would be a speck of background (DepthMesh.h).
-  float* samples = view.samples.data();
+  float* samples = s.readBack.data();
   auto drawn = [&](int x, int y) {
     return x < 0 || y < 0 || x >= width || y >= height || samples[(size_t(y) * size_t(width) + size_t(x)) * 4 + 3] != 0.0f;
   };
   auto rejectedOrphan = [&](int x, int y) {
     return !(drawn(x - 1, y) && drawn(x + 1, y) && drawn(x, y - 1) && drawn(x, y + 1));
   };
-  const int channels = int(view.planes.size());
-  VS_CHECK(channels >= 1 && channels <= 3 && width > 0);
+  const int channels = int(s.planes.size());
+  VS_CHECK(channels >= 1 && channels <= 3);
   layer.resize(width, height, channels);
-  view.edges.resize(n);
+  s.edges.resize(n);
   std::mutex rejectedMutex;
   std::vector<size_t> rejected;
-  s.withSampling(view.sphere, [&](const auto& sample) {
+  s.withSampling([&](const auto& sample) {
     parallelRanges(height, [&](int y0, int y1) {
       for (int y = y0; y < y1; ++y) {
         const size_t rowStart = size_t(y) * size_t(width);
@@ -727,47 +715,45 @@ void GlMeshRenderer::colour(MeshReadBack& view, const TexelMap& texelMap, Warped
               const std::lock_guard<std::mutex> lock(rejectedMutex);
               rejected.push_back(i);
             }
-            view.edges[i] = 0;
+            s.edges[i] = 0;
             layer.inverseDepth[i] = kNoDepth;
             for (int k = 0; k < channels; ++k) layer.colour[k][i] = 0.0f;
             layer.edge[i] = 0;
             continue;
           }
-          const uint8_t edge = Impl::edgeAt(view.mesh, r) ? 1 : 0;
-          view.edges[i] = edge;
+          const uint8_t edge = s.edgeAt(r) ? 1 : 0;
+          s.edges[i] = edge;
           const double u = texelMap.scale * r[0] + texelMap.offset, v = texelMap.scale * r[1] + texelMap.offset;
           layer.inverseDepth[i] = double(r[2]);
-          for (int k = 0; k < channels; ++k) layer.colour[k][i] = sample(*view.planes[size_t(k)], u, v);
+          for (int k = 0; k < channels; ++k) layer.colour[k][i] = sample(*s.planes[size_t(k)], u, v);
           layer.edge[i] = edge;
         }
       }
     });
   });
   for (size_t i : rejected) samples[i * 4 + 3] = 0.0f;
-}
 
-void GlMeshRenderer::finishExtras(RenderExtras* extras) const {
-  if (!extras) return;
-  const MeshReadBack& view = impl_->last;
-  const size_t n = size_t(view.width) * size_t(view.height);
-  const float* samples = view.samples.data();
-  extras->referenceU.assign(n, std::nanf(""));
-  extras->referenceV.assign(n, std::nanf(""));
-  for (size_t i = 0; i < n; ++i)
-    if (samples[i * 4 + 3] != 0.0f) {
-      extras->referenceU[i] = samples[i * 4];
-      extras->referenceV[i] = samples[i * 4 + 1];
-    }
+  if (extras) {
+    extras->referenceU.assign(n, std::nanf(""));
+    extras->referenceV.assign(n, std::nanf(""));
+    for (size_t i = 0; i < n; ++i)
+      if (samples[i * 4 + 3] != 0.0f) {
+        extras->referenceU[i] = samples[i * 4];
+        extras->referenceV[i] = samples[i * 4 + 1];
+      }
+  }
 }
 
 void GlMeshRenderer::setReferenceSphere(const SphereEdges& edges) { impl_->sphere = edges; }
 
 void GlMeshRenderer::releaseRenderBuffers() {
   Impl& s = *impl_;
-  s.last = MeshReadBack();
+  std::vector<float>().swap(s.readBack);
+  std::vector<uint8_t>().swap(s.edges);
   std::vector<const Plane*>().swap(s.planes);
   s.mesh = nullptr;
   for (MeshSlot& mesh : s.slots) mesh.mesh = nullptr;
+  s.renderedWidth = s.renderedHeight = 0;
 }
 
 void GlMeshRenderer::uploadProjectedMesh(const ProjectedMesh& mesh) {
@@ -839,20 +825,16 @@ void GlMeshRenderer::renderProjected(const RenderGrid& grid, const TexelMap& tex
     gl.DepthRange(0.0, 1.0);
     gl.DepthFunc(GL_LESS);
   }
-  readBack(grid, s.last);
-  colour(s.last, texelMap, layer);
-  finishExtras(extras);
+  finishRender(grid, texelMap, layer, extras);
 }
 
-void GlMeshRenderer::sampleRender(const std::vector<Plane>& planes, const TexelMap& texelMap, WarpedLayer& layer,
-                                  const MeshReadBack* rendered) const {
+void GlMeshRenderer::sampleRender(const std::vector<Plane>& planes, const TexelMap& texelMap, WarpedLayer& layer) const {
   const Impl& s = *impl_;
-  const MeshReadBack& view = rendered ? *rendered : s.last;
-  const int width = view.width, height = view.height, channels = int(planes.size());
+  const int width = s.renderedWidth, height = s.renderedHeight, channels = int(planes.size());
   VS_CHECK(channels >= 1 && channels <= 3 && width > 0);
   layer.reset(width, height, channels);
-  const float* samples = view.samples.data();
-  s.withSampling(view.sphere, [&](const auto& sample) {
+  const float* samples = s.readBack.data();
+  s.withSampling([&](const auto& sample) {
     parallelRanges(height, [&](int y0, int y1) {
       for (size_t i = size_t(y0) * size_t(width); i < size_t(y1) * size_t(width); ++i) {
         const float* r = samples + i * 4;
@@ -860,25 +842,23 @@ void GlMeshRenderer::sampleRender(const std::vector<Plane>& planes, const TexelM
         const double x = texelMap.scale * r[0] + texelMap.offset, y = texelMap.scale * r[1] + texelMap.offset;
         layer.inverseDepth[i] = double(r[2]);
         for (int k = 0; k < channels; ++k) layer.colour[k][i] = sample(planes[size_t(k)], x, y);
-        layer.edge[i] = view.edges[i];
+        layer.edge[i] = s.edges[i];
       }
     });
   });
 }
 
-void GlMeshRenderer::sampleChroma420(const std::vector<const Plane*>& planes, double sameSurface, WarpedLayer& layer,
-                                     const MeshReadBack* rendered) const {
+void GlMeshRenderer::sampleChroma420(const std::vector<const Plane*>& planes, double sameSurface, WarpedLayer& layer) const {
   const Impl& s = *impl_;
-  const MeshReadBack& view = rendered ? *rendered : s.last;
-  VS_CHECK(planes.size() == 2 && view.width > 0);
-  const int lumaWidth = view.width, lumaHeight = view.height;
+  VS_CHECK(planes.size() == 2 && s.renderedWidth > 0);
+  const int lumaWidth = s.renderedWidth, lumaHeight = s.renderedHeight;
   const int width = planes[0]->width, height = planes[0]->height;
   VS_CHECK(width == (lumaWidth + 1) / 2 && height == (lumaHeight + 1) / 2);
   layer.reset(width, height, 2);
-  const float* samples = view.samples.data();
-  // Reference columns in a turn: the render's texture width, for a reference that wraps; 0 none.
-  const double turn = view.sphere.wrap && !view.planes.empty() ? double(view.planes[0]->width) : 0.0;
-  s.withSampling(view.sphere, [&](const auto& sample) {
+  const float* samples = s.readBack.data();
+  // Reference columns in a turn: the uploaded texture's width, for a reference that wraps; 0 none.
+  const double turn = s.sphere.wrap && !s.planes.empty() ? double(s.planes[0]->width) : 0.0;
+  s.withSampling([&](const auto& sample) {
   parallelRanges(height, [&](int j0, int j1) {
     for (int j = j0; j < j1; ++j)
       for (int i = 0; i < width; ++i) {
@@ -914,7 +894,7 @@ void GlMeshRenderer::sampleChroma420(const std::vector<const Plane*>& planes, do
         if (onFront(down)) uy = (column(down) - front[0]) * 2.0 * sy, vy = (down[1] - front[1]) * 2.0 * sy;
         double u = front[0] + sx * ux + sy * uy, v = front[1] + sx * vx + sy * vy;
         double q = front[2];
-        auto edgeOf = [&](const float* r) { return view.edges[size_t(r - samples) / 4] != 0; };
+        auto edgeOf = [&](const float* r) { return s.edges[size_t(r - samples) / 4] != 0; };
         bool edge = edgeOf(front);
         // All four on one surface: their mean, which is the centre where the mapping is affine.
         if (onFront(block[0][0]) && onFront(block[0][1]) && onFront(block[1][0]) && onFront(block[1][1])) {

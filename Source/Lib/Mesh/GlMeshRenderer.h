@@ -31,18 +31,6 @@ struct TexelMap {
   double offset = 0.0;
 };
 
-// A render read back (GlMeshRenderer::draw), to be coloured (GlMeshRenderer::colour and the chroma
-// look-ups), which reads only this and the renderer's sampler: on another thread while the renderer
-// draws the next view, if need be.
-struct MeshReadBack {
-  int width = 0, height = 0;
-  std::vector<float> samples;        // (u, v, q, mark) per sample: the reference position shown, q, drawn mark
-  std::vector<uint8_t> edges;        // colour(): the edge flag of each drawn sample
-  const DepthMesh* mesh = nullptr;   // the drawn mesh (its edge flags)
-  std::vector<const Plane*> planes;  // the texture the render is coloured with (uploadTexture)
-  SphereEdges sphere;                // setReferenceSphere at the render
-};
-
 // Per-sample extras of a render, for tests and diagnostics.
 struct RenderExtras {
   std::vector<float> referenceU, referenceV;  // reference pixel position shown; NaN where nothing was drawn
@@ -81,13 +69,6 @@ public:
   // a vertex on a dropped triangle). Throws InputError when the grid exceeds the GL limits.
   void render(const Mat4& clip, const RenderGrid& grid, const TexelMap& texelMap, WarpedLayer& layer,
               RenderExtras* extras = nullptr);
-  // render() in two halves, so that one view's colouring can overlap the next view's drawing: draw()
-  // renders the current mesh and reads the framebuffer back into `target` (with the texture, the
-  // mesh and the sphere edges the render is coloured with); colour() colours it into `layer` as
-  // render() does, without OpenGL, on any thread (it reads only `view` and the sampler, and applies the
-  // orphan rule to `view`'s marks). The planes and the mesh must outlive the colouring.
-  void draw(const Mat4& clip, const RenderGrid& grid, MeshReadBack& target);
-  void colour(MeshReadBack& view, const TexelMap& texelMap, WarpedLayer& layer) const;
   // ERP cameras (Mesh/MeshErp.h): uploads a mesh already in the virtual camera's clip coordinates (kept
   // until the next call; its DepthMesh must outlive the renders), and renders it as render() does,
   // into `grid`, read back and coloured the same way.
@@ -101,29 +82,23 @@ public:
   // of neighbouring samples across its seam (its first plane's width a whole turn). The default, none:
   // the edge samples repeat.
   void setReferenceSphere(const SphereEdges& edges);
-  // The last render's samples (or `rendered`'s, a draw() already coloured) coloured from other planes
-  // (4:4:4 chroma at luma resolution, texel map as given): `layer` gets the render's q and edges and
-  // the planes' colours.
-  void sampleRender(const std::vector<Plane>& planes, const TexelMap& texelMap, WarpedLayer& layer,
-                    const MeshReadBack* rendered = nullptr) const;
-  // 4:2:0 chroma from the last render (or `rendered`, a draw() already coloured) at luma resolution,
-  // without a render of its own: chroma sample
+  // The last render's samples coloured from other planes (4:4:4 chroma at luma resolution, texel map
+  // as given): `layer` gets the render's q and edges and the planes' colours.
+  void sampleRender(const std::vector<Plane>& planes, const TexelMap& texelMap, WarpedLayer& layer) const;
+  // 4:2:0 chroma from the last render at luma resolution, without a render of its own: chroma sample
   // (i, j) at luma (2i + 0.5, 2j + 0.5) shows the front surface of its 2 x 2 luma samples (the nearest
   // one and those within `sameSurface`, 1 - q / q_front); its reference position is the four's mean
   // when all four are on that surface, else the front sample's, moved half a luma pixel along the
   // reference positions of its neighbours on that surface. U and V are sampled there.
-  void sampleChroma420(const std::vector<const Plane*>& planes, double sameSurface, WarpedLayer& layer,
-                       const MeshReadBack* rendered = nullptr) const;
+  void sampleChroma420(const std::vector<const Plane*>& planes, double sameSurface, WarpedLayer& layer) const;
   // Frees what the last render left on this side (its read-back samples, their edge flags) and forgets
   // the texture's planes and the uploaded mesh, for a run that renders nothing more: its later steps reuse the
   // memory instead of touching fresh pages. The next render needs uploadMesh and uploadTexture again.
   void releaseRenderBuffers();
 
 private:
-  // Reads the drawn framebuffer back into `target`, with what it is to be coloured with.
-  void readBack(const RenderGrid& grid, MeshReadBack& target);
-  // The last render's reference positions into `extras` (when not null).
-  void finishExtras(RenderExtras* extras) const;
+  // Reads the drawn framebuffer back and colours it into `layer` (both passes).
+  void finishRender(const RenderGrid& grid, const TexelMap& texelMap, WarpedLayer& layer, RenderExtras* extras);
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };
