@@ -367,6 +367,67 @@ TEST(MeshRenderGl, ColourIsViewSynsSamplerAtTheReadBackPosition) {
   renderer->setSampling(nullptr);
 }
 
+bool sameLayers(const vs::WarpedLayer& a, const vs::WarpedLayer& b) {
+  return a.width == b.width && a.height == b.height && a.inverseDepth == b.inverseDepth && a.colour[0] == b.colour[0] &&
+         a.edge == b.edge;
+}
+
+// The renderer uploads only the vertices a mesh's lists use, renumbered: a mesh whose triangles use a
+// scattered few of its grid's vertices renders the same with every unused vertex set to NaN. Meshes
+// uploaded into slots of their own (uploadMesh(mesh, slot), useMesh) render as each alone in slot 0.
+TEST(MeshRenderGl, UnusedVerticesAndSlotsLeaveTheRenderAsItWas) {
+  REQUIRE_GL();
+  const PlaneScene s = makePlaneScene(0);
+  vs::DepthMesh meshes[2];
+  vs::WarpedLayer alone[2];
+  vs::Mat4 clips[2];
+  const vs::RenderGrid grid = vs::lumaGrid(s.scene.virtualCamera, kWidth, kHeight);
+  for (size_t k = 0; k < 2; ++k) {
+    vs::WarpedLayer full;
+    vs::RenderExtras extras;
+    renderView(*renderer, s, k, s.scene.virtualCamera, meshes[k], full, extras);
+    vs::DepthMesh& mesh = meshes[k];
+    // Every 25th triangle: holes between them, and most vertices unused.
+    std::vector<uint32_t> kept;
+    for (size_t t = 0; t < mesh.triangles.size() / 3; t += 25) kept.insert(kept.end(), &mesh.triangles[3 * t], &mesh.triangles[3 * t + 3]);
+    mesh.triangles = kept;
+    const vs::ReferenceView& view = s.scene.settings.references[k];
+    vs::InverseDepthRange range;
+    ASSERT_TRUE(vs::sceneInverseDepthRange(view.camera, view.depthRange, 0, kWidth, kHeight, s.scene.virtualCamera, range));
+    clips[k] = vs::meshClipMatrix(view.camera, s.scene.virtualCamera, grid, vs::clipPlanes(range));
+    renderer->uploadMesh(mesh);
+    renderer->uploadTexture({&s.textures[k].planes[0]});
+    renderer->render(clips[k], grid, vs::TexelMap{}, alone[k]);
+    size_t drawn = 0;
+    for (size_t i = 0; i < alone[k].inverseDepth.size(); ++i) drawn += alone[k].valid(i) ? 1 : 0;
+    EXPECT_GT(drawn, size_t(kWidth * kHeight / 100));
+    EXPECT_LT(drawn, size_t(kWidth * kHeight / 10));
+
+    std::vector<uint8_t> used(mesh.vertexCount(), 0);
+    for (const std::vector<uint32_t>* list : {&mesh.triangles, &mesh.points, &mesh.farthestOrphans})
+      for (uint32_t v : *list) used[v] = 1;
+    vs::DepthMesh poisoned = mesh;
+    for (size_t v = 0; v < used.size(); ++v)
+      if (!used[v])
+        for (int c = 0; c < 4; ++c) poisoned.vertices[4 * v + size_t(c)] = std::nanf("");
+    EXPECT_LT(size_t(std::count(used.begin(), used.end(), 1)), used.size() / 2);
+    vs::WarpedLayer layer;
+    renderer->uploadMesh(poisoned);
+    renderer->render(clips[k], grid, vs::TexelMap{}, layer);
+    EXPECT_TRUE(sameLayers(layer, alone[k])) << "view " << k << ": unused vertices changed the render";
+  }
+  // Both meshes in slots 1 and 2, then each drawn: as alone.
+  renderer->uploadMesh(meshes[0], 1);
+  renderer->uploadMesh(meshes[1], 2);
+  for (size_t k = 0; k < 2; ++k) {
+    vs::WarpedLayer layer;
+    renderer->useMesh(k + 1);
+    renderer->uploadTexture({&s.textures[k].planes[0]});
+    renderer->render(clips[k], grid, vs::TexelMap{}, layer);
+    EXPECT_TRUE(sameLayers(layer, alone[k])) << "view " << k << " from slot " << k + 1;
+  }
+}
+
 double planePsnr(const vs::Plane& a, const vs::Plane& b) { return vs::psnrFromMse(vs::planeMse(a, b), 8); }
 
 // A reference view's mesh rendered into its own camera gives the view back: PSNR-Y >= 60 dB (it is
