@@ -540,7 +540,7 @@ void GlMeshRenderer::uploadMesh(const DepthMesh& mesh, size_t slot) {
            size_t(std::numeric_limits<GLsizei>::max()));
   gl.BindVertexArray(target.vertexArray);
   // Only the vertices that the triangles, points and orphans use go to the driver, in grid order (an
-  // adaptive mesh uses about a fifth of the grid's): the lists' indices are renumbered into them by
+  // adaptive mesh uses about a sixth of the grid's on Art): the lists' indices are renumbered into them by
   // rank, each vertex keeps its values and each triangle its corners in their order, so the renders
   // are the same to the bit, with less to copy and a smaller buffer for the driver to hold. Used
   // vertices: one bit each; the rank of vertex v is the used vertices before its word plus those
