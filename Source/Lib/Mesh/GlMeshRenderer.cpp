@@ -220,38 +220,62 @@ public:
   }
   float operator()(const Plane& plane, double x, double y) const {
 #if defined(__SSE2__)
-    long long ix, iy;
-    int px, py;
-    if (gridPosition(x, ix, px) && gridPosition(y, iy, py)) {
-      const long long left = ix + first_, top = iy + first_;
-      if (left >= 0 && top >= 0 && left + 3 <= plane.width - 1 && top + 3 <= plane.height - 1) {
-        if (px == 0 && py == 0) return float(plane.at(int(ix), int(iy)));
-        auto load = [&](long long row) {
-          return _mm_loadl_epi64(reinterpret_cast<const __m128i*>(plane.row(int(row)) + left));
-        };
-        const __m128i rows01 = _mm_unpacklo_epi16(load(top), load(top + 1));      // r0[0] r1[0] r0[1] r1[1] ...
-        const __m128i rows23 = _mm_unpacklo_epi16(load(top + 2), load(top + 3));  // r2[0] r3[0] r2[1] r3[1] ...
-        const __m128i columns01 = _mm_unpacklo_epi32(rows01, rows23);              // column 0, then column 1
-        const __m128i columns23 = _mm_unpackhi_epi32(rows01, rows23);              // column 2, then column 3
-        const __m128i zero = _mm_setzero_si128();
-        const float* kx = sampler_.kernel(px);
-        __m128 rowSums = _mm_setzero_ps();
-        rowSums = _mm_add_ps(rowSums, _mm_mul_ps(_mm_set1_ps(kx[0]), _mm_cvtepi32_ps(_mm_unpacklo_epi16(columns01, zero))));
-        rowSums = _mm_add_ps(rowSums, _mm_mul_ps(_mm_set1_ps(kx[1]), _mm_cvtepi32_ps(_mm_unpackhi_epi16(columns01, zero))));
-        rowSums = _mm_add_ps(rowSums, _mm_mul_ps(_mm_set1_ps(kx[2]), _mm_cvtepi32_ps(_mm_unpacklo_epi16(columns23, zero))));
-        rowSums = _mm_add_ps(rowSums, _mm_mul_ps(_mm_set1_ps(kx[3]), _mm_cvtepi32_ps(_mm_unpackhi_epi16(columns23, zero))));
-        alignas(16) float weighted[4];
-        _mm_store_ps(weighted, _mm_mul_ps(_mm_loadu_ps(sampler_.kernel(py)), rowSums));
-        float sum = 0.0f;
-        for (const float term : weighted) sum += term;
-        return sum;
-      }
-    }
+    Taps taps;
+    if (inside(plane, x, y, taps)) return interior(plane, taps);
 #endif
     return sampler_.sampleTaps<4>(plane, x, y);
   }
+  // Two planes of one size at one position (U and V): the rounding and the kernels found once.
+  void both(const Plane& a, const Plane& b, double x, double y, float& valueA, float& valueB) const {
+#if defined(__SSE2__)
+    Taps taps;
+    if (inside(a, x, y, taps)) {
+      valueA = interior(a, taps);
+      valueB = interior(b, taps);
+      return;
+    }
+#endif
+    valueA = sampler_.sampleTaps<4>(a, x, y);
+    valueB = sampler_.sampleTaps<4>(b, x, y);
+  }
 
 private:
+  struct Taps {
+    long long ix, iy;  // the rounded position's integer parts
+    int px, py;        // and phases
+  };
+  // Whether all 16 taps at (x, y) lie inside the plane (then `taps` holds them).
+  bool inside(const Plane& plane, double x, double y, Taps& taps) const {
+    if (!gridPosition(x, taps.ix, taps.px) || !gridPosition(y, taps.iy, taps.py)) return false;
+    const long long left = taps.ix + first_, top = taps.iy + first_;
+    return left >= 0 && top >= 0 && left + 3 <= plane.width - 1 && top + 3 <= plane.height - 1;
+  }
+#if defined(__SSE2__)
+  float interior(const Plane& plane, const Taps& taps) const {
+    const int px = taps.px, py = taps.py;
+    if (px == 0 && py == 0) return float(plane.at(int(taps.ix), int(taps.iy)));
+    const long long left = taps.ix + first_, top = taps.iy + first_;
+    auto load = [&](long long row) {
+      return _mm_loadl_epi64(reinterpret_cast<const __m128i*>(plane.row(int(row)) + left));
+    };
+    const __m128i rows01 = _mm_unpacklo_epi16(load(top), load(top + 1));      // r0[0] r1[0] r0[1] r1[1] ...
+    const __m128i rows23 = _mm_unpacklo_epi16(load(top + 2), load(top + 3));  // r2[0] r3[0] r2[1] r3[1] ...
+    const __m128i columns01 = _mm_unpacklo_epi32(rows01, rows23);              // column 0, then column 1
+    const __m128i columns23 = _mm_unpackhi_epi32(rows01, rows23);              // column 2, then column 3
+    const __m128i zero = _mm_setzero_si128();
+    const float* kx = sampler_.kernel(px);
+    __m128 rowSums = _mm_setzero_ps();
+    rowSums = _mm_add_ps(rowSums, _mm_mul_ps(_mm_set1_ps(kx[0]), _mm_cvtepi32_ps(_mm_unpacklo_epi16(columns01, zero))));
+    rowSums = _mm_add_ps(rowSums, _mm_mul_ps(_mm_set1_ps(kx[1]), _mm_cvtepi32_ps(_mm_unpackhi_epi16(columns01, zero))));
+    rowSums = _mm_add_ps(rowSums, _mm_mul_ps(_mm_set1_ps(kx[2]), _mm_cvtepi32_ps(_mm_unpacklo_epi16(columns23, zero))));
+    rowSums = _mm_add_ps(rowSums, _mm_mul_ps(_mm_set1_ps(kx[3]), _mm_cvtepi32_ps(_mm_unpackhi_epi16(columns23, zero))));
+    alignas(16) float weighted[4];
+    _mm_store_ps(weighted, _mm_mul_ps(_mm_loadu_ps(sampler_.kernel(py)), rowSums));
+    float sum = 0.0f;
+    for (const float term : weighted) sum += term;
+    return sum;
+  }
+#endif
   // SubPixelSampler's rounding: false far outside any plane (the sampler's own code then).
   bool gridPosition(double x, long long& whole, int& phase) const {
     const double g = std::floor(x * precision_ + 0.5);
@@ -265,6 +289,17 @@ private:
   const SubPixelSampler& sampler_;
   int precision_, mask_, first_, shift_ = 0;
 };
+
+// The values of planes a and b at (x, y), through the pass's sampler (Impl::withSampling).
+template <class Sample>
+void sampleBoth(const Sample& sample, const Plane& a, const Plane& b, double x, double y, float& valueA, float& valueB) {
+  valueA = sample(a, x, y);
+  valueB = sample(b, x, y);
+}
+void sampleBoth(const FourTapSampler& sample, const Plane& a, const Plane& b, double x, double y, float& valueA,
+                float& valueB) {
+  sample.both(a, b, x, y, valueA, valueB);
+}
 
 // Compiles and links a vertex and a fragment shader into a program; throws InputError when the driver
 // cannot.
@@ -911,7 +946,7 @@ void GlMeshRenderer::sampleChroma420(const std::vector<const Plane*>& planes, do
         layer.inverseDepth[c] = q;
         layer.edge[c] = edge ? 1 : 0;
         // Chroma texel position of reference pixel (u, v): (u, v) / 2 - 1/4.
-        for (int k = 0; k < 2; ++k) layer.colour[k][c] = sample(*planes[size_t(k)], 0.5 * u - 0.25, 0.5 * v - 0.25);
+        sampleBoth(sample, *planes[0], *planes[1], 0.5 * u - 0.25, 0.5 * v - 0.25, layer.colour[0][c], layer.colour[1][c]);
       }
   });
   });
