@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -328,6 +329,102 @@ TEST(MeshRenderGl, ReadBackPositionsAgreeWithViewSynsWarp) {
       }
     EXPECT_GT(drawn, size_t(kWidth * kHeight * 9 / 10));
     std::printf("DepthType %d: %zu fragments, largest difference to ViewSyn's warp %.5f px\n", depthType, drawn, worst);
+  }
+}
+
+// Each drawn sample's colour is ViewSyn's sampler at the sample's read-back reference position, to the
+// bit (GlMeshRenderer samples with its own faster code where the kernel lies inside the plane): every
+// Precision and Filter, on a noisy texture, seen from a camera that puts samples at every phase and
+// some kernels across the plane's edges.
+TEST(MeshRenderGl, ColourIsViewSynsSamplerAtTheReadBackPosition) {
+  REQUIRE_GL();
+  PlaneScene s = makePlaneScene(0);
+  std::mt19937 random(11);
+  for (uint16_t& sample : s.textures[0].planes[0].samples) sample = uint16_t(random() % 256);
+  for (int precision : {1, 2, 4})
+    for (int filter : {0, 1, 2}) {
+      const vs::SubPixelSampler sampler(precision, filter);
+      renderer->setSampling(&sampler);
+      vs::DepthMesh mesh;
+      vs::WarpedLayer layer;
+      vs::RenderExtras extras;
+      renderView(*renderer, s, 0, s.scene.virtualCamera, mesh, layer, extras);
+      size_t drawn = 0, nearEdge = 0, differing = 0;
+      for (size_t i = 0; i < layer.inverseDepth.size(); ++i) {
+        if (!layer.valid(i)) continue;
+        ++drawn;
+        const double u = extras.referenceU[i], v = extras.referenceV[i];
+        nearEdge += vs::SubPixelSampler::nearEdge(u, v, kWidth, kHeight) ? 1 : 0;
+        const float expected = sampler.sample(s.textures[0].planes[0], u, v);
+        if (std::memcmp(&expected, &layer.colour[0][i], sizeof expected) != 0 && ++differing <= 5)
+          ADD_FAILURE() << "Precision " << precision << ", Filter " << filter << ", sample " << i << " at (" << u << ", "
+                        << v << "): " << layer.colour[0][i] << ", the sampler " << expected;
+      }
+      EXPECT_EQ(differing, size_t(0)) << "Precision " << precision << ", Filter " << filter;
+      EXPECT_GT(drawn, size_t(kWidth * kHeight / 2));
+      EXPECT_GT(nearEdge, size_t(0));
+    }
+  renderer->setSampling(nullptr);
+}
+
+bool sameLayers(const vs::WarpedLayer& a, const vs::WarpedLayer& b) {
+  return a.width == b.width && a.height == b.height && a.inverseDepth == b.inverseDepth && a.colour[0] == b.colour[0] &&
+         a.edge == b.edge;
+}
+
+// The renderer uploads only the vertices a mesh's lists use, renumbered: a mesh whose triangles use a
+// scattered few of its grid's vertices renders the same with every unused vertex set to NaN. Meshes
+// uploaded into slots of their own (uploadMesh(mesh, slot), useMesh) render as each alone in slot 0.
+TEST(MeshRenderGl, UnusedVerticesAndSlotsLeaveTheRenderAsItWas) {
+  REQUIRE_GL();
+  const PlaneScene s = makePlaneScene(0);
+  vs::DepthMesh meshes[2];
+  vs::WarpedLayer alone[2];
+  vs::Mat4 clips[2];
+  const vs::RenderGrid grid = vs::lumaGrid(s.scene.virtualCamera, kWidth, kHeight);
+  for (size_t k = 0; k < 2; ++k) {
+    vs::WarpedLayer full;
+    vs::RenderExtras extras;
+    renderView(*renderer, s, k, s.scene.virtualCamera, meshes[k], full, extras);
+    vs::DepthMesh& mesh = meshes[k];
+    // Every 25th triangle: holes between them, and most vertices unused.
+    std::vector<uint32_t> kept;
+    for (size_t t = 0; t < mesh.triangles.size() / 3; t += 25) kept.insert(kept.end(), &mesh.triangles[3 * t], &mesh.triangles[3 * t + 3]);
+    mesh.triangles = kept;
+    const vs::ReferenceView& view = s.scene.settings.references[k];
+    vs::InverseDepthRange range;
+    ASSERT_TRUE(vs::sceneInverseDepthRange(view.camera, view.depthRange, 0, kWidth, kHeight, s.scene.virtualCamera, range));
+    clips[k] = vs::meshClipMatrix(view.camera, s.scene.virtualCamera, grid, vs::clipPlanes(range));
+    renderer->uploadMesh(mesh);
+    renderer->uploadTexture({&s.textures[k].planes[0]});
+    renderer->render(clips[k], grid, vs::TexelMap{}, alone[k]);
+    size_t drawn = 0;
+    for (size_t i = 0; i < alone[k].inverseDepth.size(); ++i) drawn += alone[k].valid(i) ? 1 : 0;
+    EXPECT_GT(drawn, size_t(kWidth * kHeight / 100));
+    EXPECT_LT(drawn, size_t(kWidth * kHeight / 10));
+
+    std::vector<uint8_t> used(mesh.vertexCount(), 0);
+    for (const std::vector<uint32_t>* list : {&mesh.triangles, &mesh.points, &mesh.farthestOrphans})
+      for (uint32_t v : *list) used[v] = 1;
+    vs::DepthMesh poisoned = mesh;
+    for (size_t v = 0; v < used.size(); ++v)
+      if (!used[v])
+        for (int c = 0; c < 4; ++c) poisoned.vertices[4 * v + size_t(c)] = std::nanf("");
+    EXPECT_LT(size_t(std::count(used.begin(), used.end(), 1)), used.size() / 2);
+    vs::WarpedLayer layer;
+    renderer->uploadMesh(poisoned);
+    renderer->render(clips[k], grid, vs::TexelMap{}, layer);
+    EXPECT_TRUE(sameLayers(layer, alone[k])) << "view " << k << ": unused vertices changed the render";
+  }
+  // Both meshes in slots 1 and 2, then each drawn: as alone.
+  renderer->uploadMesh(meshes[0], 1);
+  renderer->uploadMesh(meshes[1], 2);
+  for (size_t k = 0; k < 2; ++k) {
+    vs::WarpedLayer layer;
+    renderer->useMesh(k + 1);
+    renderer->uploadTexture({&s.textures[k].planes[0]});
+    renderer->render(clips[k], grid, vs::TexelMap{}, layer);
+    EXPECT_TRUE(sameLayers(layer, alone[k])) << "view " << k << " from slot " << k + 1;
   }
 }
 

@@ -32,6 +32,8 @@ namespace vs {
   X(PFNGLBINDBUFFERPROC, BindBuffer)                                                   \
   X(PFNGLBUFFERDATAPROC, BufferData)                                                   \
   X(PFNGLBUFFERSUBDATAPROC, BufferSubData)                                             \
+  X(PFNGLMAPBUFFERRANGEPROC, MapBufferRange)                                           \
+  X(PFNGLUNMAPBUFFERPROC, UnmapBuffer)                                                 \
   X(PFNGLDELETEBUFFERSPROC, DeleteBuffers)                                             \
   X(PFNGLVERTEXATTRIBPOINTERPROC, VertexAttribPointer)                                 \
   X(PFNGLENABLEVERTEXATTRIBARRAYPROC, EnableVertexAttribArray)                         \

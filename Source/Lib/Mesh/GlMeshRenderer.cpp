@@ -3,8 +3,13 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <limits>
+#include <mutex>
 #include <string>
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 #include "Common/Error.h"
 #include "Synth/Parallel.h"
@@ -200,6 +205,102 @@ float bilinearSphere(const Plane& plane, double x, double y, const SphereEdges& 
   return float(top + ay * (bottom - top));
 }
 
+// SubPixelSampler::sampleTaps<4> (ViewSyn's bicubic, the default Filter), bit for bit, faster where all
+// 16 taps lie inside the plane: the four rows' sums side by side in the lanes of one SSE register, each
+// ((0 + k0 t0) + k1 t1) + k2 t2) + k3 t3 as the sampler computes it, then the rows weighted and added in
+// row order. The sampler skips a row of weight 0; adding its 0 * sum (+0 or -0, the row sums being
+// finite) leaves the total as it is, and the total is never -0 (it starts at +0, and a sum of two
+// numbers is -0 only when both are), so the value is the same. Anywhere else, and without SSE2, the
+// sampler's own code. The rounding to the 1/precision grid is the sampler's (gridPosition).
+class FourTapSampler {
+public:
+  explicit FourTapSampler(const SubPixelSampler& sampler)
+      : sampler_(sampler), precision_(sampler.precision()), mask_(sampler.precision() - 1), first_(sampler.first()) {
+    while ((1 << shift_) < precision_) ++shift_;
+  }
+  float operator()(const Plane& plane, double x, double y) const {
+#if defined(__SSE2__)
+    Taps taps;
+    if (inside(plane, x, y, taps)) return interior(plane, taps);
+#endif
+    return sampler_.sampleTaps<4>(plane, x, y);
+  }
+  // Two planes of one size at one position (U and V): the rounding and the kernels found once.
+  void both(const Plane& a, const Plane& b, double x, double y, float& valueA, float& valueB) const {
+#if defined(__SSE2__)
+    Taps taps;
+    if (inside(a, x, y, taps)) {
+      valueA = interior(a, taps);
+      valueB = interior(b, taps);
+      return;
+    }
+#endif
+    valueA = sampler_.sampleTaps<4>(a, x, y);
+    valueB = sampler_.sampleTaps<4>(b, x, y);
+  }
+
+private:
+  struct Taps {
+    long long ix, iy;  // the rounded position's integer parts
+    int px, py;        // and phases
+  };
+  // Whether all 16 taps at (x, y) lie inside the plane (then `taps` holds them).
+  bool inside(const Plane& plane, double x, double y, Taps& taps) const {
+    if (!gridPosition(x, taps.ix, taps.px) || !gridPosition(y, taps.iy, taps.py)) return false;
+    const long long left = taps.ix + first_, top = taps.iy + first_;
+    return left >= 0 && top >= 0 && left + 3 <= plane.width - 1 && top + 3 <= plane.height - 1;
+  }
+#if defined(__SSE2__)
+  float interior(const Plane& plane, const Taps& taps) const {
+    const int px = taps.px, py = taps.py;
+    if (px == 0 && py == 0) return float(plane.at(int(taps.ix), int(taps.iy)));
+    const long long left = taps.ix + first_, top = taps.iy + first_;
+    auto load = [&](long long row) {
+      return _mm_loadl_epi64(reinterpret_cast<const __m128i*>(plane.row(int(row)) + left));
+    };
+    const __m128i rows01 = _mm_unpacklo_epi16(load(top), load(top + 1));      // r0[0] r1[0] r0[1] r1[1] ...
+    const __m128i rows23 = _mm_unpacklo_epi16(load(top + 2), load(top + 3));  // r2[0] r3[0] r2[1] r3[1] ...
+    const __m128i columns01 = _mm_unpacklo_epi32(rows01, rows23);              // column 0, then column 1
+    const __m128i columns23 = _mm_unpackhi_epi32(rows01, rows23);              // column 2, then column 3
+    const __m128i zero = _mm_setzero_si128();
+    const float* kx = sampler_.kernel(px);
+    __m128 rowSums = _mm_setzero_ps();
+    rowSums = _mm_add_ps(rowSums, _mm_mul_ps(_mm_set1_ps(kx[0]), _mm_cvtepi32_ps(_mm_unpacklo_epi16(columns01, zero))));
+    rowSums = _mm_add_ps(rowSums, _mm_mul_ps(_mm_set1_ps(kx[1]), _mm_cvtepi32_ps(_mm_unpackhi_epi16(columns01, zero))));
+    rowSums = _mm_add_ps(rowSums, _mm_mul_ps(_mm_set1_ps(kx[2]), _mm_cvtepi32_ps(_mm_unpacklo_epi16(columns23, zero))));
+    rowSums = _mm_add_ps(rowSums, _mm_mul_ps(_mm_set1_ps(kx[3]), _mm_cvtepi32_ps(_mm_unpackhi_epi16(columns23, zero))));
+    alignas(16) float weighted[4];
+    _mm_store_ps(weighted, _mm_mul_ps(_mm_loadu_ps(sampler_.kernel(py)), rowSums));
+    float sum = 0.0f;
+    for (const float term : weighted) sum += term;
+    return sum;
+  }
+#endif
+  // SubPixelSampler's rounding: false far outside any plane (the sampler's own code then).
+  bool gridPosition(double x, long long& whole, int& phase) const {
+    const double g = std::floor(x * precision_ + 0.5);
+    if (!(std::fabs(g) < 4503599627370496.0)) return false;  // 2^52
+    const long long index = (long long)g;
+    whole = index >> shift_;
+    phase = int(index & mask_);
+    return true;
+  }
+
+  const SubPixelSampler& sampler_;
+  int precision_, mask_, first_, shift_ = 0;
+};
+
+// The values of planes a and b at (x, y), through the pass's sampler (Impl::withSampling).
+template <class Sample>
+void sampleBoth(const Sample& sample, const Plane& a, const Plane& b, double x, double y, float& valueA, float& valueB) {
+  valueA = sample(a, x, y);
+  valueB = sample(b, x, y);
+}
+void sampleBoth(const FourTapSampler& sample, const Plane& a, const Plane& b, double x, double y, float& valueA,
+                float& valueB) {
+  sample.both(a, b, x, y, valueA, valueB);
+}
+
 // Compiles and links a vertex and a fragment shader into a program; throws InputError when the driver
 // cannot.
 GLuint linkProgram(const GlFunctions& gl, const char* vertexSource, const char* fragmentSource) {
@@ -239,24 +340,34 @@ struct ProjectedPass {
   std::vector<uint32_t> indices;  // triangles, then points, then locally farthest orphans
 };
 
+// One uploaded mesh (uploadMesh's slot): its vertex array, buffers and lists' sizes.
+struct MeshSlot {
+  GLuint vertexArray = 0, vertexBuffer = 0, indexBuffer = 0;
+  GLsizeiptr vertexBytes = 0, indexBytes = 0;  // buffer sizes, kept across frames
+  GLsizei triangleIndexCount = 0;  // indices of the triangles, first in the index buffer
+  GLsizei pointCount = 0;          // then the points
+  GLsizei orphanCount = 0;         // then the locally farthest orphans
+  const DepthMesh* mesh = nullptr;  // its edge flags (null: none uploaded, or released)
+};
+
 struct GlMeshRenderer::Impl {
   EglContext context;
   const GlFunctions& gl;
-  GLuint program = 0, triangleProgram = 0, vertexArray = 0, vertexBuffer = 0, indexBuffer = 0;
-  GLsizei pointCount = 0;
-  GLsizei orphanCount = 0;  // locally farthest orphans, after the points in the index buffer
+  GLuint program = 0, triangleProgram = 0;
+  std::vector<MeshSlot> slots;  // uploadMesh's meshes, by slot
+  size_t slot = 0;              // the one the next render draws (useMesh)
   GLuint framebuffer = 0, colourBuffer = 0, depthBuffer = 0;
   GLint triangleClipLocation = -1;
   GLint clipLocation = -1, referenceFromClipLocation = -1, viewportLocation = -1, drawingPointsLocation = -1,
         drawnMarkLocation = -1;
   int framebufferWidth = 0, framebufferHeight = 0;
-  GLsizei triangleIndexCount = 0;  // indices of the triangles at the start of `indices`
-  GLsizeiptr vertexBytes = 0, indexBytes = 0;  // buffer sizes, kept across frames
   GLint maxRenderbufferSize = 0, maxViewport[2] = {0, 0};
-  std::vector<Plane> planes;                // the "texture": the reference planes, sampled on the CPU
+  std::vector<const Plane*> planes;         // the "texture": the reference planes (the caller's), sampled on the CPU
   std::unique_ptr<SubPixelSampler> sampler;  // null: exact bilinear
   std::vector<float> readBack;              // last render: (u, v, q, flags) per sample
   std::vector<uint8_t> edges;               // last render: edgeAt() of each drawn sample
+  std::vector<uint64_t> usedVertices;       // uploadMesh: one bit a grid vertex, set where a list uses it
+  std::vector<uint32_t> usedBefore;         // uploadMesh: used vertices before each 64-bit word
   const DepthMesh* mesh = nullptr;          // the uploaded mesh (its edge flags)
   int renderedWidth = 0, renderedHeight = 0;
   std::unique_ptr<ProjectedPass> projected;  // ERP cameras (uploadProjectedMesh)
@@ -281,14 +392,7 @@ struct GlMeshRenderer::Impl {
              drawnMarkLocation >= 0);
     gl.UseProgram(program);
 
-    gl.GenVertexArrays(1, &vertexArray);
-    gl.BindVertexArray(vertexArray);
-    gl.GenBuffers(1, &vertexBuffer);
-    gl.GenBuffers(1, &indexBuffer);
-    gl.BindBuffer(GL_ARRAY_BUFFER, vertexBuffer);
-    gl.VertexAttribPointer(0, 4, GL_FLOAT, GL_FALSE, 0, nullptr);
-    gl.EnableVertexAttribArray(0);
-    gl.BindBuffer(GL_ELEMENT_ARRAY_BUFFER, indexBuffer);  // part of the vertex array's state
+    addSlot();
 
     gl.GetIntegerv(GL_MAX_RENDERBUFFER_SIZE, &maxRenderbufferSize);
     gl.GetIntegerv(GL_MAX_VIEWPORT_DIMS, maxViewport);
@@ -308,11 +412,27 @@ struct GlMeshRenderer::Impl {
     gl.DeleteFramebuffers(1, &framebuffer);
     gl.DeleteRenderbuffers(1, &colourBuffer);
     gl.DeleteRenderbuffers(1, &depthBuffer);
-    gl.DeleteBuffers(1, &vertexBuffer);
-    gl.DeleteBuffers(1, &indexBuffer);
-    gl.DeleteVertexArrays(1, &vertexArray);
+    for (MeshSlot& mesh : slots) {
+      gl.DeleteBuffers(1, &mesh.vertexBuffer);
+      gl.DeleteBuffers(1, &mesh.indexBuffer);
+      gl.DeleteVertexArrays(1, &mesh.vertexArray);
+    }
     gl.DeleteProgram(program);
     gl.DeleteProgram(triangleProgram);
+  }
+
+  // A vertex array with a vertex buffer (attribute 0: the vertex) and an index buffer.
+  void addSlot() {
+    MeshSlot mesh;
+    gl.GenVertexArrays(1, &mesh.vertexArray);
+    gl.BindVertexArray(mesh.vertexArray);
+    gl.GenBuffers(1, &mesh.vertexBuffer);
+    gl.GenBuffers(1, &mesh.indexBuffer);
+    gl.BindBuffer(GL_ARRAY_BUFFER, mesh.vertexBuffer);
+    gl.VertexAttribPointer(0, 4, GL_FLOAT, GL_FALSE, 0, nullptr);
+    gl.EnableVertexAttribArray(0);
+    gl.BindBuffer(GL_ELEMENT_ARRAY_BUFFER, mesh.indexBuffer);  // part of the vertex array's state
+    slots.push_back(mesh);
   }
 
   void checkErrors(const char* what) const {
@@ -409,6 +529,28 @@ struct GlMeshRenderer::Impl {
     }
     return sampler ? sampler->sample(plane, x, y) : bilinear(plane, x, y);
   }
+
+  // Calls f(sample) with a callable sample(plane, x, y) that gives sample()'s value, bit for bit, its
+  // kind (sphere edges, ViewSyn's sampler and its tap count, plain bilinear) chosen once for a whole
+  // pass instead of once per sample.
+  template <class F>
+  void withSampling(F&& f) const {
+    if (sphere.any() || !sampler) {
+      f([this](const Plane& plane, double x, double y) { return sample(plane, x, y); });
+      return;
+    }
+    const SubPixelSampler& chosen = *sampler;
+    if (chosen.taps() == 4) {
+      const FourTapSampler fourTaps(chosen);
+      f(fourTaps);
+      return;
+    }
+    chosen.withTaps([&](auto taps) {
+      f([&chosen](const Plane& plane, double x, double y) {
+        return chosen.sampleTaps<decltype(taps)::value>(plane, x, y);
+      });
+    });
+  }
 };
 
 GlMeshRenderer::GlMeshRenderer() : impl_(std::make_unique<Impl>()) {}
@@ -421,42 +563,89 @@ void GlMeshRenderer::setSampling(const SubPixelSampler* sampler) {
   impl_->sampler = sampler ? std::make_unique<SubPixelSampler>(*sampler) : nullptr;
 }
 
-void GlMeshRenderer::uploadMesh(const DepthMesh& mesh) {
+void GlMeshRenderer::uploadMesh(const DepthMesh& mesh, size_t slot) {
   Impl& s = *impl_;
   const GlFunctions& gl = s.gl;
   s.context.makeCurrent();
+  VS_CHECK(slot < 64);
+  while (s.slots.size() <= slot) s.addSlot();
+  MeshSlot& target = s.slots[slot];
   VS_CHECK(mesh.vertices.size() == mesh.vertexCount() * 4 && mesh.boundary.size() == mesh.vertexCount());
   VS_CHECK(mesh.triangles.size() + mesh.points.size() + mesh.farthestOrphans.size() <=
            size_t(std::numeric_limits<GLsizei>::max()));
-  gl.BindVertexArray(s.vertexArray);
-  s.upload(GL_ARRAY_BUFFER, s.vertexBuffer, GLsizeiptr(mesh.vertices.size() * sizeof(float)), mesh.vertices.data(),
-           s.vertexBytes);
-  s.mesh = &mesh;
-  // Triangles, then points, then locally farthest orphans, each written into the index buffer where it
-  // goes (no copy of the three lists into one on this side).
+  gl.BindVertexArray(target.vertexArray);
+  // Only the vertices that the triangles, points and orphans use go to the driver, in grid order (an
+  // adaptive mesh uses about a sixth of the grid's on Art): the lists' indices are renumbered into them by
+  // rank, each vertex keeps its values and each triangle its corners in their order, so the renders
+  // are the same to the bit, with less to copy and a smaller buffer for the driver to hold. Used
+  // vertices: one bit each; the rank of vertex v is the used vertices before its word plus those
+  // before it within the word.
   const std::vector<uint32_t>* lists[3] = {&mesh.triangles, &mesh.points, &mesh.farthestOrphans};
-  const size_t indexCount = mesh.triangles.size() + mesh.points.size() + mesh.farthestOrphans.size();
-  s.upload(GL_ELEMENT_ARRAY_BUFFER, s.indexBuffer, GLsizeiptr(indexCount * sizeof(uint32_t)), nullptr, s.indexBytes);
-  GLintptr offset = 0;
-  for (const std::vector<uint32_t>* list : lists) {
-    const GLsizeiptr bytes = GLsizeiptr(list->size() * sizeof(uint32_t));
-    if (bytes > 0) gl.BufferSubData(GL_ELEMENT_ARRAY_BUFFER, offset, bytes, list->data());
-    offset += bytes;
+  const size_t vertexCount = mesh.vertexCount(), words = (vertexCount + 63) / 64;
+  s.usedVertices.assign(words, 0);
+  for (const std::vector<uint32_t>* list : lists)
+    for (const uint32_t v : *list) {
+      VS_CHECK(v < vertexCount);
+      s.usedVertices[v >> 6] |= uint64_t(1) << (v & 63);
+    }
+  s.usedBefore.resize(words);
+  uint32_t used = 0;
+  for (size_t w = 0; w < words; ++w) {
+    s.usedBefore[w] = used;
+    used += uint32_t(__builtin_popcountll(s.usedVertices[w]));
   }
-  s.triangleIndexCount = GLsizei(mesh.triangles.size());
-  s.pointCount = GLsizei(mesh.points.size());
-  s.orphanCount = GLsizei(mesh.farthestOrphans.size());
+  auto rank = [&](uint32_t v) {
+    const uint64_t below = s.usedVertices[v >> 6] & ((uint64_t(1) << (v & 63)) - 1);
+    return s.usedBefore[v >> 6] + uint32_t(__builtin_popcountll(below));
+  };
+  // Written straight into the driver's buffers (mapped), with no copy on this side.
+  auto mapped = [&](GLenum target, GLuint buffer, GLsizeiptr bytes, GLsizeiptr& capacity) -> void* {
+    s.upload(target, buffer, bytes, nullptr, capacity);
+    if (bytes == 0) return nullptr;
+    void* memory = gl.MapBufferRange(target, 0, bytes, GL_MAP_WRITE_BIT | GL_MAP_INVALIDATE_BUFFER_BIT);
+    if (!memory) s.checkErrors("mapping a buffer");
+    VS_CHECK(memory != nullptr);
+    return memory;
+  };
+  auto unmap = [&](GLenum target) {
+    if (gl.UnmapBuffer(target) != GL_TRUE) throw InputError("OpenGL lost a buffer's content while MeshRender wrote it (" + s.context.description() + ")");
+  };
+  if (auto* to = static_cast<float*>(mapped(GL_ARRAY_BUFFER, target.vertexBuffer, GLsizeiptr(size_t(used) * 4 * sizeof(float)), target.vertexBytes))) {
+    for (size_t w = 0; w < words; ++w)
+      for (uint64_t bits = s.usedVertices[w]; bits != 0; bits &= bits - 1) {
+        const size_t v = w * 64 + size_t(__builtin_ctzll(bits));
+        std::memcpy(to, mesh.vertices.data() + v * 4, 4 * sizeof(float));
+        to += 4;
+      }
+    unmap(GL_ARRAY_BUFFER);
+  }
+  // Triangles, then points, then locally farthest orphans, one after the other.
+  const size_t indexCount = mesh.triangles.size() + mesh.points.size() + mesh.farthestOrphans.size();
+  if (auto* to = static_cast<uint32_t*>(mapped(GL_ELEMENT_ARRAY_BUFFER, target.indexBuffer, GLsizeiptr(indexCount * sizeof(uint32_t)), target.indexBytes))) {
+    for (const std::vector<uint32_t>* list : lists)
+      for (const uint32_t v : *list) *to++ = rank(v);
+    unmap(GL_ELEMENT_ARRAY_BUFFER);
+  }
+  target.triangleIndexCount = GLsizei(mesh.triangles.size());
+  target.pointCount = GLsizei(mesh.points.size());
+  target.orphanCount = GLsizei(mesh.farthestOrphans.size());
+  target.mesh = &mesh;
   s.checkErrors("uploading the mesh");
+  useMesh(slot);
+}
+
+void GlMeshRenderer::useMesh(size_t slot) {
+  Impl& s = *impl_;
+  VS_CHECK(slot < s.slots.size() && s.slots[slot].mesh != nullptr);
+  s.slot = slot;
+  s.mesh = s.slots[slot].mesh;
 }
 
 void GlMeshRenderer::uploadTexture(const std::vector<const Plane*>& planes) {
   Impl& s = *impl_;
   VS_CHECK(!planes.empty() && planes.size() <= 3);
-  s.planes.resize(planes.size());
-  for (size_t c = 0; c < planes.size(); ++c) {
-    VS_CHECK(planes[c]->width == planes[0]->width && planes[c]->height == planes[0]->height);
-    s.planes[c] = *planes[c];
-  }
+  for (const Plane* plane : planes) VS_CHECK(plane->width == planes[0]->width && plane->height == planes[0]->height);
+  s.planes = planes;
 }
 
 void GlMeshRenderer::render(const Mat4& clip, const RenderGrid& grid, const TexelMap& texelMap, WarpedLayer& layer,
@@ -467,14 +656,16 @@ void GlMeshRenderer::render(const Mat4& clip, const RenderGrid& grid, const Texe
 
   float matrix[16];
   toGlMatrix(clip, matrix);
-  gl.BindVertexArray(s.vertexArray);
-  if (s.triangleIndexCount > 0) {
+  const MeshSlot& drawn = s.slots[s.slot];
+  VS_CHECK(drawn.mesh != nullptr && drawn.mesh == s.mesh);
+  gl.BindVertexArray(drawn.vertexArray);
+  if (drawn.triangleIndexCount > 0) {
     gl.UseProgram(s.triangleProgram);
     gl.UniformMatrix4fv(s.triangleClipLocation, 1, GL_FALSE, matrix);
     // In parts, each flushed: a software rasteriser (llvmpipe) bins a part's triangles on this thread
     // and rasterises a flushed part on its own threads, so binning the next part overlaps rasterising
     // this one instead of leaving the other cores idle. Same triangles in the same order: same pixels.
-    const GLsizei triangles = s.triangleIndexCount / 3;
+    const GLsizei triangles = drawn.triangleIndexCount / 3;
     for (int part = 0; part < kDrawParts; ++part) {
       const GLsizei first = GLsizei(int64_t(triangles) * part / kDrawParts), last = GLsizei(int64_t(triangles) * (part + 1) / kDrawParts);
       if (last == first) continue;
@@ -496,17 +687,17 @@ void GlMeshRenderer::render(const Mat4& clip, const RenderGrid& grid, const Texe
   // Marked 3: drawn, and on an edge.
   gl.Uniform1i(s.drawingPointsLocation, invertible ? 1 : 0);
   gl.Uniform1f(s.drawnMarkLocation, 3.0f);
-  if (s.pointCount > 0)
-    gl.DrawElements(GL_POINTS, s.pointCount, GL_UNSIGNED_INT,
-                    reinterpret_cast<const void*>(size_t(s.triangleIndexCount) * sizeof(uint32_t)));
+  if (drawn.pointCount > 0)
+    gl.DrawElements(GL_POINTS, drawn.pointCount, GL_UNSIGNED_INT,
+                    reinterpret_cast<const void*>(size_t(drawn.triangleIndexCount) * sizeof(uint32_t)));
   // Locally farthest orphans last, only where nothing is drawn: every fragment's window depth is 1, the
   // cleared value, and passes GL_LEQUAL there only. Marked 2; kept below only in a lone hole.
-  if (s.orphanCount > 0) {
+  if (drawn.orphanCount > 0) {
     gl.Uniform1f(s.drawnMarkLocation, 2.0f);
     gl.DepthRange(1.0, 1.0);
     gl.DepthFunc(GL_LEQUAL);
-    gl.DrawElements(GL_POINTS, s.orphanCount, GL_UNSIGNED_INT,
-                    reinterpret_cast<const void*>(size_t(s.triangleIndexCount + s.pointCount) * sizeof(uint32_t)));
+    gl.DrawElements(GL_POINTS, drawn.orphanCount, GL_UNSIGNED_INT,
+                    reinterpret_cast<const void*>(size_t(drawn.triangleIndexCount + drawn.pointCount) * sizeof(uint32_t)));
     gl.DepthRange(0.0, 1.0);
     gl.DepthFunc(GL_LESS);
   }
@@ -528,27 +719,55 @@ void GlMeshRenderer::finishRender(const RenderGrid& grid, const TexelMap& texelM
   s.renderedWidth = width;
   s.renderedHeight = height;
 
+  // One pass over the read-back, on the threads, row by row: each sample's orphan rule, edge flag,
+  // depth and colour, every sample of the layer written once (holes included). The read-back is not
+  // written during the pass, so the orphan rule reads the marks as drawn; its rejections are applied
+  // to the read-back afterwards (the chroma and the extras read them).
   // A locally farthest orphan (mark 2) stays only in a hole of its own: a sample whose 4 neighbours
   // in the grid are drawn. In a disocclusion it would be a speck of background (DepthMesh.h).
   float* samples = s.readBack.data();
   auto drawn = [&](int x, int y) {
     return x < 0 || y < 0 || x >= width || y >= height || samples[(size_t(y) * size_t(width) + size_t(x)) * 4 + 3] != 0.0f;
   };
-  std::vector<size_t> rejected;
-  for (size_t i = 0; i < n; ++i)
-    if (samples[i * 4 + 3] == 2.0f) {
-      const int x = int(i % size_t(width)), y = int(i / size_t(width));
-      if (!(drawn(x - 1, y) && drawn(x + 1, y) && drawn(x, y - 1) && drawn(x, y + 1))) rejected.push_back(i);
-    }
-  for (size_t i : rejected) samples[i * 4 + 3] = 0.0f;
-  // Each drawn sample's edge flag, once: the luma and the chroma samplings read it.
+  auto rejectedOrphan = [&](int x, int y) {
+    return !(drawn(x - 1, y) && drawn(x + 1, y) && drawn(x, y - 1) && drawn(x, y + 1));
+  };
+  const int channels = int(s.planes.size());
+  VS_CHECK(channels >= 1 && channels <= 3);
+  layer.resize(width, height, channels);
   s.edges.resize(n);
-  parallelRanges(height, [&](int y0, int y1) {
-    for (size_t i = size_t(y0) * size_t(width); i < size_t(y1) * size_t(width); ++i)
-      s.edges[i] = samples[i * 4 + 3] != 0.0f && s.edgeAt(samples + i * 4) ? 1 : 0;
+  std::mutex rejectedMutex;
+  std::vector<size_t> rejected;
+  s.withSampling([&](const auto& sample) {
+    parallelRanges(height, [&](int y0, int y1) {
+      for (int y = y0; y < y1; ++y) {
+        const size_t rowStart = size_t(y) * size_t(width);
+        for (int x = 0; x < width; ++x) {
+          const size_t i = rowStart + size_t(x);
+          const float* r = samples + i * 4;
+          if (r[3] == 0.0f || (r[3] == 2.0f && rejectedOrphan(x, y))) {
+            if (r[3] != 0.0f) {
+              const std::lock_guard<std::mutex> lock(rejectedMutex);
+              rejected.push_back(i);
+            }
+            s.edges[i] = 0;
+            layer.inverseDepth[i] = kNoDepth;
+            for (int k = 0; k < channels; ++k) layer.colour[k][i] = 0.0f;
+            layer.edge[i] = 0;
+            continue;
+          }
+          const uint8_t edge = s.edgeAt(r) ? 1 : 0;
+          s.edges[i] = edge;
+          const double u = texelMap.scale * r[0] + texelMap.offset, v = texelMap.scale * r[1] + texelMap.offset;
+          layer.inverseDepth[i] = double(r[2]);
+          for (int k = 0; k < channels; ++k) layer.colour[k][i] = sample(*s.planes[size_t(k)], u, v);
+          layer.edge[i] = edge;
+        }
+      }
+    });
   });
+  for (size_t i : rejected) samples[i * 4 + 3] = 0.0f;
 
-  sampleRender(s.planes, texelMap, layer);
   if (extras) {
     extras->referenceU.assign(n, std::nanf(""));
     extras->referenceV.assign(n, std::nanf(""));
@@ -566,8 +785,9 @@ void GlMeshRenderer::releaseRenderBuffers() {
   Impl& s = *impl_;
   std::vector<float>().swap(s.readBack);
   std::vector<uint8_t>().swap(s.edges);
-  std::vector<Plane>().swap(s.planes);
+  std::vector<const Plane*>().swap(s.planes);
   s.mesh = nullptr;
+  for (MeshSlot& mesh : s.slots) mesh.mesh = nullptr;
   s.renderedWidth = s.renderedHeight = 0;
 }
 
@@ -649,15 +869,17 @@ void GlMeshRenderer::sampleRender(const std::vector<Plane>& planes, const TexelM
   VS_CHECK(channels >= 1 && channels <= 3 && width > 0);
   layer.reset(width, height, channels);
   const float* samples = s.readBack.data();
-  parallelRanges(height, [&](int y0, int y1) {
-    for (size_t i = size_t(y0) * size_t(width); i < size_t(y1) * size_t(width); ++i) {
-      const float* r = samples + i * 4;
-      if (r[3] == 0.0f) continue;  // nothing drawn
-      const double x = texelMap.scale * r[0] + texelMap.offset, y = texelMap.scale * r[1] + texelMap.offset;
-      layer.inverseDepth[i] = double(r[2]);
-      for (int k = 0; k < channels; ++k) layer.colour[k][i] = s.sample(planes[size_t(k)], x, y);
-      layer.edge[i] = s.edges[i];
-    }
+  s.withSampling([&](const auto& sample) {
+    parallelRanges(height, [&](int y0, int y1) {
+      for (size_t i = size_t(y0) * size_t(width); i < size_t(y1) * size_t(width); ++i) {
+        const float* r = samples + i * 4;
+        if (r[3] == 0.0f) continue;  // nothing drawn
+        const double x = texelMap.scale * r[0] + texelMap.offset, y = texelMap.scale * r[1] + texelMap.offset;
+        layer.inverseDepth[i] = double(r[2]);
+        for (int k = 0; k < channels; ++k) layer.colour[k][i] = sample(planes[size_t(k)], x, y);
+        layer.edge[i] = s.edges[i];
+      }
+    });
   });
 }
 
@@ -670,7 +892,8 @@ void GlMeshRenderer::sampleChroma420(const std::vector<const Plane*>& planes, do
   layer.reset(width, height, 2);
   const float* samples = s.readBack.data();
   // Reference columns in a turn: the uploaded texture's width, for a reference that wraps; 0 none.
-  const double turn = s.sphere.wrap && !s.planes.empty() ? double(s.planes[0].width) : 0.0;
+  const double turn = s.sphere.wrap && !s.planes.empty() ? double(s.planes[0]->width) : 0.0;
+  s.withSampling([&](const auto& sample) {
   parallelRanges(height, [&](int j0, int j1) {
     for (int j = j0; j < j1; ++j)
       for (int i = 0; i < width; ++i) {
@@ -723,8 +946,9 @@ void GlMeshRenderer::sampleChroma420(const std::vector<const Plane*>& planes, do
         layer.inverseDepth[c] = q;
         layer.edge[c] = edge ? 1 : 0;
         // Chroma texel position of reference pixel (u, v): (u, v) / 2 - 1/4.
-        for (int k = 0; k < 2; ++k) layer.colour[k][c] = s.sample(*planes[size_t(k)], 0.5 * u - 0.25, 0.5 * v - 0.25);
+        sampleBoth(sample, *planes[0], *planes[1], 0.5 * u - 0.25, 0.5 * v - 0.25, layer.colour[0][c], layer.colour[1][c]);
       }
+  });
   });
 }
 

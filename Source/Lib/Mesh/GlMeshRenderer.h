@@ -52,11 +52,16 @@ public:
   // sampler's own kernel weights), or, with nullptr (the default), bilinear at the exact position.
   void setSampling(const SubPixelSampler* sampler);
 
-  // Uploads the mesh's vertices and triangles (kept until the next call). The renders read the mesh's
-  // edge flags (DepthMesh::edgeAt): it must outlive them.
-  void uploadMesh(const DepthMesh& mesh);
-  // Keeps a copy of 1 to 3 planes of one size: the texture the next renders are coloured with
-  // (looked up on the CPU, where each render's fragments say).
+  // Uploads the mesh's vertices and triangles into `slot` (kept until the next upload there; each slot
+  // has buffers of its own, so the meshes of several views can be uploaded before the first is drawn
+  // and their arrays freed) and makes it the one the next renders draw. The renders read the mesh's
+  // edge flags (DepthMesh::edgeAt): it must outlive them; its vertices and lists are not read again.
+  void uploadMesh(const DepthMesh& mesh, size_t slot = 0);
+  // Makes the mesh uploaded into `slot` the one the next renders draw.
+  void useMesh(size_t slot);
+  // Keeps pointers to 1 to 3 planes of one size: the texture the next renders are coloured with
+  // (looked up on the CPU, where each render's fragments say). The planes must outlive those renders
+  // and the sampleChroma420 after them (no copy is made).
   void uploadTexture(const std::vector<const Plane*>& planes);
   // Renders the uploaded mesh, textured with the uploaded planes, into `grid` through `clip`
   // (meshClipMatrix). `layer` is reset to the grid's size with as many channels as planes were
@@ -86,8 +91,8 @@ public:
   // when all four are on that surface, else the front sample's, moved half a luma pixel along the
   // reference positions of its neighbours on that surface. U and V are sampled there.
   void sampleChroma420(const std::vector<const Plane*>& planes, double sameSurface, WarpedLayer& layer) const;
-  // Frees what the last render left on this side (its read-back samples, their edge flags, the texture's
-  // copy) and forgets the uploaded mesh, for a run that renders nothing more: its later steps reuse the
+  // Frees what the last render left on this side (its read-back samples, their edge flags) and forgets
+  // the texture's planes and the uploaded mesh, for a run that renders nothing more: its later steps reuse the
   // memory instead of touching fresh pages. The next render needs uploadMesh and uploadTexture again.
   void releaseRenderBuffers();
 

@@ -244,6 +244,29 @@ void MeshSynthesizer::synthesize(const std::vector<ReferenceFrame>& references, 
     buildMeshesNow(references);
     times.depthWarp += secondsSince(start);
   }
+  // Every pinhole view's mesh is uploaded first, each into a slot of its own, so that a run of one frame
+  // frees all their vertices and lists before the first render: the read-back and the first view's
+  // layers then reuse that memory instead of fresh pages.
+  std::vector<InverseDepthRange> planes(views_.size());
+  {
+    const auto start = std::chrono::steady_clock::now();
+    for (size_t k = 0; k < views_.size(); ++k) {
+      ViewState& view = views_[k];
+      const ReferenceView& reference = s.references[k];
+      if (projectedPass(reference.camera, scene_.virtualCamera)) continue;
+      planes[k] = view.depthRangeBounded ? view.planes
+                                         : clipPlanes(meshInverseDepthRange(view.mesh, reference.camera, scene_.virtualCamera));
+      renderer.uploadMesh(view.mesh, k);
+      // In the driver's buffers now; the colour steps read the mesh's edge flags only.
+      if (releaseSpent_ && settings_.plyPath.empty()) {
+        release(view.mesh.vertices);
+        release(view.mesh.triangles);
+        release(view.mesh.points);
+        release(view.mesh.farthestOrphans);
+      }
+    }
+    times.depthWarp += secondsSince(start);
+  }
   for (size_t k = 0; k < views_.size(); ++k) {
     ViewState& view = views_[k];
     const ReferenceView& reference = s.references[k];
@@ -251,19 +274,15 @@ void MeshSynthesizer::synthesize(const std::vector<ReferenceFrame>& references, 
 
     auto start = std::chrono::steady_clock::now();
     const bool projected = projectedPass(reference.camera, scene_.virtualCamera);
-    InverseDepthRange planes;
     if (projected) {  // ERP: the mesh taken into the virtual camera on the CPU
       if (projectMesh(view.mesh, reference.camera, scene_.virtualCamera, lumaGrid_, projected_))
         renderer.uploadProjectedMesh(projected_);
       else
         renderer.uploadProjectedMesh(ProjectedMesh{{}, {}, {}, {}, {}, &view.mesh});  // nothing in front
+      if (releaseSpent_ && settings_.plyPath.empty()) release(view.mesh.vertices);
     } else {
-      renderer.uploadMesh(view.mesh);
-      planes = view.depthRangeBounded ? view.planes
-                                      : clipPlanes(meshInverseDepthRange(view.mesh, reference.camera, scene_.virtualCamera));
+      renderer.useMesh(k);
     }
-    // The vertices are in the driver's buffer now; the colour steps read the mesh's edge flags only.
-    if (releaseSpent_ && settings_.plyPath.empty()) release(view.mesh.vertices);
     times.depthWarp += secondsSince(start);
 
     start = std::chrono::steady_clock::now();
@@ -278,7 +297,7 @@ void MeshSynthesizer::synthesize(const std::vector<ReferenceFrame>& references, 
     if (projected)
       renderer.renderProjected(lumaGrid_, TexelMap{}, view.luma);
     else
-      renderer.render(meshClipMatrix(reference.camera, scene_.virtualCamera, lumaGrid_, planes), lumaGrid_, TexelMap{},
+      renderer.render(meshClipMatrix(reference.camera, scene_.virtualCamera, lumaGrid_, planes[k]), lumaGrid_, TexelMap{},
                        view.luma);
     if (hasChroma_ && !rgb_) {
       if (outputFormat_.chroma == ChromaFormat::Yuv420)
