@@ -451,7 +451,10 @@ struct RectifiedTriangles {
 
 // kSecond: T1 = (x0, x1, x2) = (top q, bottom q + 1, bottom q) on rows (Y, Y + 1, Y + 1), else T0 = (top q,
 // top q + 1, bottom q + 1) on rows (Y, Y, Y + 1). Rows `rows` (bit r: row Y + r) of r1 and r2 are set.
-template <bool kSecond>
+// kBox false: the triangles are evaluated only at centres strictly between the two positions of their edge
+// and inside the view (rows with no position near a centre), which every box holding the edge holds;
+// `from` and `to` then only mark the triangles drawn, and the box is not computed.
+template <bool kSecond, bool kBox>
 [[gnu::always_inline]] inline RectifiedTriangles rectifiedSetUp(QuadLanes<4>::Doubles x0, QuadLanes<4>::Doubles x1,
                                                                 QuadLanes<4>::Doubles x2, QuadLanes<4>::Doubles w0,
                                                                 QuadLanes<4>::Doubles w1, QuadLanes<4>::Doubles w2,
@@ -460,15 +463,20 @@ template <bool kSecond>
   using L = QuadLanes<4>;
   using Doubles = L::Doubles;
   using Mask = L::Mask;
-  // rasteriseQuads' covered() for x; the rows' range is the same for every triangle (checked by the caller).
-  const Doubles lo = leastLanes(x0, leastLanes(x1, x2)), hi = mostLanes(x0, mostLanes(x1, x2));
   const Doubles zero = L::splat(0.0), top = L::splat(double(width - 1));
-  const Mask some = ~((hi < -1e-9) | (lo > width - 1 + 1e-9));
-  Doubles l = lo - 1e-9, h = hi + 1e-9;
-  l = l < zero ? zero : l;
-  h = top < h ? top : h;
-  const Doubles firstX = L::ceil(l), lastX = L::floor(h);
-  const Mask inX = some & Mask(firstX <= lastX);
+  // rasteriseQuads' covered() for x; the rows' range is the same for every triangle (checked by the caller).
+  Doubles firstX = zero, lastX = top;
+  Mask inX = ~Mask{};
+  if constexpr (kBox) {
+    const Doubles lo = leastLanes(x0, leastLanes(x1, x2)), hi = mostLanes(x0, mostLanes(x1, x2));
+    const Mask some = ~((hi < -1e-9) | (lo > width - 1 + 1e-9));
+    Doubles l = lo - 1e-9, h = hi + 1e-9;
+    l = l < zero ? zero : l;
+    h = top < h ? top : h;
+    firstX = L::ceil(l);
+    lastX = L::floor(h);
+    inX = some & Mask(firstX <= lastX);
+  }
   // rasteriseQuads' area, (x1 - x0) (y2 - y0) - (x2 - x0) (y1 - y0), and coefficients with the rows' differences
   // y2 - y0 = 1 and y1 - y0 = 0 (T0) or 1 (T1), exact: a product by 1 is its factor, by +0 a zero, and x1 - x0
   // less a zero is x1 - x0 (not 0: the positions increase).
@@ -590,25 +598,30 @@ template <bool kSecond>
   }
 }
 
-// rectifiedCentres where the quads' first centres follow each other, as they do where each quad is about a
-// pixel wide: with L_i = ceil(pos[i] - kRectifiedNear) (`first`: L_0 .. L_7, `next`: L_1 .. L_8),
-// L_(i + 1) = L_i + 1 for the n quads drawn, and L_0 in the view. By the coverage argument quad i's edge
-// triangle then reaches only centre L_i, and L_i + 1 = L_(i + 1) where pos[i + 1] lies within
-// kRectifiedNear of it; the corner triangle at position i only L_i. So the centres are lanes 0 .. 7 from
-// L_0 on, and each quad's triangles are evaluated in the quad's own lanes, at L_i, and (only where
-// `nearAny`) at L_i + 1, moved one lane up: no look-up of the quad holding a centre. Each evaluation is
-// rasteriseQuads' (rectifiedTest), and the cells raised are rectifiedCentres' (L_0 to `lastCentre`,
-// floor(pos[n] + kRectifiedNear), at most eight by the choice of n). Returns false, raising nothing, where
-// the first centres do not follow each other so or L_0 lies outside the view.
-[[gnu::always_inline]] inline bool rectifiedCentresInOrder(double* cells, int width, QuadLanes<4>::Doubles first,
-                                                           QuadLanes<4>::Doubles next, double lastCentre, int n,
-                                                           bool nearAny, const RectifiedTriangles& edges,
+// Whether the quads' first centres follow each other, as they do where each quad is about a pixel wide:
+// with L_i = ceil(pos[i] - kRectifiedNear) (`first`: L_0 .. L_7, `next`: L_1 .. L_8), L_(i + 1) = L_i + 1
+// for the n quads drawn, and L_0 lies in the view.
+[[gnu::always_inline]] inline bool rectifiedInOrder(QuadLanes<4>::Doubles first, QuadLanes<4>::Doubles next, int n,
+                                                    int width) {
+  const __mmask8 owned = __mmask8((1u << n) - 1);
+  if ((_mm512_cmp_pd_mask(__m512d(next - first), _mm512_set1_pd(1.0), _CMP_EQ_OQ) & owned) != owned) return false;
+  return first[0] >= 0.0 && first[0] <= double(width - 1);
+}
+
+// rectifiedCentres where rectifiedInOrder holds. By the coverage argument quad i's edge triangle then
+// reaches only centre L_i, and L_i + 1 = L_(i + 1) where pos[i + 1] lies within kRectifiedNear of it; the
+// corner triangle at position i only L_i. So the centres are lanes 0 .. 7 from L_0 on, and each quad's
+// triangles are evaluated in the quad's own lanes, at L_i, and (only where `nearAny`) at L_i + 1, moved one
+// lane up: no look-up of the quad holding a centre. Each evaluation is rasteriseQuads' (rectifiedTest),
+// and the cells raised are rectifiedCentres' (L_0 to `lastCentre`, floor(pos[n] + kRectifiedNear), at
+// most eight by the choice of n).
+[[gnu::always_inline]] inline void rectifiedCentresInOrder(double* cells, int width, QuadLanes<4>::Doubles first,
+                                                           double lastCentre, int n, bool nearAny,
+                                                           const RectifiedTriangles& edges,
                                                            const RectifiedTriangles& corners, int r, int cornerShift) {
   using Doubles = QuadLanes<4>::Doubles;
   const __mmask8 owned = __mmask8((1u << n) - 1);
-  if ((_mm512_cmp_pd_mask(__m512d(next - first), _mm512_set1_pd(1.0), _CMP_EQ_OQ) & owned) != owned) return false;
   const double startAt = first[0];
-  if (!(startAt >= 0.0 && startAt <= double(width - 1))) return false;
   const double endAt = std::min(lastCentre, double(width - 1));
   // rectifiedCentres' centres are c + k, whole numbers, +0 for 0: L + 0 (-0 becomes +0).
   const Doubles px = first + 0.0;
@@ -625,7 +638,6 @@ template <bool kSecond>
   }
   double* at = cells + size_t(startAt);
   _mm512_mask_storeu_epi64(at, in, _mm512_maskz_max_epi64(0xff, _mm512_maskz_loadu_epi64(in, at), best));
-  return true;
 }
 
 // Quads x .. x + n - 1 between rectified rows rowY (top) and rowY + 1 (bottom) into one thread's
@@ -692,13 +704,25 @@ template <bool kSecond>
   for (int k = 0; k < 8; ++k) owned[k] = -int64_t(k < n);
   const Mask drawn0 = drawn(wp0, wq1, wp1) & owned, drawn1 = drawn(wp0, wq1, wq0) & owned;
   if (!L::any(drawn0 | drawn1)) return n;  // nothing to draw: what rasteriseQuads would do
-  // T0 is evaluated on row Y + 1 only near a bottom position, T1 on row Y only near a top position.
-  const RectifiedTriangles t0 = rectifiedSetUp<false>(p0, p1, q1, wp0, wp1, wq1, drawn0, width, rowY, nearBottom ? 3 : 1);
-  const RectifiedTriangles t1 = rectifiedSetUp<true>(p0, q1, q0, wp0, wq1, wq0, drawn1, width, rowY, nearTop ? 3 : 2);
-  if (!rectifiedCentresInOrder(cellsY, width, firstTop, nextTop, lastTop[n - 1], n, nearTop, t0, t1, 0, 0))
-    rectifiedCentres(cellsY, width, xTop + x, n, nearTop, t0, t1, 0, 0);
-  if (cellsY1 &&
-      !rectifiedCentresInOrder(cellsY1, width, firstBottom, nextBottom, lastBottom[n - 1], n, nearBottom, t1, t0, 1, 1))
+  // T0 is evaluated on row Y + 1 only near a bottom position, T1 on row Y only near a top position; their
+  // boxes are needed only near a position (with none, every centre evaluated lies strictly between the two
+  // positions of its edge, the quad's own in rectifiedCentresInOrder and the one enclosing it in
+  // rectifiedCentres, and in the view).
+  const bool orderTop = rectifiedInOrder(firstTop, nextTop, n, width);
+  const bool orderBottom = cellsY1 && rectifiedInOrder(firstBottom, nextBottom, n, width);
+  RectifiedTriangles t0, t1;
+  if (nearTop || nearBottom) {
+    t0 = rectifiedSetUp<false, true>(p0, p1, q1, wp0, wp1, wq1, drawn0, width, rowY, nearBottom ? 3 : 1);
+    t1 = rectifiedSetUp<true, true>(p0, q1, q0, wp0, wq1, wq0, drawn1, width, rowY, nearTop ? 3 : 2);
+  } else {
+    t0 = rectifiedSetUp<false, false>(p0, p1, q1, wp0, wp1, wq1, drawn0, width, rowY, 1);
+    t1 = rectifiedSetUp<true, false>(p0, q1, q0, wp0, wq1, wq0, drawn1, width, rowY, 2);
+  }
+  if (orderTop) rectifiedCentresInOrder(cellsY, width, firstTop, lastTop[n - 1], n, nearTop, t0, t1, 0, 0);
+  else rectifiedCentres(cellsY, width, xTop + x, n, nearTop, t0, t1, 0, 0);
+  if (orderBottom)
+    rectifiedCentresInOrder(cellsY1, width, firstBottom, lastBottom[n - 1], n, nearBottom, t1, t0, 1, 1);
+  else if (cellsY1)
     rectifiedCentres(cellsY1, width, xBottom + x, n, nearBottom, t1, t0, 1, 1);
   return n;
 }
