@@ -443,6 +443,88 @@ TEST(Raster, RectifiedRowsEqualPlainTriangles) {
   EXPECT_GT(raised, cellsChecked / 3);
 }
 
+// Rows of a rectified rig whose quads are about a pixel wide, as most are (Synth/Raster.h,
+// rectifiedCentresInOrder: each quad's first centre one after the one before): a disparity that steps by
+// a whole pixel now and then (quads 0 and 2 pixels wide among those 1 wide), the bottom row a pixel off the
+// top one or not, every position a whole number plus one offset per row pair (on the centres, as
+// Middlebury's disparities put them; a rounding, a tolerance or about the fast path's 2^-20 off them;
+// between them), a few positions off that offset, rows at +0 and -0 (as a projection may give row 0),
+// positions at -0 (with depths of -0 there), depths along a surface, across a depth edge, 0, -0 and not
+// warped, rows reaching past the view's sides and its bottom. Every level's kernels against the plain
+// triangles after each row pair (so that no later row's larger value hides a cell one missed).
+TEST(Raster, RectifiedRowsOfPixelWideQuadsEqualPlainTriangles) {
+  std::mt19937 rng(31);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  std::vector<const QuadRowKernels*> kernels;
+  for (int level = 0; level <= cpuX86Level(); ++level)
+    if (quadRowKernelsFor(level)) kernels.push_back(quadRowKernelsFor(level));
+  ASSERT_FALSE(kernels.empty());
+  const double offsets[] = {0.0,     0x1p-30,  -0x1p-30,   1e-9,        -1e-9,   2e-9,    -2e-9, 0x1p-21, -0x1p-21,
+                            0x1p-20, -0x1p-20, 0x1.8p-20, -0x1.8p-20, 0x1p-19, -0x1p-19, 0.25,  0.5,     0.75};
+  const auto pick = [&] { return offsets[size_t(unit(rng) * 18)]; };
+  size_t raised = 0, cellsChecked = 0;
+  for (const double discontinuity : {0.05, 10.0})
+  for (const int outWidth : {16, 41})
+  for (const int width : {9, 17, 40}) {
+    const int outHeight = 4;
+    std::vector<double> plain(size_t(outWidth) * outHeight, kEmpty);
+    std::vector<std::vector<double>> lone(kernels.size(), plain);
+    std::vector<AtomicMaxBuffer> shared(kernels.size());
+    for (AtomicMaxBuffer& buffer : shared) buffer.reset(plain.size(), kEmpty);
+    for (int t = 0; t < 300; ++t) {
+      const int row = int(unit(rng) * 5.0);  // 0 .. 4: row 3's bottom row and row 4 lie below the view
+      const bool negativeZero = row == 0 && unit(rng) < 0.5;
+      const double offset = unit(rng) < 0.25 ? 0.0 : pick(), shift = std::round((unit(rng) - 0.6) * 0.5 * outWidth);
+      const double stepRate = unit(rng) < 0.5 ? 0.0 : 0.1;
+      std::vector<double> x[2], y[2], w[2];
+      for (int r = 0; r < 2; ++r) {
+        double disparity = shift + (r == 1 && unit(rng) < 0.3 ? 1.0 : 0.0), depth = unit(rng);
+        for (int i = 0; i < width; ++i) {
+          if (unit(rng) < stepRate) disparity += unit(rng) < 0.5 ? 1.0 : -1.0;
+          double px = i + disparity + offset;
+          if (unit(rng) < 0.05) px += pick();
+          if (px == 0.0 && unit(rng) < 0.5) px = -0.0;
+          depth += (unit(rng) - 0.5) * 0.02;
+          double pw = depth;
+          const double u = unit(rng);
+          if (u < 0.03) pw = -1.0;
+          else if (u < 0.05) pw = 0.0;
+          else if (u < 0.07) pw = -0.0;
+          else if (u < 0.1) pw = depth + discontinuity;
+          // At column 0 of row 0 the zeros' signs of the interpolation reach a depth of -0.
+          if (px == 0.0 && unit(rng) < 0.5) pw = -0.0;
+          x[r].push_back(px);
+          y[r].push_back(negativeZero ? -0.0 : double(row + r));
+          w[r].push_back(pw);
+        }
+      }
+      rasteriseQuadRowPlainly(plain, width, outWidth, outHeight, discontinuity, x, y, w);
+      for (size_t k = 0; k < kernels.size(); ++k) {
+        kernels[k]->lone(lone[k].data(), width, outWidth, outHeight, discontinuity, x[0].data(), y[0].data(),
+                         w[0].data(), x[1].data(), y[1].data(), w[1].data());
+        kernels[k]->atomic(shared[k].cells(), width, outWidth, outHeight, discontinuity, x[0].data(), y[0].data(),
+                           w[0].data(), x[1].data(), y[1].data(), w[1].data());
+        std::vector<double> fromAtomic(plain.size());
+        shared[k].copyTo(0, plain.size(), fromAtomic.data());
+        for (size_t i = 0; i < plain.size(); ++i) {
+          ASSERT_EQ(bitsOf(plain[i]), bitsOf(lone[k][i]))
+              << "level " << kernels[k]->level << ", rows of " << width << " into " << outWidth << ", row pair " << t
+              << ", cell " << i;
+          ASSERT_EQ(bitsOf(plain[i]), bitsOf(fromAtomic[i]))
+              << "level " << kernels[k]->level << " atomic, rows of " << width << " into " << outWidth
+              << ", row pair " << t << ", cell " << i;
+        }
+      }
+      for (size_t i = 0; i < plain.size(); ++i) raised += plain[i] != kEmpty;
+      cellsChecked += plain.size();
+      std::fill(plain.begin(), plain.end(), kEmpty);
+      for (std::vector<double>& cells : lone) std::fill(cells.begin(), cells.end(), kEmpty);
+      for (AtomicMaxBuffer& buffer : shared) buffer.reset(plain.size(), kEmpty);
+    }
+  }
+  EXPECT_GT(raised, cellsChecked / 20);
+}
+
 // The points of a row (QuadRowKernels::pointsLone, pointsAtomic) at every level this CPU runs, against
 // the plain rule: a sample with w not below 0 (NaN included) raises the cell of floor(x + 0.5),
 // floor(y + 0.5) when that lies inside the view. Positions round the view's borders and exactly half

@@ -449,30 +449,45 @@ struct RectifiedTriangles {
   Doubles r1[2], r2[2];  // rows Y and Y + 1
 };
 
+// kSecond: T1 = (x0, x1, x2) = (top q, bottom q + 1, bottom q) on rows (Y, Y + 1, Y + 1), else T0 = (top q,
+// top q + 1, bottom q + 1) on rows (Y, Y, Y + 1). Rows `rows` (bit r: row Y + r) of r1 and r2 are set.
+// kBox false: the triangles are evaluated only at centres strictly between the two positions of their edge
+// and inside the view (rows with no position near a centre), which every box holding the edge holds;
+// `from` and `to` then only mark the triangles drawn, and the box is not computed.
+template <bool kSecond, bool kBox>
 [[gnu::always_inline]] inline RectifiedTriangles rectifiedSetUp(QuadLanes<4>::Doubles x0, QuadLanes<4>::Doubles x1,
-                                                                QuadLanes<4>::Doubles x2, QuadLanes<4>::Doubles y0,
-                                                                QuadLanes<4>::Doubles y1, QuadLanes<4>::Doubles y2,
-                                                                QuadLanes<4>::Doubles w0, QuadLanes<4>::Doubles w1,
-                                                                QuadLanes<4>::Doubles w2, QuadLanes<4>::Mask drawn,
-                                                                int width, double rowY) {
+                                                                QuadLanes<4>::Doubles x2, QuadLanes<4>::Doubles w0,
+                                                                QuadLanes<4>::Doubles w1, QuadLanes<4>::Doubles w2,
+                                                                QuadLanes<4>::Mask drawn, int width, double rowY,
+                                                                unsigned rows) {
   using L = QuadLanes<4>;
   using Doubles = L::Doubles;
   using Mask = L::Mask;
-  // rasteriseQuads' covered() for x; the rows' range is the same for every triangle (checked by the caller).
-  const Doubles lo = leastLanes(x0, leastLanes(x1, x2)), hi = mostLanes(x0, mostLanes(x1, x2));
   const Doubles zero = L::splat(0.0), top = L::splat(double(width - 1));
-  const Mask some = ~((hi < -1e-9) | (lo > width - 1 + 1e-9));
-  Doubles l = lo - 1e-9, h = hi + 1e-9;
-  l = l < zero ? zero : l;
-  h = top < h ? top : h;
-  const Doubles firstX = L::ceil(l), lastX = L::floor(h);
-  const Mask inX = some & Mask(firstX <= lastX);
-  const Doubles area = (x1 - x0) * (y2 - y0) - (x2 - x0) * (y1 - y0);
+  // rasteriseQuads' covered() for x; the rows' range is the same for every triangle (checked by the caller).
+  Doubles firstX = zero, lastX = top;
+  Mask inX = ~Mask{};
+  if constexpr (kBox) {
+    const Doubles lo = leastLanes(x0, leastLanes(x1, x2)), hi = mostLanes(x0, mostLanes(x1, x2));
+    const Mask some = ~((hi < -1e-9) | (lo > width - 1 + 1e-9));
+    Doubles l = lo - 1e-9, h = hi + 1e-9;
+    l = l < zero ? zero : l;
+    h = top < h ? top : h;
+    firstX = L::ceil(l);
+    lastX = L::floor(h);
+    inX = some & Mask(firstX <= lastX);
+  }
+  // rasteriseQuads' area, (x1 - x0) (y2 - y0) - (x2 - x0) (y1 - y0), and coefficients with the rows' differences
+  // y2 - y0 = 1 and y1 - y0 = 0 (T0) or 1 (T1), exact: a product by 1 is its factor, by +0 a zero, and x1 - x0
+  // less a zero is x1 - x0 (not 0: the positions increase).
+  const Doubles dx1 = x1 - x0, dx2 = x2 - x0;
+  const Doubles area = kSecond ? dx1 - dx2 : dx1;
   const Mask magnitude = Mask(area) & INT64_MAX;  // fabs
   const Mask valid = drawn & inX & ~(Doubles(magnitude) < 1e-12);
   const Doubles inv = 1.0 / area;
-  const Doubles a1 = (y2 - y0) * inv, c1 = -(x2 - x0) * inv;
-  const Doubles a2 = -(y1 - y0) * inv, c2 = (x1 - x0) * inv;
+  const Doubles a1 = inv, c1 = -dx2 * inv;
+  const Doubles a2 = kSecond ? -inv : L::splat(-0.0) * inv, c2 = dx1 * inv;
+  const Doubles y0 = L::splat(rowY);  // as the row holds it (-0 for a row at -0)
   const Doubles k1 = -(a1 * x0 + c1 * y0), k2 = -(a2 * x0 + c2 * y0);
   RectifiedTriangles t;
   t.a1 = a1;
@@ -483,27 +498,47 @@ struct RectifiedTriangles {
   t.from = valid ? firstX : L::splat(1e300);
   t.to = lastX;
   for (int r = 0; r < 2; ++r) {
-    const Doubles row = L::splat(rowY + r);
+    if (!(rows >> r & 1)) {
+      t.r1[r] = t.r2[r] = zero;  // not evaluated
+      continue;
+    }
+    const Doubles row = L::splat(rowY + 0.0 + r);  // rasteriseQuads' rows: +0 for row 0
     t.r1[r] = c1 * row + k1;
     t.r2[r] = c2 * row + k2;
   }
   return t;
 }
 
-// The bits to raise centre px (lanes) with from triangle idx (lanes) of t on row r, rasteriseQuads'
-// test and value; INT64_MIN (the bits of -0, which raise nothing) where it does not cover it or
-// where `use` is clear.
+// The bits to raise centres px (lanes) with from the triangles in the same lanes of a1 .. to (taken from a
+// RectifiedTriangles on row r, in place or moved by permutes): rasteriseQuads' test and value; INT64_MIN
+// (the bits of -0, which raise nothing) where a triangle does not cover its centre or where `use` is clear.
+[[gnu::always_inline]] inline __m512i rectifiedTest(QuadLanes<4>::Doubles a1, QuadLanes<4>::Doubles r1,
+                                                    QuadLanes<4>::Doubles a2, QuadLanes<4>::Doubles r2,
+                                                    QuadLanes<4>::Doubles w0, QuadLanes<4>::Doubles dw1,
+                                                    QuadLanes<4>::Doubles dw2, QuadLanes<4>::Doubles from,
+                                                    QuadLanes<4>::Doubles to, QuadLanes<4>::Doubles px, __mmask8 use) {
+  using Doubles = QuadLanes<4>::Doubles;
+  using Mask = QuadLanes<4>::Mask;
+  const Doubles b1 = a1 * px + r1, b2 = a2 * px + r2, b0 = 1.0 - b1 - b2;
+  const Mask inside = (px >= from) & (px <= to) & ~((b0 < -1e-9) | (b1 < -1e-9) | (b2 < -1e-9));
+  const Doubles value = w0 + b1 * dw1 + b2 * dw2;
+  const __mmask8 covered = __mmask8(use & _mm512_movepi64_mask(__m512i(inside)));
+  return _mm512_mask_blend_epi64(covered, _mm512_set1_epi64(INT64_MIN), __m512i(value));
+}
+
+// rectifiedTest of centre px (lanes) with triangle idx (lanes) of t on row r.
 [[gnu::always_inline]] inline __m512i rectifiedValue(const RectifiedTriangles& t, int r, __m512i idx,
                                                      QuadLanes<4>::Doubles px, __mmask8 use) {
   using Doubles = QuadLanes<4>::Doubles;
-  using Mask = QuadLanes<4>::Mask;
   auto take = [&](Doubles v) { return Doubles(_mm512_maskz_permutexvar_pd(0xff, idx, __m512d(v))); };
-  const Doubles a1 = take(t.a1), r1 = take(t.r1[r]), a2 = take(t.a2), r2 = take(t.r2[r]);
-  const Doubles b1 = a1 * px + r1, b2 = a2 * px + r2, b0 = 1.0 - b1 - b2;
-  const Mask inside = (px >= take(t.from)) & (px <= take(t.to)) & ~((b0 < -1e-9) | (b1 < -1e-9) | (b2 < -1e-9));
-  const Doubles value = take(t.w0) + b1 * take(t.dw1) + b2 * take(t.dw2);
-  const __mmask8 covered = __mmask8(use & _mm512_movepi64_mask(__m512i(inside)));
-  return _mm512_mask_blend_epi64(covered, _mm512_set1_epi64(INT64_MIN), __m512i(value));
+  return rectifiedTest(take(t.a1), take(t.r1[r]), take(t.a2), take(t.r2[r]), take(t.w0), take(t.dw1), take(t.dw2),
+                       take(t.from), take(t.to), px, use);
+}
+
+// rectifiedTest of each lane's own triangle of t on row r at centres px.
+[[gnu::always_inline]] inline __m512i rectifiedOwnValue(const RectifiedTriangles& t, int r, QuadLanes<4>::Doubles px,
+                                                        __mmask8 use) {
+  return rectifiedTest(t.a1, t.r1[r], t.a2, t.r2[r], t.w0, t.dw1, t.dw2, t.from, t.to, px, use);
 }
 
 // One row of centres (row r: 0 for Y, 1 for Y + 1) between positions pos[0] < ... < pos[n] of the n
@@ -563,6 +598,48 @@ struct RectifiedTriangles {
   }
 }
 
+// Whether the quads' first centres follow each other, as they do where each quad is about a pixel wide:
+// with L_i = ceil(pos[i] - kRectifiedNear) (`first`: L_0 .. L_7, `next`: L_1 .. L_8), L_(i + 1) = L_i + 1
+// for the n quads drawn, and L_0 lies in the view.
+[[gnu::always_inline]] inline bool rectifiedInOrder(QuadLanes<4>::Doubles first, QuadLanes<4>::Doubles next, int n,
+                                                    int width) {
+  const __mmask8 owned = __mmask8((1u << n) - 1);
+  if ((_mm512_cmp_pd_mask(__m512d(next - first), _mm512_set1_pd(1.0), _CMP_EQ_OQ) & owned) != owned) return false;
+  return first[0] >= 0.0 && first[0] <= double(width - 1);
+}
+
+// rectifiedCentres where rectifiedInOrder holds. By the coverage argument quad i's edge triangle then
+// reaches only centre L_i, and L_i + 1 = L_(i + 1) where pos[i + 1] lies within kRectifiedNear of it; the
+// corner triangle at position i only L_i. So the centres are lanes 0 .. 7 from L_0 on, and each quad's
+// triangles are evaluated in the quad's own lanes, at L_i, and (only where `nearAny`) at L_i + 1, moved one
+// lane up: no look-up of the quad holding a centre. Each evaluation is rasteriseQuads' (rectifiedTest),
+// and the cells raised are rectifiedCentres' (L_0 to `lastCentre`, floor(pos[n] + kRectifiedNear), at
+// most eight by the choice of n).
+[[gnu::always_inline]] inline void rectifiedCentresInOrder(double* cells, int width, QuadLanes<4>::Doubles first,
+                                                           double lastCentre, int n, bool nearAny,
+                                                           const RectifiedTriangles& edges,
+                                                           const RectifiedTriangles& corners, int r, int cornerShift) {
+  using Doubles = QuadLanes<4>::Doubles;
+  const __mmask8 owned = __mmask8((1u << n) - 1);
+  const double startAt = first[0];
+  const double endAt = std::min(lastCentre, double(width - 1));
+  // rectifiedCentres' centres are c + k, whole numbers, +0 for 0: L + 0 (-0 becomes +0).
+  const Doubles px = first + 0.0;
+  const __mmask8 in = _mm512_cmp_pd_mask(_mm512_add_pd(_mm512_set1_pd(startAt), _mm512_setr_pd(0, 1, 2, 3, 4, 5, 6, 7)),
+                                         _mm512_set1_pd(endAt), _CMP_LE_OQ);
+  __m512i best = rectifiedOwnValue(edges, r, px, owned);
+  if (nearAny) {
+    if (cornerShift == 0) best = _mm512_maskz_max_epi64(0xff, best, rectifiedOwnValue(corners, r, px, owned));
+    const Doubles after = px + 1.0;
+    __m512i right = rectifiedOwnValue(edges, r, after, owned);
+    if (cornerShift == 1) right = _mm512_maskz_max_epi64(0xff, right, rectifiedOwnValue(corners, r, after, owned));
+    // Lane k takes lane k - 1's evaluations at L_(k - 1) + 1 = L_k.
+    best = _mm512_maskz_max_epi64(0xff, best, _mm512_maskz_alignr_epi64(0xff, right, _mm512_set1_epi64(INT64_MIN), 7));
+  }
+  double* at = cells + size_t(startAt);
+  _mm512_mask_storeu_epi64(at, in, _mm512_maskz_max_epi64(0xff, _mm512_maskz_loadu_epi64(in, at), best));
+}
+
 // Quads x .. x + n - 1 between rectified rows rowY (top) and rowY + 1 (bottom) into one thread's
 // z-buffer (rows `cellsY` and `cellsY1`, the latter null where row Y + 1 lies outside the view), n up to
 // 8, as many as keep each row's centres within one register of eight; returns n, or 0, drawing nothing,
@@ -588,20 +665,31 @@ struct RectifiedTriangles {
   const double first[2] = {xTop[x], xBottom[x]}, lastOnes[2] = {xTop[x + 8], xBottom[x + 8]};
   for (int r = 0; r < 2; ++r)
     if (!(lastOnes[r] - first[r] <= 15.0 && first[r] >= -65536.0 && lastOnes[r] <= 65536.0)) return 0;
+  // For each position, the first centre from it less kRectifiedNear on, ceil(pos - kRectifiedNear), and
+  // the last up to it plus kRectifiedNear, floor(pos + kRectifiedNear): lanes 0 .. 7 of positions 0 .. 7
+  // (from) and 1 .. 8 (to), on both rows.
+  constexpr int kCeil = _MM_FROUND_TO_POS_INF | _MM_FROUND_NO_EXC, kFloor = _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC;
+  const auto ceilLanes = [](Doubles v) { return Doubles(_mm512_maskz_roundscale_pd(0xff, __m512d(v), kCeil)); };
+  const auto floorLanes = [](Doubles v) { return Doubles(_mm512_maskz_roundscale_pd(0xff, __m512d(v), kFloor)); };
+  const Doubles firstTop = ceilLanes(p0 - kRectifiedNear), nextTop = ceilLanes(p1 - kRectifiedNear);
+  const Doubles firstBottom = ceilLanes(q0 - kRectifiedNear), nextBottom = ceilLanes(q1 - kRectifiedNear);
+  const Doubles lastTop = floorLanes(p1 + kRectifiedNear), lastBottom = floorLanes(q1 + kRectifiedNear);
   // The quads drawn: as many as keep the centres from the first position to the last within eight on
-  // both rows (quads a little wider than a pixel reach nine centres in eight quads).
-  const auto centres = [&](const double* pos, int n) {
-    return std::floor(pos[n] + kRectifiedNear) - std::ceil(pos[0] - kRectifiedNear) + 1.0;
+  // both rows (quads a little wider than a pixel reach nine centres in eight quads). Lane k holds the
+  // centres of quads 0 .. k, which grow with k.
+  const auto within8 = [](Doubles last, Doubles first) {
+    return _mm512_movepi64_mask(__m512i(last - L::splat(first[0]) + 1.0 <= 8.0));
   };
-  int n = 8;
-  while (n > 0 && (centres(xTop + x, n) > 8.0 || centres(xBottom + x, n) > 8.0)) --n;
+  const int n = __builtin_ctz(~unsigned(within8(lastTop, firstTop) & within8(lastBottom, firstBottom)));
   if (n == 0) return 0;
-  // Whether any position of either row lies within kRectifiedNear of a pixel centre.
-  const auto nearCentre = [](Doubles v) {
-    const Doubles nearest = Doubles(_mm512_maskz_roundscale_pd(0xff, __m512d(v), _MM_FROUND_TO_NEAREST_INT | _MM_FROUND_NO_EXC));
-    return Mask(Doubles(Mask(v - nearest) & INT64_MAX) <= kRectifiedNear);
+  // Whether any position of a row lies within kRectifiedNear of a pixel centre: where the last centre up
+  // to it plus kRectifiedNear is not before the first from it less kRectifiedNear (position 0 from the
+  // `from` lanes, the others from the `to` lanes).
+  const auto nearCentre = [&](Doubles from, Doubles firstFrom, Doubles next, Doubles last) {
+    return std::floor(from[0] + kRectifiedNear) >= firstFrom[0] || L::any(Mask(last >= next));
   };
-  const bool nearTop = L::any(nearCentre(p0) | nearCentre(p1)), nearBottom = L::any(nearCentre(q0) | nearCentre(q1));
+  const bool nearTop = nearCentre(p0, firstTop, nextTop, lastTop);
+  const bool nearBottom = nearCentre(q0, firstBottom, nextBottom, lastBottom);
   std::memcpy(&wp0, wTop + x, sizeof wp0);
   std::memcpy(&wp1, wTop + x + 1, sizeof wp1);
   std::memcpy(&wq0, wBottom + x, sizeof wq0);
@@ -616,13 +704,26 @@ struct RectifiedTriangles {
   for (int k = 0; k < 8; ++k) owned[k] = -int64_t(k < n);
   const Mask drawn0 = drawn(wp0, wq1, wp1) & owned, drawn1 = drawn(wp0, wq1, wq0) & owned;
   if (!L::any(drawn0 | drawn1)) return n;  // nothing to draw: what rasteriseQuads would do
-  const Doubles top = L::splat(rowY), bottom = L::splat(rowY + 1.0);
-  // The rows as rasteriseQuads takes them (its first covered row, +0 for row 0).
-  const double row = rowY + 0.0;
-  const RectifiedTriangles t0 = rectifiedSetUp(p0, p1, q1, top, top, bottom, wp0, wp1, wq1, drawn0, width, row);
-  const RectifiedTriangles t1 = rectifiedSetUp(p0, q1, q0, top, bottom, bottom, wp0, wq1, wq0, drawn1, width, row);
-  rectifiedCentres(cellsY, width, xTop + x, n, nearTop, t0, t1, 0, 0);
-  if (cellsY1) rectifiedCentres(cellsY1, width, xBottom + x, n, nearBottom, t1, t0, 1, 1);
+  // T0 is evaluated on row Y + 1 only near a bottom position, T1 on row Y only near a top position; their
+  // boxes are needed only near a position (with none, every centre evaluated lies strictly between the two
+  // positions of its edge, the quad's own in rectifiedCentresInOrder and the one enclosing it in
+  // rectifiedCentres, and in the view).
+  const bool orderTop = rectifiedInOrder(firstTop, nextTop, n, width);
+  const bool orderBottom = cellsY1 && rectifiedInOrder(firstBottom, nextBottom, n, width);
+  RectifiedTriangles t0, t1;
+  if (nearTop || nearBottom) {
+    t0 = rectifiedSetUp<false, true>(p0, p1, q1, wp0, wp1, wq1, drawn0, width, rowY, nearBottom ? 3 : 1);
+    t1 = rectifiedSetUp<true, true>(p0, q1, q0, wp0, wq1, wq0, drawn1, width, rowY, nearTop ? 3 : 2);
+  } else {
+    t0 = rectifiedSetUp<false, false>(p0, p1, q1, wp0, wp1, wq1, drawn0, width, rowY, 1);
+    t1 = rectifiedSetUp<true, false>(p0, q1, q0, wp0, wq1, wq0, drawn1, width, rowY, 2);
+  }
+  if (orderTop) rectifiedCentresInOrder(cellsY, width, firstTop, lastTop[n - 1], n, nearTop, t0, t1, 0, 0);
+  else rectifiedCentres(cellsY, width, xTop + x, n, nearTop, t0, t1, 0, 0);
+  if (orderBottom)
+    rectifiedCentresInOrder(cellsY1, width, firstBottom, lastBottom[n - 1], n, nearBottom, t1, t0, 1, 1);
+  else if (cellsY1)
+    rectifiedCentres(cellsY1, width, xBottom + x, n, nearBottom, t1, t0, 1, 1);
   return n;
 }
 #endif
