@@ -61,38 +61,42 @@ void Synthesizer::markReferenceEdges(ViewState& view, const Plane& depth) {
     return;
   }
   edge.resize(size_t(w) * h);  // every sample is written below
-  // Separable: OR over three samples along rows, then along columns.
-  std::vector<uint8_t>& rows = view.referenceStepRows;
-  rows.resize(size_t(w) * h);
+  // Separable: OR over three samples along rows, then along columns. Each loop body keeps the rows it
+  // needs dilated along the row (the row above, the row, the row below) in three rolling buffers, so
+  // that no plane of them is written: a row is dilated once per body, the two rows round a body's
+  // range twice.
   parallelRanges(h, [&](int y0, int y1) {
-    const int width = w;
+    const int width = w, height = h;
     const int wrapLeft = sphere.wrap ? width - 1 : 0, wrapRight = sphere.wrap ? 0 : width - 1;
-    for (int y = y0; y < y1; ++y) {
-      const uint8_t* in = step.data() + size_t(y) * width;
-      uint8_t* out = rows.data() + size_t(y) * width;
-      // Border samples read themselves for the missing neighbour (round the wrap for an ERP reference);
-      // the rest run without branches.
+    const auto scratch = byteRows_.take();
+    std::vector<uint8_t>& buffers = *scratch;
+    buffers.resize(4 * size_t(width));
+    uint8_t* slot[3] = {buffers.data(), buffers.data() + width, buffers.data() + 2 * size_t(width)};
+    uint8_t* turned = buffers.data() + 3 * size_t(width);  // beyond a pole: a dilated row half a turn round
+    // Row r of the step flags dilated along the row; border samples read themselves for the missing
+    // neighbour (round the wrap for an ERP reference), the rest run without branches.
+    auto dilate = [&](int r, uint8_t* out) {
+      const uint8_t* in = step.data() + size_t(r) * width;
       out[0] = in[wrapLeft] | in[0] | in[std::min(1, width - 1)];
       for (int x = 1; x + 1 < width; ++x) out[x] = in[x - 1] | in[x] | in[x + 1];
       if (width > 1) out[width - 1] = in[width - 2] | in[width - 1] | in[wrapRight];
-    }
-  });
-  std::vector<uint8_t> turnedRows;  // beyond a pole: the first and the last dilated row half a turn round
-  if (sphere.north || sphere.south) {
-    turnedRows.resize(2 * size_t(w));
-    for (int x = 0; x < w; ++x) {
-      turnedRows[size_t(x)] = rows[size_t((x + w / 2) % w)];
-      turnedRows[size_t(w + x)] = rows[size_t(h - 1) * w + size_t((x + w / 2) % w)];
-    }
-  }
-  parallelRanges(h, [&](int y0, int y1) {
-    const int width = w, height = h;
+    };
+    auto turn = [&](const uint8_t* row) {
+      for (int x = 0; x < width; ++x) turned[x] = row[(x + width / 2) % width];
+      return turned;
+    };
+    // slot[0]: row y - 1, slot[1]: row y, slot[2]: row y + 1 (those inside the picture).
+    if (y0 > 0) dilate(y0 - 1, slot[0]);
+    dilate(y0, slot[1]);
     for (int y = y0; y < y1; ++y) {
-      const uint8_t* mid = rows.data() + size_t(y) * width;
-      const uint8_t* up = y > 0 ? mid - width : sphere.north ? turnedRows.data() : mid;
-      const uint8_t* down = y + 1 < height ? mid + width : sphere.south ? turnedRows.data() + width : mid;
+      if (y + 1 < height) dilate(y + 1, slot[2]);
+      const uint8_t* mid = slot[1];
+      const uint8_t* up = y > 0 ? slot[0] : sphere.north ? turn(mid) : mid;
+      const uint8_t* down = y + 1 < height ? slot[2] : sphere.south ? turn(mid) : mid;
       uint8_t* out = edge.data() + size_t(y) * width;
       for (int x = 0; x < width; ++x) out[x] = mid[x] | up[x] | down[x];
+      std::swap(slot[0], slot[1]);
+      std::swap(slot[1], slot[2]);
     }
   });
 }

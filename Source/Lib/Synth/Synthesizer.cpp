@@ -127,7 +127,6 @@ void Synthesizer::releaseSpentBuffers(Spent spent) {
         releaseMemory(view.filledDepth.samples);
         releaseMemory(view.filledSamples);
         releaseMemory(view.referenceStep);
-        releaseMemory(view.referenceStepRows);
         break;
       case Spent::textureSteps:
         releaseMemory(view.referenceEdge);
