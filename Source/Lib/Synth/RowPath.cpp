@@ -17,6 +17,19 @@ namespace vs {
 
 namespace {
 
+// clearRows (Layer.h) split in two: the depth rows, cleared by the depth warp, and the colours and
+// edge flags, cleared by the texture warp before its look-ups write them.
+void clearDepthRows(WarpedLayer& layer, int y0, int y1) {
+  const size_t begin = size_t(y0) * size_t(layer.width), end = size_t(y1) * size_t(layer.width);
+  std::fill(layer.inverseDepth.data() + begin, layer.inverseDepth.data() + end, kNoDepth);
+}
+
+void clearColourRows(WarpedLayer& layer, int y0, int y1) {
+  const size_t begin = size_t(y0) * size_t(layer.width), end = size_t(y1) * size_t(layer.width);
+  for (int k = 0; k < layer.channels; ++k) std::fill(layer.colour[k].data() + begin, layer.colour[k].data() + end, 0.0f);
+  std::fill(layer.edge.data() + begin, layer.edge.data() + end, uint8_t(0));
+}
+
 // CleanNoiseOption on one row of a layer's depth: a sample with holes on both sides along its row is
 // a stray point of a surface seen elsewhere, removed before it picks up colour. Removing a sample
 // never changes the decision for the next one (it is removed only when the next is a hole, which is
@@ -39,9 +52,16 @@ void Synthesizer::warpDepthRows(ViewState& view, const Plane& depth) {
   const int w = depth.width, h = depth.height;
   const int outW = outputFormat_.width, outH = outputFormat_.height;
   const OneDOptions& oneD = scene_.settings.oneD;
-  view.luma.resize(outW, outH, plan_.rgb ? 3 : 1);  // cleared row by row below (clearRows)
+  // Only the depth plane here, cleared row by row below: the colours and edge flags are sized by the
+  // texture warp, which writes them, so that in a run of one frame they take the memory the depth
+  // steps' maps give back in between (Synthesizer::releaseSpentBuffers) instead of fresh pages.
+  WarpedLayer& layer = view.luma;
+  layer.width = outW;
+  layer.height = outH;
+  layer.channels = plan_.rgb ? 3 : 1;
+  layer.inverseDepth.resize(size_t(outW) * size_t(outH));
   // Rows below the reference (an output taller than it) receive nothing.
-  if (outH > h) clearRows(view.luma, h, outH);
+  if (outH > h) clearDepthRows(layer, h, outH);
   const RowDepthWarp rowWarp(view.projection, view.levelToRowDepth, plan_.discontinuity, oneD.splatting);
   parallelRanges(std::min(h, outH), [&](int y0, int y1) {
     const int width = w, outWidth = outW, growth = oneD.boundaryGrowth;
@@ -54,7 +74,7 @@ void Synthesizer::warpDepthRows(ViewState& view, const Plane& depth) {
     nearRow.resize(size_t(width));
     isolatedRow.resize(size_t(outWidth));
     for (int y = y0; y < y1; ++y) {
-      clearRows(view.luma, y, y + 1);
+      clearDepthRows(layer, y, y + 1);
       // Within BoundaryGrowth samples of a reference depth edge.
       if (nearEdges) markWithinReach(view.referenceStep.data() + size_t(y) * width, width, growth, nearRow.data());
       double* row = view.luma.inverseDepth.data() + size_t(y) * outWidth;
@@ -110,6 +130,8 @@ void Synthesizer::flagCrowdedHoles(ViewState& view) {
 void Synthesizer::warpTextureRows(ViewState& view, const std::vector<const Plane*>& planes) {
   WarpedLayer& layer = view.luma;
   const int refW = planes[0]->width, refH = planes[0]->height;
+  // The colours and edge flags (the depth warp sized the depth plane only), cleared row by row below.
+  layer.resize(layer.width, layer.height, layer.channels);
   // Rows map to rows: the look-up stays in row y (as backward() gives v = y). The tap and channel
   // counts are compile-time constants, so that the channel loop unrolls.
   auto warpRows = [&](auto taps, auto channelCount) {
@@ -138,6 +160,7 @@ void Synthesizer::warpTextureRows(ViewState& view, const std::vector<const Plane
                          {nullptr, nullptr, nullptr}, nullptr};
       const RowKernels& kernels = rowKernels();
       for (int y = y0; y < y1; ++y) {
+        clearColourRows(layer, y, y + 1);
         for (int c = 0; c < kChannels; ++c) sampledRows[c].build<kTaps>(sampler, *planes[size_t(c)], y, -1, referenceWidth);
         projection.rowSources(depth + size_t(y) * width, width, sources);
         // The look-ups, in a kernel compiled for the CPU's x86-64 level: every one whose grid index
@@ -170,6 +193,7 @@ void Synthesizer::warpTextureRows(ViewState& view, const std::vector<const Plane
     else warpRows(taps, std::integral_constant<int, 1>());
   });
   // Rows below the reference (an output taller than it) look up nothing.
+  if (layer.height > refH) clearColourRows(layer, refH, layer.height);
   for (size_t i = size_t(std::min(layer.height, refH)) * layer.width; i < layer.inverseDepth.size(); ++i)
     layer.inverseDepth[i] = kNoDepth;
 }
