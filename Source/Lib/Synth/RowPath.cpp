@@ -67,6 +67,7 @@ void Synthesizer::warpDepthRows(ViewState& view, const Plane& depth) {
     const int width = w, outWidth = outW, growth = oneD.boundaryGrowth;
     const bool nearEdges = oneD.splatting == 2;
     const bool cleanNoise = plan_.cleanNoise;
+    const double discontinuity = plan_.discontinuity;
     // The row's boundary flags and isolated samples, and the row warp's buffers.
     const auto scratch = rowWarpRows_.take();
     std::vector<uint8_t>& nearRow = scratch->nearEdge;
@@ -79,11 +80,14 @@ void Synthesizer::warpDepthRows(ViewState& view, const Plane& depth) {
       if (nearEdges) markWithinReach(view.referenceStep.data() + size_t(y) * width, width, growth, nearRow.data());
       double* row = view.luma.inverseDepth.data() + size_t(y) * outWidth;
       rowWarp.warp(depth.row(y), width, nearRow.data(), row, outWidth, scratch->warp);
-      // A row is all its own warp writes: it is cleaned while it is at hand.
+      // A row is all its own warp writes: it is cleaned, and its cracks closed (closeCracks' row pass,
+      // which takes each row by itself), while it is at hand.
       if (cleanNoise) cleanIsolatedSamples(row, outWidth, isolatedRow.data());
+      closeRowCracks(row, outWidth, discontinuity, isolatedRow.data());
     }
   });
-  closeCracks(view.luma.inverseDepth, outW, outH, plan_.discontinuity, byteRows_);
+  // Rows below the reference hold no depth: no crack. Then closeCracks' column pass.
+  closeColumnCracks(view.luma.inverseDepth, outW, outH, plan_.discontinuity, byteRows_);
 }
 
 void Synthesizer::flagCrowdedHoles(ViewState& view) {
