@@ -59,9 +59,12 @@ void Synthesizer::warpDepthRows(ViewState& view, const Plane& depth) {
   layer.width = outW;
   layer.height = outH;
   layer.channels = plan_.rgb ? 3 : 1;
-  layer.inverseDepth.resize(size_t(outW) * size_t(outH));
+  // A plane allocated here (a run's first frame) is filled with "no depth" as it is allocated: the
+  // fill that zeroing it would be, and no clearing of its rows after.
+  const bool cleared = layer.inverseDepth.size() != size_t(outW) * size_t(outH);
+  if (cleared) layer.inverseDepth.assign(size_t(outW) * size_t(outH), kNoDepth);
   // Rows below the reference (an output taller than it) receive nothing.
-  if (outH > h) clearDepthRows(layer, h, outH);
+  if (outH > h && !cleared) clearDepthRows(layer, h, outH);
   const RowDepthWarp rowWarp(view.projection, view.levelToRowDepth, plan_.discontinuity, oneD.splatting);
   parallelRanges(std::min(h, outH), [&](int y0, int y1) {
     const int width = w, outWidth = outW, growth = oneD.boundaryGrowth;
@@ -75,7 +78,7 @@ void Synthesizer::warpDepthRows(ViewState& view, const Plane& depth) {
     nearRow.resize(size_t(width));
     isolatedRow.resize(size_t(outWidth));
     for (int y = y0; y < y1; ++y) {
-      clearDepthRows(layer, y, y + 1);
+      if (!cleared) clearDepthRows(layer, y, y + 1);
       // Within BoundaryGrowth samples of a reference depth edge.
       if (nearEdges) markWithinReach(view.referenceStep.data() + size_t(y) * width, width, growth, nearRow.data());
       double* row = view.luma.inverseDepth.data() + size_t(y) * outWidth;
@@ -134,7 +137,10 @@ void Synthesizer::flagCrowdedHoles(ViewState& view) {
 void Synthesizer::warpTextureRows(ViewState& view, const std::vector<const Plane*>& planes) {
   WarpedLayer& layer = view.luma;
   const int refW = planes[0]->width, refH = planes[0]->height;
-  // The colours and edge flags (the depth warp sized the depth plane only), cleared row by row below.
+  // The colours and edge flags (the depth warp sized the depth plane only), cleared row by row below
+  // unless allocated here (from empty, resize leaves them 0, the cleared value).
+  bool cleared = layer.edge.empty();
+  for (int c = 0; c < layer.channels; ++c) cleared = cleared && layer.colour[c].empty();
   layer.resize(layer.width, layer.height, layer.channels);
   // Rows map to rows: the look-up stays in row y (as backward() gives v = y). The tap and channel
   // counts are compile-time constants, so that the channel loop unrolls.
@@ -164,7 +170,7 @@ void Synthesizer::warpTextureRows(ViewState& view, const std::vector<const Plane
                          {nullptr, nullptr, nullptr}, nullptr};
       const RowKernels& kernels = rowKernels();
       for (int y = y0; y < y1; ++y) {
-        clearColourRows(layer, y, y + 1);
+        if (!cleared) clearColourRows(layer, y, y + 1);
         for (int c = 0; c < kChannels; ++c) sampledRows[c].build<kTaps>(sampler, *planes[size_t(c)], y, -1, referenceWidth);
         projection.rowSources(depth + size_t(y) * width, width, sources);
         // The look-ups, in a kernel compiled for the CPU's x86-64 level: every one whose grid index
@@ -197,7 +203,7 @@ void Synthesizer::warpTextureRows(ViewState& view, const std::vector<const Plane
     else warpRows(taps, std::integral_constant<int, 1>());
   });
   // Rows below the reference (an output taller than it) look up nothing.
-  if (layer.height > refH) clearColourRows(layer, refH, layer.height);
+  if (layer.height > refH && !cleared) clearColourRows(layer, refH, layer.height);
   for (size_t i = size_t(std::min(layer.height, refH)) * layer.width; i < layer.inverseDepth.size(); ++i)
     layer.inverseDepth[i] = kNoDepth;
 }
