@@ -7,52 +7,41 @@
 #include <vector>
 
 #include "Synth/Kernels/Rows.h"
+#include "Synth/ReferenceEdges.h"
 #include "Synth/Synthesizer.h"
 
 namespace vs {
 
+void referenceStepRow(const Plane& depth, int y, const SphereEdges& sphere, int missing, int minStep,
+                      std::vector<uint16_t>& turned, uint8_t* out) {
+  const int w = depth.width, h = depth.height;
+  const uint16_t* row = depth.row(y);
+  auto halfTurn = [&](int r) {  // row r half a turn round: what lies beyond a pole
+    turned.resize(size_t(w));
+    for (int x = 0; x < w; ++x) turned[size_t(x)] = depth.at((x + w / 2) % w, r);
+    return turned.data();
+  };
+  const uint16_t* above = y > 0 ? depth.row(y - 1) : sphere.north ? halfTurn(0) : row;
+  // (at most one of the two is turned: a row of one sample's picture has both poles, and there the
+  // row turned half round is the row itself)
+  const uint16_t* below = y + 1 < h ? depth.row(y + 1) : sphere.south ? (h == 1 && sphere.north ? above : halfTurn(h - 1)) : row;
+  // In the loop compiled for the CPU's x86-64 level (Kernels/Rows.h); round the wrap the two edge
+  // columns are redone.
+  rowKernels().referenceSteps(row, above, below, w, missing, minStep, out);
+  if (sphere.wrap && w > 1) {
+    auto at = [&](int x, int left, int right) {
+      const int level = row[x];
+      auto differs = [&](int other) { return (other == missing) | (std::abs(level - other) >= minStep); };
+      return uint8_t((level == missing) | differs(row[left]) | differs(row[right]) | differs(above[x]) |
+                     differs(below[x]));
+    };
+    out[0] = at(0, w - 1, 1);
+    out[w - 1] = at(w - 1, w - 2, 0);
+  }
+}
+
 void Synthesizer::markReferenceEdges(ViewState& view, const Plane& depth) {
   const int w = depth.width, h = depth.height;
-  std::vector<uint8_t>& step = view.referenceStep;
-  step.resize(size_t(w) * h);
-  const int missing = plan_.missingDepthLevel, minStep = plan_.edgeLevelStep;
-  // A sample is a step when it is missing, or a neighbour (left, right, above, below) is missing or
-  // differs by minStep levels or more. A neighbour beyond the border is read as the sample itself,
-  // which adds nothing (a sample differs from itself only by being missing). A row at a time, in the
-  // loop compiled for the CPU's x86-64 level (Kernels/Rows.h).
-  // An ERP reference (Synth/Interpolation.h's SphereEdges): round its wrap the neighbour of the last
-  // column is the first (the two edge columns redone after the kernel), and beyond a pole its first
-  // (last) row half a turn round.
-  const SphereEdges sphere = view.projection.referenceSphere();
-  std::vector<uint16_t> turnedFirst, turnedLast;  // the first and last rows half a turn round
-  if (sphere.north || sphere.south) {
-    turnedFirst.resize(size_t(w));
-    turnedLast.resize(size_t(w));
-    for (int x = 0; x < w; ++x) {
-      turnedFirst[size_t(x)] = depth.at((x + w / 2) % w, 0);
-      turnedLast[size_t(x)] = depth.at((x + w / 2) % w, h - 1);
-    }
-  }
-  parallelRanges(h, [&](int y0, int y1) {
-    const RowKernels& kernels = rowKernels();
-    for (int y = y0; y < y1; ++y) {
-      const uint16_t* row = depth.row(y);
-      const uint16_t* above = y > 0 ? depth.row(y - 1) : sphere.north ? turnedFirst.data() : row;
-      const uint16_t* below = y + 1 < h ? depth.row(y + 1) : sphere.south ? turnedLast.data() : row;
-      uint8_t* out = step.data() + size_t(y) * w;
-      kernels.referenceSteps(row, above, below, w, missing, minStep, out);
-      if (sphere.wrap && w > 1) {
-        auto at = [&](int x, int left, int right) {
-          const int level = row[x];
-          auto differs = [&](int other) { return (other == missing) | (std::abs(level - other) >= minStep); };
-          return uint8_t((level == missing) | differs(row[left]) | differs(row[right]) | differs(above[x]) |
-                         differs(below[x]));
-        };
-        out[0] = at(0, w - 1, 1);
-        out[w - 1] = at(w - 1, w - 2, 0);
-      }
-    }
-  });
   // Dilated by one sample: the colours on both sides of an edge are mixed by the camera's optics.
   // (1D mode with WarpEnhancementOption 0 does without these reliability flags.)
   std::vector<uint8_t>& edge = view.referenceEdge;
@@ -61,22 +50,26 @@ void Synthesizer::markReferenceEdges(ViewState& view, const Plane& depth) {
     return;
   }
   edge.resize(size_t(w) * h);  // every sample is written below
-  // Separable: OR over three samples along rows, then along columns. Each loop body keeps the rows it
-  // needs dilated along the row (the row above, the row, the row below) in three rolling buffers, so
-  // that no plane of them is written: a row is dilated once per body, the two rows round a body's
-  // range twice.
+  const int missing = plan_.missingDepthLevel, minStep = plan_.edgeLevelStep;
+  const SphereEdges sphere = view.projection.referenceSphere();
+  // Separable: the step flags (referenceStepRow) ORed over three samples along rows, then along
+  // columns. Each loop body keeps the rows it needs dilated along the row (the row above, the row, the
+  // row below) in three rolling buffers, so that no plane of the steps or of the rows is written: a
+  // row's steps are found and dilated once per body, the two rows round a body's range twice.
   parallelRanges(h, [&](int y0, int y1) {
     const int width = w, height = h;
     const int wrapLeft = sphere.wrap ? width - 1 : 0, wrapRight = sphere.wrap ? 0 : width - 1;
     const auto scratch = byteRows_.take();
     std::vector<uint8_t>& buffers = *scratch;
-    buffers.resize(4 * size_t(width));
+    buffers.resize(5 * size_t(width));
     uint8_t* slot[3] = {buffers.data(), buffers.data() + width, buffers.data() + 2 * size_t(width)};
     uint8_t* turned = buffers.data() + 3 * size_t(width);  // beyond a pole: a dilated row half a turn round
+    uint8_t* in = buffers.data() + 4 * size_t(width);      // a row's step flags
+    std::vector<uint16_t> turnedDepth;
     // Row r of the step flags dilated along the row; border samples read themselves for the missing
     // neighbour (round the wrap for an ERP reference), the rest run without branches.
     auto dilate = [&](int r, uint8_t* out) {
-      const uint8_t* in = step.data() + size_t(r) * width;
+      referenceStepRow(depth, r, sphere, missing, minStep, turnedDepth, in);
       out[0] = in[wrapLeft] | in[0] | in[std::min(1, width - 1)];
       for (int x = 1; x + 1 < width; ++x) out[x] = in[x - 1] | in[x] | in[x + 1];
       if (width > 1) out[width - 1] = in[width - 2] | in[width - 1] | in[wrapRight];

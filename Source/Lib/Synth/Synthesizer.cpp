@@ -126,7 +126,6 @@ void Synthesizer::releaseSpentBuffers(Spent spent) {
       case Spent::depthSteps:
         releaseMemory(view.filledDepth.samples);
         releaseMemory(view.filledSamples);
-        releaseMemory(view.referenceStep);
         break;
       case Spent::textureSteps:
         releaseMemory(view.referenceEdge);
