@@ -18,7 +18,15 @@ namespace vs {
 
 namespace {
 
-// One line of samples: a row, or a column read with the row stride. Reads `depth`, writes `out`.
+// What an edge changes, where the passes align the map in place: the sample's index and the level it
+// had before the pass.
+struct Change {
+  size_t index;
+  uint16_t before;
+};
+
+// A row aligned in place: its depth before the pass read from `depth` (a copy of the row), its samples
+// written into the map's row (`out`), each write noted in `changes` with the level before.
 struct Line {
   const uint16_t* depth;
   const uint16_t* luma;
@@ -26,20 +34,18 @@ struct Line {
   ptrdiff_t stride;
   int n;
   int u0, v0, du, dv;  // reference pixel of sample i: (u0 + i du, v0 + i dv)
+  size_t first;        // the map's index of sample 0
+  std::vector<Change>* changes;
   int d(int i) const { return depth[i * stride]; }
   int y(int i) const { return luma[i * stride]; }
-  void set(int i, int level) const { out[i * stride] = uint16_t(level); }
-};
-
-// What a column's edges change, where the column pass aligns the map in place: the sample's index and
-// the level it had before the pass.
-struct Change {
-  size_t index;
-  uint16_t before;
+  void set(int i, int level) const {
+    changes->push_back({first + size_t(i), uint16_t(d(i))});
+    out[i * stride] = uint16_t(level);
+  }
 };
 
 // A column aligned in place: its depth before the column pass read from `ring` (the thread's columns
-// of the last `ringRows` rows, row r at r % ringRows, `ringWidth` samples a row), its samples written
+// of the last ringMask + 1 rows, row r at r & ringMask, `ringWidth` samples a row), its samples written
 // into the map (`out`, with the row stride), each write noted in `changes` with the level before.
 struct RingColumn {
   const uint16_t* ring;
@@ -48,10 +54,10 @@ struct RingColumn {
   ptrdiff_t stride;
   int n;
   int u0, v0, du, dv;  // as Line's: (x, 0, 0, 1)
-  int ringRows;
+  int ringMask;  // the ring's rows less one (a power of two)
   ptrdiff_t ringWidth;
   std::vector<Change>* changes;
-  int d(int i) const { return ring[(i % ringRows) * ringWidth]; }
+  int d(int i) const { return ring[(i & ringMask) * ringWidth]; }
   int y(int i) const { return luma[i * stride]; }
   void set(int i, int level) const {
     changes->push_back({size_t(i) * size_t(stride) + size_t(u0), uint16_t(d(i))});
@@ -173,7 +179,7 @@ size_t alignDepthEdgesInPlace(Plane& depth, const Plane& luma, const EdgeAlignOp
       !witness.projection || !witness.inverseDepth)
     return 0;
   const int w = depth.width, h = depth.height;
-  // The samples the passes changed, with their levels before (few): counted at the end.
+  // The samples the passes wrote, with their levels before (few): counted at the end.
   std::mutex changesMutex;
   std::vector<Change> rowChanges, columnChanges;
   auto keep = [&](std::vector<Change>& into, std::vector<Change>& from) {
@@ -202,18 +208,11 @@ size_t alignDepthEdgesInPlace(Plane& depth, const Plane& luma, const EdgeAlignOp
       if (y + 1 < y1) prefetchSamples(luma.row(y + 1), luma.row(y + 1) + w);  // read at the next row's edges
       uint16_t* row = depth.row(y);
       std::copy(row, row + w, before.data());
-      const Line line{before.data(), luma.row(y), row, 1, w, 0, y, 1, 0};
+      const Line line{before.data(), luma.row(y), row, 1, w, 0, y, 1, 0, size_t(y) * size_t(w), &changes};
       markDepthEdges(before.data(), before.data() + 1, w - 1, options, edgeFlags.data());
-      bool moved = false;
       forEachFlag(edgeFlags.data(), w - 1, [&](int x) {
-        if (mayMove(line, x, options)) {
-          alignEdge(line, x, options, witness);
-          moved = true;
-        }
+        if (mayMove(line, x, options)) alignEdge(line, x, options, witness);
       });
-      if (moved)
-        for (int x = 0; x < w; ++x)
-          if (row[x] != before[size_t(x)]) changes.push_back({size_t(y) * size_t(w) + size_t(x), before[size_t(x)]});
     }
     keep(rowChanges, changes);
   });
@@ -221,8 +220,9 @@ size_t alignDepthEdgesInPlace(Plane& depth, const Plane& luma, const EdgeAlignOp
   // and finds their edges row by row, in memory order. The edges at rows y, y + 1 read rows y - reach
   // + 1 to y + reach and write rows up to y + reach, so a ring of 2 reach + 2 rows holds every row
   // they read as it was before the pass: row y + reach + 1 is copied in before the edges at y, when
-  // no edge has written it yet.
-  const int ringRows = 2 * options.reach + 2;
+  // no edge has written it yet. Its rows rounded up to a power of two, so that a row's place is a mask.
+  int ringRows = 1;
+  while (ringRows < 2 * options.reach + 2) ringRows *= 2;
   parallelColumns(w, [&](int x0, int x1) {
     const auto scratch = scratchPool.take();
     std::vector<uint8_t>& edgeFlags = scratch->flags;
@@ -232,7 +232,7 @@ size_t alignDepthEdgesInPlace(Plane& depth, const Plane& luma, const EdgeAlignOp
     edgeFlags.resize(size_t(width));
     ringRow.resize(size_t(ringRows) * size_t(width));
     uint16_t* ring = ringRow.data();
-    auto ringAt = [&](int r) { return ring + size_t(r % ringRows) * size_t(width); };
+    auto ringAt = [&](int r) { return ring + size_t(r & (ringRows - 1)) * size_t(width); };
     int copied = 0;  // rows [0, copied) are in the ring (the last ringRows of them)
     for (int y = 0; y + 1 < h; ++y) {
       for (const int last = std::min(h - 1, y + options.reach + 1); copied <= last; ++copied)
@@ -244,16 +244,20 @@ size_t alignDepthEdgesInPlace(Plane& depth, const Plane& luma, const EdgeAlignOp
       forEachFlag(edgeFlags.data(), width, [&](int offset) {
         const int x = x0 + offset;
         const RingColumn column{ring + offset, luma.samples.data() + x, depth.samples.data() + x, w, h, x, 0, 0, 1,
-                                ringRows, width, &changes};
+                                ringRows - 1, width, &changes};
         if (mayMove(column, y, options)) alignEdge(column, y, options, witness);
       });
     }
     keep(columnChanges, changes);
   });
-  // Samples moved: those whose level differs from the one they had before both passes (a column's
-  // write noted before the row pass had changed the sample holds the row pass's level).
+  // Samples moved: those whose level differs from the one they had before both passes. A sample
+  // written twice in its row pass was noted twice with the same level (the row's copy's); a column's
+  // note holds the level after the row pass, so a sample the row pass wrote takes the row's note.
   auto byIndex = [](const Change& a, const Change& b) { return a.index < b.index; };
   std::sort(rowChanges.begin(), rowChanges.end(), byIndex);
+  rowChanges.erase(std::unique(rowChanges.begin(), rowChanges.end(),
+                               [](const Change& a, const Change& b) { return a.index == b.index; }),
+                   rowChanges.end());
   std::stable_sort(columnChanges.begin(), columnChanges.end(), byIndex);
   size_t changed = 0;
   const uint16_t* after = depth.samples.data();

@@ -6,12 +6,19 @@
 #include <cstdlib>
 #include <vector>
 
+#include "Synth/Interpolation.h"
 #include "Synth/Kernels/Rows.h"
-#include "Synth/ReferenceEdges.h"
 #include "Synth/Synthesizer.h"
 
 namespace vs {
 
+namespace {
+
+// Row y of the step flags of `depth`: a sample is a step when it is missing, or a neighbour (left,
+// right, above, below) is missing or differs by minStep levels or more. A neighbour beyond the border
+// is read as the sample itself, which adds nothing; for an ERP reference (`sphere`) round its wrap the
+// neighbour of the last column is the first, and beyond a pole the first (last) row half a turn round.
+// `turned`: working space (width samples where y is a pole's row). `out`: width flags.
 void referenceStepRow(const Plane& depth, int y, const SphereEdges& sphere, int missing, int minStep,
                       std::vector<uint16_t>& turned, uint8_t* out) {
   const int w = depth.width, h = depth.height;
@@ -40,18 +47,31 @@ void referenceStepRow(const Plane& depth, int y, const SphereEdges& sphere, int 
   }
 }
 
+}  // namespace
+
 void Synthesizer::markReferenceEdges(ViewState& view, const Plane& depth) {
   const int w = depth.width, h = depth.height;
   // Dilated by one sample: the colours on both sides of an edge are mixed by the camera's optics.
   // (1D mode with WarpEnhancementOption 0 does without these reliability flags.)
   std::vector<uint8_t>& edge = view.referenceEdge;
+  const int missing = plan_.missingDepthLevel, minStep = plan_.edgeLevelStep;
+  const SphereEdges sphere = view.projection.referenceSphere();
+  // The 1D depth warp with SplattingOption 2 reads the steps themselves, row by row: they are kept in
+  // a plane for it (the one place they are).
+  std::vector<uint8_t>& steps = view.referenceStep;
+  const bool keepSteps = rowPath_ && scene_.settings.oneD.splatting == 2;
+  if (keepSteps) steps.resize(size_t(w) * h);
   if (!plan_.referenceEdgeFlags) {
     edge.assign(size_t(w) * h, 0);
+    if (keepSteps)
+      parallelRanges(h, [&](int y0, int y1) {
+        std::vector<uint16_t> turnedDepth;
+        for (int y = y0; y < y1; ++y)
+          referenceStepRow(depth, y, sphere, missing, minStep, turnedDepth, steps.data() + size_t(y) * w);
+      });
     return;
   }
   edge.resize(size_t(w) * h);  // every sample is written below
-  const int missing = plan_.missingDepthLevel, minStep = plan_.edgeLevelStep;
-  const SphereEdges sphere = view.projection.referenceSphere();
   // Separable: the step flags (referenceStepRow) ORed over three samples along rows, then along
   // columns. Each loop body keeps the rows it needs dilated along the row (the row above, the row, the
   // row below) in three rolling buffers, so that no plane of the steps or of the rows is written: a
@@ -64,11 +84,14 @@ void Synthesizer::markReferenceEdges(ViewState& view, const Plane& depth) {
     buffers.resize(5 * size_t(width));
     uint8_t* slot[3] = {buffers.data(), buffers.data() + width, buffers.data() + 2 * size_t(width)};
     uint8_t* turned = buffers.data() + 3 * size_t(width);  // beyond a pole: a dilated row half a turn round
-    uint8_t* in = buffers.data() + 4 * size_t(width);      // a row's step flags
+    uint8_t* ownSteps = buffers.data() + 4 * size_t(width);  // a row's step flags
     std::vector<uint16_t> turnedDepth;
     // Row r of the step flags dilated along the row; border samples read themselves for the missing
     // neighbour (round the wrap for an ERP reference), the rest run without branches.
     auto dilate = [&](int r, uint8_t* out) {
+      // (a kept row of the body's own range found into the plane; the two beyond it, which other
+      // bodies keep, into the body's row)
+      uint8_t* const in = keepSteps && r >= y0 && r < y1 ? steps.data() + size_t(r) * width : ownSteps;
       referenceStepRow(depth, r, sphere, missing, minStep, turnedDepth, in);
       out[0] = in[wrapLeft] | in[0] | in[std::min(1, width - 1)];
       for (int x = 1; x + 1 < width; ++x) out[x] = in[x - 1] | in[x] | in[x + 1];

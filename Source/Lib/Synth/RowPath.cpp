@@ -11,7 +11,6 @@
 #include "Synth/Cracks.h"
 #include "Synth/Flags.h"
 #include "Synth/Kernels/Rows.h"
-#include "Synth/ReferenceEdges.h"
 #include "Synth/Synthesizer.h"
 
 namespace vs {
@@ -78,20 +77,11 @@ void Synthesizer::warpDepthRows(ViewState& view, const Plane& depth) {
     std::vector<uint8_t>& isolatedRow = scratch->isolated;
     nearRow.resize(size_t(width));
     isolatedRow.resize(size_t(outWidth));
-    // The row's reference depth steps (referenceStepRow: found again here rather than kept in a plane).
-    const auto stepScratch = byteRows_.take();
-    std::vector<uint8_t>& stepRow = *stepScratch;
-    stepRow.resize(size_t(width));
-    std::vector<uint16_t> turned;
-    const SphereEdges sphere = view.projection.referenceSphere();
-    const int missing = plan_.missingDepthLevel, minStep = plan_.edgeLevelStep;
+
     for (int y = y0; y < y1; ++y) {
       if (!cleared) clearDepthRows(layer, y, y + 1);
       // Within BoundaryGrowth samples of a reference depth edge.
-      if (nearEdges) {
-        referenceStepRow(depth, y, sphere, missing, minStep, turned, stepRow.data());
-        markWithinReach(stepRow.data(), width, growth, nearRow.data());
-      }
+      if (nearEdges) markWithinReach(view.referenceStep.data() + size_t(y) * width, width, growth, nearRow.data());
       double* row = view.luma.inverseDepth.data() + size_t(y) * outWidth;
       rowWarp.warp(depth.row(y), width, nearRow.data(), row, outWidth, scratch->warp);
       // A row is all its own warp writes: it is cleaned, and its cracks closed (closeCracks' row pass,

@@ -126,6 +126,7 @@ void Synthesizer::releaseSpentBuffers(Spent spent) {
       case Spent::depthSteps:
         releaseMemory(view.filledDepth.samples);
         releaseMemory(view.filledSamples);
+        releaseMemory(view.referenceStep);
         break;
       case Spent::textureSteps:
         releaseMemory(view.referenceEdge);
