@@ -77,7 +77,6 @@ void Synthesizer::warpDepthRows(ViewState& view, const Plane& depth) {
     std::vector<uint8_t>& isolatedRow = scratch->isolated;
     nearRow.resize(size_t(width));
     isolatedRow.resize(size_t(outWidth));
-
     for (int y = y0; y < y1; ++y) {
       if (!cleared) clearDepthRows(layer, y, y + 1);
       // Within BoundaryGrowth samples of a reference depth edge.
