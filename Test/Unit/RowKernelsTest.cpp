@@ -170,7 +170,12 @@ TEST(RowKernels, RowSourcesAndTargetsAreThePlainRowFormulas) {
         table.push_back(std::nan(""));
         table.push_back(kKernelNoDepth);
         std::vector<uint16_t> levels(static_cast<size_t>(n));
-        for (uint16_t& level : levels) level = uint16_t(unit(rng) < 0.1 ? 60000 : 12 * unit(rng));
+        // Scattered levels in half the rows, runs of one level (up to 20 samples) in the others.
+        const bool runs = unit(rng) < 0.5;
+        for (size_t i = 0; i < levels.size();) {
+          const uint16_t level = uint16_t(unit(rng) < 0.1 ? 60000 : 12 * unit(rng));
+          for (size_t run = runs ? 1 + size_t(20 * unit(rng)) : 1; run > 0 && i < levels.size(); --run) levels[i++] = level;
+        }
         std::vector<double> xs(static_cast<size_t>(n)), ws(static_cast<size_t>(n));
         kernels->rowTargets(levels.data(), n, table.data(), 10, scale, offset, xs.data(), ws.data());
         for (int x = 0; x < n; ++x) {

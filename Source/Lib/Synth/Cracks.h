@@ -18,5 +18,10 @@ namespace vs {
 // `flagRows`: one line of flags for each loop body running at once.
 void closeCracks(std::vector<double>& inverseDepth, int width, int height, double tolerance,
                  ScratchPool<std::vector<uint8_t>>& flagRows);
+// closeCracks in two parts, for a warp that closes each row's cracks while the row is at hand (each row
+// is closed by itself): one row (`flags`: width bytes of working space), and then all the columns.
+void closeRowCracks(double* row, int width, double tolerance, uint8_t* flags);
+void closeColumnCracks(std::vector<double>& inverseDepth, int width, int height, double tolerance,
+                       ScratchPool<std::vector<uint8_t>>& flagRows);
 
 }  // namespace vs

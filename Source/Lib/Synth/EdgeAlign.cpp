@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <mutex>
 #include <vector>
 
 #include "Common/Depth.h"
@@ -17,7 +18,15 @@ namespace vs {
 
 namespace {
 
-// One line of samples: a row, or a column read with the row stride. Reads `depth`, writes `out`.
+// What an edge changes, where the passes align the map in place: the sample's index and the level it
+// had before the pass.
+struct Change {
+  size_t index;
+  uint16_t before;
+};
+
+// A row aligned in place: its depth before the pass read from `depth` (a copy of the row), its samples
+// written into the map's row (`out`), each write noted in `changes` with the level before.
 struct Line {
   const uint16_t* depth;
   const uint16_t* luma;
@@ -25,14 +34,41 @@ struct Line {
   ptrdiff_t stride;
   int n;
   int u0, v0, du, dv;  // reference pixel of sample i: (u0 + i du, v0 + i dv)
+  size_t first;        // the map's index of sample 0
+  std::vector<Change>* changes;
   int d(int i) const { return depth[i * stride]; }
   int y(int i) const { return luma[i * stride]; }
-  void set(int i, int level) const { out[i * stride] = uint16_t(level); }
+  void set(int i, int level) const {
+    changes->push_back({first + size_t(i), uint16_t(d(i))});
+    out[i * stride] = uint16_t(level);
+  }
+};
+
+// A column aligned in place: its depth before the column pass read from `ring` (the thread's columns
+// of the last ringMask + 1 rows, row r at r & ringMask, `ringWidth` samples a row), its samples written
+// into the map (`out`, with the row stride), each write noted in `changes` with the level before.
+struct RingColumn {
+  const uint16_t* ring;
+  const uint16_t* luma;
+  uint16_t* out;
+  ptrdiff_t stride;
+  int n;
+  int u0, v0, du, dv;  // as Line's: (x, 0, 0, 1)
+  int ringMask;  // the ring's rows less one (a power of two)
+  ptrdiff_t ringWidth;
+  std::vector<Change>* changes;
+  int d(int i) const { return ring[(i & ringMask) * ringWidth]; }
+  int y(int i) const { return luma[i * stride]; }
+  void set(int i, int level) const {
+    changes->push_back({size_t(i) * size_t(stride) + size_t(u0), uint16_t(d(i))});
+    out[i * stride] = uint16_t(level);
+  }
 };
 
 // How unlike sample i of `line` the witness sees its point at depth `level`: the least luma
 // difference over three witness samples along the row around where it lands; -1: no evidence.
-int mismatch(const EdgeWitness& witness, const Line& line, int i, int level) {
+template <class L>
+int mismatch(const EdgeWitness& witness, const L& line, int i, int level) {
   if (size_t(level) >= witness.inverseDepth->size()) return -1;
   const double inverse = (*witness.inverseDepth)[size_t(level)];
   if (std::isnan(inverse)) return -1;
@@ -62,7 +98,8 @@ void markDepthEdges(const uint16_t* a, const uint16_t* b, int n, const EdgeAlign
 // minContrast, at least twice and more than the contrast at the depth edge. Most depth edges fail
 // it; here without a branch on the samples (positions past the line's ends read the edge's own
 // contrast instead, which adds nothing), so that they cost little.
-inline bool mayMove(const Line& line, int x, const EdgeAlignOptions& o) {
+template <class L>
+inline bool mayMove(const L& line, int x, const EdgeAlignOptions& o) {
   const int n = line.n;
   auto contrast = [&](int p) { return std::abs(line.y(p + 1) - line.y(p)); };
   const int toFar = line.d(x) > line.d(x + 1) ? 1 : -1;
@@ -86,7 +123,8 @@ inline void prefetchSamples(const uint16_t* begin, const uint16_t* end) {
 
 // The depth edge between samples x and x + 1 of `line`: moves it onto the texture edge when the tests
 // of EdgeAlign.h hold.
-void alignEdge(const Line& line, int x, const EdgeAlignOptions& o, const EdgeWitness& witness) {
+template <class L>
+void alignEdge(const L& line, int x, const EdgeAlignOptions& o, const EdgeWitness& witness) {
   const int n = line.n;
   auto contrast = [&](int p) { return std::abs(line.y(p + 1) - line.y(p)); };
   const int a = line.d(x), b = line.d(x + 1);
@@ -135,56 +173,108 @@ void alignEdge(const Line& line, int x, const EdgeAlignOptions& o, const EdgeWit
 
 }  // namespace
 
-size_t alignDepthEdges(const Plane& depth, const Plane& luma, const EdgeAlignOptions& options,
-                       const EdgeWitness& witness, Plane& out, Plane& scratch) {
-  out = depth;
+size_t alignDepthEdgesInPlace(Plane& depth, const Plane& luma, const EdgeAlignOptions& options,
+                              const EdgeWitness& witness) {
   if (options.reach <= 0 || luma.width != depth.width || luma.height != depth.height || !witness.luma ||
       !witness.projection || !witness.inverseDepth)
     return 0;
   const int w = depth.width, h = depth.height;
-  // Edge flags of one line for each loop body running at once (alignEdge reads the input depth and
-  // writes `out`, so flags found before aligning a line are the ones found while aligning it).
-  ScratchPool<std::vector<uint8_t>> flagRows;
+  // The samples the passes wrote, with their levels before (few): counted at the end.
+  std::mutex changesMutex;
+  std::vector<Change> rowChanges, columnChanges;
+  auto keep = [&](std::vector<Change>& into, std::vector<Change>& from) {
+    if (from.empty()) return;
+    std::lock_guard<std::mutex> lock(changesMutex);
+    into.insert(into.end(), from.begin(), from.end());
+    from.clear();
+  };
+  // Each line's edges read the line as it was before its pass and write the map: a row is copied
+  // before its edges are aligned, and the column pass keeps the last rows it read before writing
+  // them (a ring). Per loop body: the line's edge flags, the copy, and the changes found.
+  struct Scratch {
+    std::vector<uint8_t> flags;
+    std::vector<uint16_t> copy;
+    std::vector<Change> changes;
+  };
+  ScratchPool<Scratch> scratchPool;
   parallelRanges(h, [&](int y0, int y1) {
-    const auto flags = flagRows.take();
-    std::vector<uint8_t>& edgeFlags = *flags;
+    const auto scratch = scratchPool.take();
+    std::vector<uint8_t>& edgeFlags = scratch->flags;
+    std::vector<uint16_t>& before = scratch->copy;
+    std::vector<Change>& changes = scratch->changes;
     edgeFlags.resize(size_t(w));
+    before.resize(size_t(w));
     for (int y = y0; y < y1; ++y) {
       if (y + 1 < y1) prefetchSamples(luma.row(y + 1), luma.row(y + 1) + w);  // read at the next row's edges
-      const Line line{depth.row(y), luma.row(y), out.row(y), 1, w, 0, y, 1, 0};
-      const uint16_t* d = depth.row(y);
-      markDepthEdges(d, d + 1, w - 1, options, edgeFlags.data());
+      uint16_t* row = depth.row(y);
+      std::copy(row, row + w, before.data());
+      const Line line{before.data(), luma.row(y), row, 1, w, 0, y, 1, 0, size_t(y) * size_t(w), &changes};
+      markDepthEdges(before.data(), before.data() + 1, w - 1, options, edgeFlags.data());
       forEachFlag(edgeFlags.data(), w - 1, [&](int x) {
         if (mayMove(line, x, options)) alignEdge(line, x, options, witness);
       });
     }
+    keep(rowChanges, changes);
   });
   // Then the columns of the aligned rows, each from top to bottom; a thread takes a range of columns
-  // and finds their edges row by row, in memory order.
-  scratch = out;
+  // and finds their edges row by row, in memory order. The edges at rows y, y + 1 read rows y - reach
+  // + 1 to y + reach and write rows up to y + reach, so a ring of 2 reach + 2 rows holds every row
+  // they read as it was before the pass: row y + reach + 1 is copied in before the edges at y, when
+  // no edge has written it yet. Its rows rounded up to a power of two, so that a row's place is a mask.
+  int ringRows = 1;
+  while (ringRows < 2 * options.reach + 2) ringRows *= 2;
   parallelColumns(w, [&](int x0, int x1) {
-    const auto flags = flagRows.take();
-    std::vector<uint8_t>& edgeFlags = *flags;
-    edgeFlags.resize(size_t(w));
+    const auto scratch = scratchPool.take();
+    std::vector<uint8_t>& edgeFlags = scratch->flags;
+    std::vector<uint16_t>& ringRow = scratch->copy;
+    std::vector<Change>& changes = scratch->changes;
+    const int width = x1 - x0;
+    edgeFlags.resize(size_t(width));
+    ringRow.resize(size_t(ringRows) * size_t(width));
+    uint16_t* ring = ringRow.data();
+    auto ringAt = [&](int r) { return ring + size_t(r & (ringRows - 1)) * size_t(width); };
+    int copied = 0;  // rows [0, copied) are in the ring (the last ringRows of them)
     for (int y = 0; y + 1 < h; ++y) {
-      // The rows the edges of the rows ahead will read, up to reach + 1 below the pair's first.
+      for (const int last = std::min(h - 1, y + options.reach + 1); copied <= last; ++copied)
+        std::copy(depth.row(copied) + x0, depth.row(copied) + x1, ringAt(copied));
+      // The luma rows the edges of the rows ahead will read, up to reach + 1 below the pair's first.
       const int ahead = std::min(h - 1, y + options.reach + 1);
       prefetchSamples(luma.row(ahead) + x0, luma.row(ahead) + x1);
-      prefetchSamples(scratch.row(ahead) + x0, scratch.row(ahead) + x1);
-      markDepthEdges(scratch.row(y) + x0, scratch.row(y + 1) + x0, x1 - x0, options, edgeFlags.data());
-      forEachFlag(edgeFlags.data(), x1 - x0, [&](int offset) {
+      markDepthEdges(ringAt(y), ringAt(y + 1), width, options, edgeFlags.data());
+      forEachFlag(edgeFlags.data(), width, [&](int offset) {
         const int x = x0 + offset;
-        const Line column{scratch.samples.data() + x, luma.samples.data() + x, out.samples.data() + x, w, h, x, 0, 0, 1};
+        const RingColumn column{ring + offset, luma.samples.data() + x, depth.samples.data() + x, w, h, x, 0, 0, 1,
+                                ringRows - 1, width, &changes};
         if (mayMove(column, y, options)) alignEdge(column, y, options, witness);
       });
     }
+    keep(columnChanges, changes);
   });
-  // Samples moved: a branch-free count that vectorises.
+  // Samples moved: those whose level differs from the one they had before both passes. A sample
+  // written twice in its row pass was noted twice with the same level (the row's copy's); a column's
+  // note holds the level after the row pass, so a sample the row pass wrote takes the row's note.
+  auto byIndex = [](const Change& a, const Change& b) { return a.index < b.index; };
+  std::sort(rowChanges.begin(), rowChanges.end(), byIndex);
+  rowChanges.erase(std::unique(rowChanges.begin(), rowChanges.end(),
+                               [](const Change& a, const Change& b) { return a.index == b.index; }),
+                   rowChanges.end());
+  std::stable_sort(columnChanges.begin(), columnChanges.end(), byIndex);
   size_t changed = 0;
-  const uint16_t* before = depth.samples.data();
-  const uint16_t* after = out.samples.data();
-  for (size_t i = 0, n = out.samples.size(); i < n; ++i) changed += size_t(before[i] != after[i]);
+  const uint16_t* after = depth.samples.data();
+  for (const Change& c : rowChanges) changed += after[c.index] != c.before;
+  for (size_t k = 0; k < columnChanges.size(); ++k) {
+    const Change& c = columnChanges[k];
+    if (k > 0 && columnChanges[k - 1].index == c.index) continue;  // the first write saw the level before
+    if (std::binary_search(rowChanges.begin(), rowChanges.end(), c, byIndex)) continue;
+    changed += after[c.index] != c.before;
+  }
   return changed;
+}
+
+size_t alignDepthEdges(const Plane& depth, const Plane& luma, const EdgeAlignOptions& options,
+                       const EdgeWitness& witness, Plane& out) {
+  out = depth;
+  return alignDepthEdgesInPlace(out, luma, options, witness);
 }
 
 DepthEdgeAligner::DepthEdgeAligner(const SynthesisSettings& s, int missingLevel) {
@@ -224,8 +314,18 @@ const Plane& DepthEdgeAligner::align(size_t k, const Plane& depth, const std::ve
   witness.luma = lumas[size_t(view.witness)];
   witness.projection = &*view.projection;
   witness.inverseDepth = &view.inverseDepth;
-  moved += alignDepthEdges(depth, *lumas[k], view.options, witness, view.aligned, view.scratch);
+  moved += alignDepthEdges(depth, *lumas[k], view.options, witness, view.aligned);
   return view.aligned;
+}
+
+void DepthEdgeAligner::alignInPlace(size_t k, Plane& depth, const std::vector<const Plane*>& lumas, size_t& moved) {
+  if (!enabled()) return;
+  const View& view = views_[k];
+  EdgeWitness witness;
+  witness.luma = lumas[size_t(view.witness)];
+  witness.projection = &*view.projection;
+  witness.inverseDepth = &view.inverseDepth;
+  moved += alignDepthEdgesInPlace(depth, *lumas[k], view.options, witness);
 }
 
 }  // namespace vs

@@ -40,11 +40,15 @@ struct EdgeWitness {
   const std::vector<double>* inverseDepth = nullptr;  // aligned view: level -> inverse depth (NaN: missing)
 };
 
-// `out` = `depth` with its edges aligned (see above), each move judged by `witness`; returns how many
-// samples changed level. Depth and luma of different sizes, or reach 0, give an unchanged copy.
-// `scratch` is working space.
+// `depth`'s edges aligned (see above) in place, each move judged by `witness`; returns how many
+// samples changed level. Depth and luma of different sizes, or reach 0, leave it unchanged. Each
+// pass reads its lines as they were before it from copies of a row (rows) or of a few rows (columns),
+// so that no second map is needed.
+size_t alignDepthEdgesInPlace(Plane& depth, const Plane& luma, const EdgeAlignOptions& options,
+                              const EdgeWitness& witness);
+// The same into `out`, a copy of `depth`.
 size_t alignDepthEdges(const Plane& depth, const Plane& luma, const EdgeAlignOptions& options,
-                       const EdgeWitness& witness, Plane& out, Plane& scratch);
+                       const EdgeWitness& witness, Plane& out);
 
 // DepthEdgeAlignment for a scene's reference views: each view is judged by the nearest other one
 // (camera centres). Off with one reference view (nothing to judge by) or DepthEdgeAlignment 0.
@@ -60,12 +64,11 @@ public:
   // View k's depth map aligned, given every view's texture luma this frame; `depth` itself when off.
   // The result stays valid until the next call for the same view. Adds the samples moved to `moved`.
   const Plane& align(size_t view, const Plane& depth, const std::vector<const Plane*>& lumas, size_t& moved);
+  // The same in `depth` itself (a map of the caller's that nothing else reads): no copy is made.
+  void alignInPlace(size_t view, Plane& depth, const std::vector<const Plane*>& lumas, size_t& moved);
   // Frees the aligned maps (a run of one frame, once the depth warp has read them).
   void releaseMemory() {
-    for (View& view : views_) {
-      std::vector<uint16_t>().swap(view.aligned.samples);
-      std::vector<uint16_t>().swap(view.scratch.samples);
-    }
+    for (View& view : views_) std::vector<uint16_t>().swap(view.aligned.samples);
   }
 
 private:
@@ -74,7 +77,7 @@ private:
     std::optional<ViewProjection> projection;  // this view -> its witness
     std::vector<double> inverseDepth;           // level -> inverse depth, NaN at the missing level
     EdgeAlignOptions options;
-    Plane aligned, scratch;
+    Plane aligned;
   };
   std::vector<View> views_;
 };

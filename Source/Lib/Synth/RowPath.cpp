@@ -17,6 +17,19 @@ namespace vs {
 
 namespace {
 
+// clearRows (Layer.h) split in two: the depth rows, cleared by the depth warp, and the colours and
+// edge flags, cleared by the texture warp before its look-ups write them.
+void clearDepthRows(WarpedLayer& layer, int y0, int y1) {
+  const size_t begin = size_t(y0) * size_t(layer.width), end = size_t(y1) * size_t(layer.width);
+  std::fill(layer.inverseDepth.data() + begin, layer.inverseDepth.data() + end, kNoDepth);
+}
+
+void clearColourRows(WarpedLayer& layer, int y0, int y1) {
+  const size_t begin = size_t(y0) * size_t(layer.width), end = size_t(y1) * size_t(layer.width);
+  for (int k = 0; k < layer.channels; ++k) std::fill(layer.colour[k].data() + begin, layer.colour[k].data() + end, 0.0f);
+  std::fill(layer.edge.data() + begin, layer.edge.data() + end, uint8_t(0));
+}
+
 // CleanNoiseOption on one row of a layer's depth: a sample with holes on both sides along its row is
 // a stray point of a surface seen elsewhere, removed before it picks up colour. Removing a sample
 // never changes the decision for the next one (it is removed only when the next is a hole, which is
@@ -39,14 +52,25 @@ void Synthesizer::warpDepthRows(ViewState& view, const Plane& depth) {
   const int w = depth.width, h = depth.height;
   const int outW = outputFormat_.width, outH = outputFormat_.height;
   const OneDOptions& oneD = scene_.settings.oneD;
-  view.luma.resize(outW, outH, plan_.rgb ? 3 : 1);  // cleared row by row below (clearRows)
+  // Only the depth plane here, cleared row by row below: the colours and edge flags are sized by the
+  // texture warp, which writes them, so that in a run of one frame they take the memory the depth
+  // steps' maps give back in between (Synthesizer::releaseSpentBuffers) instead of fresh pages.
+  WarpedLayer& layer = view.luma;
+  layer.width = outW;
+  layer.height = outH;
+  layer.channels = plan_.rgb ? 3 : 1;
+  // A plane allocated here (a run's first frame) is filled with "no depth" as it is allocated: the
+  // fill that zeroing it would be, and no clearing of its rows after.
+  const bool cleared = layer.inverseDepth.size() != size_t(outW) * size_t(outH);
+  if (cleared) layer.inverseDepth.assign(size_t(outW) * size_t(outH), kNoDepth);
   // Rows below the reference (an output taller than it) receive nothing.
-  if (outH > h) clearRows(view.luma, h, outH);
+  if (outH > h && !cleared) clearDepthRows(layer, h, outH);
   const RowDepthWarp rowWarp(view.projection, view.levelToRowDepth, plan_.discontinuity, oneD.splatting);
   parallelRanges(std::min(h, outH), [&](int y0, int y1) {
     const int width = w, outWidth = outW, growth = oneD.boundaryGrowth;
     const bool nearEdges = oneD.splatting == 2;
     const bool cleanNoise = plan_.cleanNoise;
+    const double discontinuity = plan_.discontinuity;
     // The row's boundary flags and isolated samples, and the row warp's buffers.
     const auto scratch = rowWarpRows_.take();
     std::vector<uint8_t>& nearRow = scratch->nearEdge;
@@ -54,16 +78,19 @@ void Synthesizer::warpDepthRows(ViewState& view, const Plane& depth) {
     nearRow.resize(size_t(width));
     isolatedRow.resize(size_t(outWidth));
     for (int y = y0; y < y1; ++y) {
-      clearRows(view.luma, y, y + 1);
+      if (!cleared) clearDepthRows(layer, y, y + 1);
       // Within BoundaryGrowth samples of a reference depth edge.
       if (nearEdges) markWithinReach(view.referenceStep.data() + size_t(y) * width, width, growth, nearRow.data());
       double* row = view.luma.inverseDepth.data() + size_t(y) * outWidth;
       rowWarp.warp(depth.row(y), width, nearRow.data(), row, outWidth, scratch->warp);
-      // A row is all its own warp writes: it is cleaned while it is at hand.
+      // A row is all its own warp writes: it is cleaned, and its cracks closed (closeCracks' row pass,
+      // which takes each row by itself), while it is at hand.
       if (cleanNoise) cleanIsolatedSamples(row, outWidth, isolatedRow.data());
+      closeRowCracks(row, outWidth, discontinuity, isolatedRow.data());
     }
   });
-  closeCracks(view.luma.inverseDepth, outW, outH, plan_.discontinuity, byteRows_);
+  // Rows below the reference hold no depth: no crack. Then closeCracks' column pass.
+  closeColumnCracks(view.luma.inverseDepth, outW, outH, plan_.discontinuity, byteRows_);
 }
 
 void Synthesizer::flagCrowdedHoles(ViewState& view) {
@@ -110,6 +137,11 @@ void Synthesizer::flagCrowdedHoles(ViewState& view) {
 void Synthesizer::warpTextureRows(ViewState& view, const std::vector<const Plane*>& planes) {
   WarpedLayer& layer = view.luma;
   const int refW = planes[0]->width, refH = planes[0]->height;
+  // The colours and edge flags (the depth warp sized the depth plane only), cleared row by row below
+  // unless allocated here (from empty, resize leaves them 0, the cleared value).
+  bool cleared = layer.edge.empty();
+  for (int c = 0; c < layer.channels; ++c) cleared = cleared && layer.colour[c].empty();
+  layer.resize(layer.width, layer.height, layer.channels);
   // Rows map to rows: the look-up stays in row y (as backward() gives v = y). The tap and channel
   // counts are compile-time constants, so that the channel loop unrolls.
   auto warpRows = [&](auto taps, auto channelCount) {
@@ -138,6 +170,7 @@ void Synthesizer::warpTextureRows(ViewState& view, const std::vector<const Plane
                          {nullptr, nullptr, nullptr}, nullptr};
       const RowKernels& kernels = rowKernels();
       for (int y = y0; y < y1; ++y) {
+        if (!cleared) clearColourRows(layer, y, y + 1);
         for (int c = 0; c < kChannels; ++c) sampledRows[c].build<kTaps>(sampler, *planes[size_t(c)], y, -1, referenceWidth);
         projection.rowSources(depth + size_t(y) * width, width, sources);
         // The look-ups, in a kernel compiled for the CPU's x86-64 level: every one whose grid index
@@ -170,6 +203,7 @@ void Synthesizer::warpTextureRows(ViewState& view, const std::vector<const Plane
     else warpRows(taps, std::integral_constant<int, 1>());
   });
   // Rows below the reference (an output taller than it) look up nothing.
+  if (layer.height > refH && !cleared) clearColourRows(layer, refH, layer.height);
   for (size_t i = size_t(std::min(layer.height, refH)) * layer.width; i < layer.inverseDepth.size(); ++i)
     layer.inverseDepth[i] = kNoDepth;
 }

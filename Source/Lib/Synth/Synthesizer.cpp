@@ -129,7 +129,6 @@ void Synthesizer::releaseSpentBuffers(Spent spent) {
         releaseMemory(view.filledDepth.samples);
         releaseMemory(view.filledSamples);
         releaseMemory(view.referenceStep);
-        releaseMemory(view.referenceStepRows);
         break;
       case Spent::textureSteps:
         releaseMemory(view.referenceEdge);
@@ -246,9 +245,13 @@ void Synthesizer::synthesize(const std::vector<ReferenceFrame>& references, Fram
       if (plan_.missingDepthRunTest)
         testFilledRuns(scene_, k, references, plan_.missingDepthLevel, view.filledDepth, view.filledSamples);
     }
-    if (filled) depth = &view.filledDepth;
     view.alignedSamples = 0;
-    depth = &aligner_.align(k, *depth, lumas, view.alignedSamples);
+    if (filled) {  // the filled map is the view's own: aligned in place, without a copy
+      aligner_.alignInPlace(k, view.filledDepth, lumas, view.alignedSamples);
+      depth = &view.filledDepth;
+    } else {
+      depth = &aligner_.align(k, *depth, lumas, view.alignedSamples);
+    }
     markReferenceEdges(view, *depth);
     // Estimated depth is unreliable: where another view has a real one on the same surface, it wins
     // (also where alignment then gave a filled sample the near side's level).

@@ -84,9 +84,9 @@ private:
     std::vector<double> levelToRowDepth;      // 1D: inverse camera depth per level; NaN: not warped
     WarpedLayer luma;                         // or RGB in ColorSpace 1
     WarpedLayer chroma;                       // U, V at chroma resolution (ColorSpace 0 with colour)
-    std::vector<uint8_t> referenceStep;             // reference samples at a depth discontinuity
-    std::vector<uint8_t> referenceEdge;             // the same, dilated by one sample: mixed colours
-    std::vector<uint8_t> referenceStepRows;         // scratch of the dilation
+    std::vector<uint8_t> referenceStep;             // reference samples at a depth discontinuity (1D,
+                                                    // SplattingOption 2, which reads them; else empty)
+    std::vector<uint8_t> referenceEdge;             // the steps dilated by one sample: mixed colours
     Plane filledDepth;                              // MissingDepthFill: the depth map with runs filled
     std::vector<uint8_t> filledSamples;             // the samples given a level there
     // Per-frame working buffers of the view's own steps (a view's steps may run beside another's).
