@@ -294,6 +294,52 @@ TEST(Raster, FourQuadsInVectorLanesEqualEightPlainTriangles) { checkQuadsEqualPl
 #endif
 #endif
 
+// Every level's quad-row kernels drawing the same row pairs, each into a z-buffer of its own for one
+// writer (lone) and one for threads (atomic), to be compared with the plain triangles' cells.
+class KernelBuffers {
+ public:
+  KernelBuffers(const std::vector<const QuadRowKernels*>& kernels, size_t cells)
+      : kernels_(kernels), lone_(kernels.size(), std::vector<double>(cells, kEmpty)), shared_(kernels.size()) {
+    for (AtomicMaxBuffer& buffer : shared_) buffer.reset(cells, kEmpty);
+  }
+  void draw(int width, int outWidth, int outHeight, double discontinuity, const std::vector<double> (&x)[2],
+            const std::vector<double> (&y)[2], const std::vector<double> (&w)[2]) {
+    for (size_t k = 0; k < kernels_.size(); ++k) {
+      kernels_[k]->lone(lone_[k].data(), width, outWidth, outHeight, discontinuity, x[0].data(), y[0].data(),
+                        w[0].data(), x[1].data(), y[1].data(), w[1].data());
+      kernels_[k]->atomic(shared_[k].cells(), width, outWidth, outHeight, discontinuity, x[0].data(), y[0].data(),
+                          w[0].data(), x[1].data(), y[1].data(), w[1].data());
+    }
+  }
+  // Whether every kernel's cells hold plain's bits; the first that differs is named.
+  ::testing::AssertionResult equal(const std::vector<double>& plain) const {
+    for (size_t k = 0; k < kernels_.size(); ++k) {
+      std::vector<double> fromAtomic(plain.size());
+      shared_[k].copyTo(0, plain.size(), fromAtomic.data());
+      for (size_t i = 0; i < plain.size(); ++i) {
+        if (bitsOf(plain[i]) != bitsOf(lone_[k][i]))
+          return ::testing::AssertionFailure() << "level " << kernels_[k]->level << ", cell " << i << ": "
+                                               << lone_[k][i] << " against the plain " << plain[i];
+        if (bitsOf(plain[i]) != bitsOf(fromAtomic[i]))
+          return ::testing::AssertionFailure() << "level " << kernels_[k]->level << " atomic, cell " << i << ": "
+                                               << fromAtomic[i] << " against the plain " << plain[i];
+      }
+    }
+    return ::testing::AssertionSuccess();
+  }
+  // Every buffer, plain's too, back to empty.
+  void clear(std::vector<double>& plain) {
+    std::fill(plain.begin(), plain.end(), kEmpty);
+    for (std::vector<double>& cells : lone_) std::fill(cells.begin(), cells.end(), kEmpty);
+    for (AtomicMaxBuffer& buffer : shared_) buffer.reset(plain.size(), kEmpty);
+  }
+
+ private:
+  const std::vector<const QuadRowKernels*>& kernels_;
+  std::vector<std::vector<double>> lone_;
+  std::vector<AtomicMaxBuffer> shared_;
+};
+
 // A row of quads as the general depth warp passes it: two rows of warped samples, some not warped
 // (w < 0), depths on both sides of the discontinuity, widths odd and even (the last quads of a row
 // fill only some lanes).
@@ -313,9 +359,7 @@ TEST(Raster, QuadRowEqualsPlainTrianglesOfEachQuad) {
     for (int level = 0; level <= cpuX86Level(); ++level)
       if (quadRowKernelsFor(level)) kernels.push_back(quadRowKernelsFor(level));
     ASSERT_FALSE(kernels.empty());
-    std::vector<std::vector<double>> lone(kernels.size(), plain);
-    std::vector<AtomicMaxBuffer> shared(kernels.size());
-    for (AtomicMaxBuffer& buffer : shared) buffer.reset(plain.size(), kEmpty);
+    KernelBuffers buffers(kernels, plain.size());
     for (int t = 0; t < 3000; ++t) {
       std::vector<double> x[2], y[2], w[2];
       const double shift = 3.0 * unit(rng) - 1.0, row = 4.0 * unit(rng);
@@ -334,21 +378,9 @@ TEST(Raster, QuadRowEqualsPlainTrianglesOfEachQuad) {
       rasteriseQuadRowPlainly(plain, width, outWidth, outHeight, discontinuity, x, y, w);
       rasteriseQuadRow(raise, width, outWidth, outHeight, discontinuity, x[0].data(), y[0].data(), w[0].data(),
                        x[1].data(), y[1].data(), w[1].data());
-      for (size_t k = 0; k < kernels.size(); ++k) {
-        kernels[k]->lone(lone[k].data(), width, outWidth, outHeight, discontinuity, x[0].data(), y[0].data(),
-                         w[0].data(), x[1].data(), y[1].data(), w[1].data());
-        kernels[k]->atomic(shared[k].cells(), width, outWidth, outHeight, discontinuity, x[0].data(), y[0].data(),
-                           w[0].data(), x[1].data(), y[1].data(), w[1].data());
-      }
+      buffers.draw(width, outWidth, outHeight, discontinuity, x, y, w);
     }
-    for (size_t k = 0; k < kernels.size(); ++k) {
-      std::vector<double> fromAtomic(plain.size());
-      shared[k].copyTo(0, plain.size(), fromAtomic.data());
-      for (size_t i = 0; i < plain.size(); ++i) {
-        ASSERT_EQ(bitsOf(plain[i]), bitsOf(lone[k][i])) << "level " << kernels[k]->level << ", cell " << i;
-        ASSERT_EQ(bitsOf(plain[i]), bitsOf(fromAtomic[i])) << "level " << kernels[k]->level << " atomic, cell " << i;
-      }
-    }
+    ASSERT_TRUE(buffers.equal(plain)) << "rows of " << width;
     size_t raised = 0;
     for (size_t i = 0; i < plain.size(); ++i) {
       ASSERT_EQ(bitsOf(plain[i]), bitsOf(ours[i])) << "row of " << width << ", cell " << i;
@@ -383,9 +415,7 @@ TEST(Raster, RectifiedRowsEqualPlainTriangles) {
   for (const int width : {9, 10, 17, 40, 100}) {
     const int outHeight = 5;
     std::vector<double> plain(size_t(outWidth) * outHeight, kEmpty);
-    std::vector<std::vector<double>> lone(kernels.size(), plain);
-    std::vector<AtomicMaxBuffer> shared(kernels.size());
-    for (AtomicMaxBuffer& buffer : shared) buffer.reset(plain.size(), kEmpty);
+    KernelBuffers buffers(kernels, plain.size());
     for (int t = 0; t < 400; ++t) {
       const int row = int(unit(rng) * 6.0);  // 0 .. 5: rows 4 and 5 reach below the view
       const double scales[] = {1.0, 1.0, 1.0, 0.4, 0.9, 1.1, 2.0, 3.0, -1.0};
@@ -416,28 +446,12 @@ TEST(Raster, RectifiedRowsEqualPlainTriangles) {
         }
       }
       rasteriseQuadRowPlainly(plain, width, outWidth, outHeight, discontinuity, x, y, w);
-      for (size_t k = 0; k < kernels.size(); ++k) {
-        kernels[k]->lone(lone[k].data(), width, outWidth, outHeight, discontinuity, x[0].data(), y[0].data(),
-                         w[0].data(), x[1].data(), y[1].data(), w[1].data());
-        kernels[k]->atomic(shared[k].cells(), width, outWidth, outHeight, discontinuity, x[0].data(), y[0].data(),
-                           w[0].data(), x[1].data(), y[1].data(), w[1].data());
-      }
+      buffers.draw(width, outWidth, outHeight, discontinuity, x, y, w);
       if (t % 40 != 39) continue;  // compare every 40 rows, then start afresh
-      for (size_t k = 0; k < kernels.size(); ++k) {
-        std::vector<double> fromAtomic(plain.size());
-        shared[k].copyTo(0, plain.size(), fromAtomic.data());
-        for (size_t i = 0; i < plain.size(); ++i) {
-          ASSERT_EQ(bitsOf(plain[i]), bitsOf(lone[k][i]))
-              << "level " << kernels[k]->level << ", rows of " << width << " into " << outWidth << ", cell " << i;
-          ASSERT_EQ(bitsOf(plain[i]), bitsOf(fromAtomic[i]))
-              << "level " << kernels[k]->level << " atomic, rows of " << width << " into " << outWidth << ", cell " << i;
-        }
-      }
+      ASSERT_TRUE(buffers.equal(plain)) << "rows of " << width << " into " << outWidth;
       for (size_t i = 0; i < plain.size(); ++i) raised += plain[i] != kEmpty;
       cellsChecked += plain.size();
-      std::fill(plain.begin(), plain.end(), kEmpty);
-      for (std::vector<double>& cells : lone) std::fill(cells.begin(), cells.end(), kEmpty);
-      for (AtomicMaxBuffer& buffer : shared) buffer.reset(plain.size(), kEmpty);
+      buffers.clear(plain);
     }
   }
   EXPECT_GT(raised, cellsChecked / 3);
@@ -468,9 +482,7 @@ TEST(Raster, RectifiedRowsOfPixelWideQuadsEqualPlainTriangles) {
   for (const int width : {9, 17, 40}) {
     const int outHeight = 4;
     std::vector<double> plain(size_t(outWidth) * outHeight, kEmpty);
-    std::vector<std::vector<double>> lone(kernels.size(), plain);
-    std::vector<AtomicMaxBuffer> shared(kernels.size());
-    for (AtomicMaxBuffer& buffer : shared) buffer.reset(plain.size(), kEmpty);
+    KernelBuffers buffers(kernels, plain.size());
     for (int t = 0; t < 300; ++t) {
       const int row = int(unit(rng) * 5.0);  // 0 .. 4: row 3's bottom row and row 4 lie below the view
       const bool negativeZero = row == 0 && unit(rng) < 0.5;
@@ -499,27 +511,11 @@ TEST(Raster, RectifiedRowsOfPixelWideQuadsEqualPlainTriangles) {
         }
       }
       rasteriseQuadRowPlainly(plain, width, outWidth, outHeight, discontinuity, x, y, w);
-      for (size_t k = 0; k < kernels.size(); ++k) {
-        kernels[k]->lone(lone[k].data(), width, outWidth, outHeight, discontinuity, x[0].data(), y[0].data(),
-                         w[0].data(), x[1].data(), y[1].data(), w[1].data());
-        kernels[k]->atomic(shared[k].cells(), width, outWidth, outHeight, discontinuity, x[0].data(), y[0].data(),
-                           w[0].data(), x[1].data(), y[1].data(), w[1].data());
-        std::vector<double> fromAtomic(plain.size());
-        shared[k].copyTo(0, plain.size(), fromAtomic.data());
-        for (size_t i = 0; i < plain.size(); ++i) {
-          ASSERT_EQ(bitsOf(plain[i]), bitsOf(lone[k][i]))
-              << "level " << kernels[k]->level << ", rows of " << width << " into " << outWidth << ", row pair " << t
-              << ", cell " << i;
-          ASSERT_EQ(bitsOf(plain[i]), bitsOf(fromAtomic[i]))
-              << "level " << kernels[k]->level << " atomic, rows of " << width << " into " << outWidth
-              << ", row pair " << t << ", cell " << i;
-        }
-      }
+      buffers.draw(width, outWidth, outHeight, discontinuity, x, y, w);
+      ASSERT_TRUE(buffers.equal(plain)) << "rows of " << width << " into " << outWidth << ", row pair " << t;
       for (size_t i = 0; i < plain.size(); ++i) raised += plain[i] != kEmpty;
       cellsChecked += plain.size();
-      std::fill(plain.begin(), plain.end(), kEmpty);
-      for (std::vector<double>& cells : lone) std::fill(cells.begin(), cells.end(), kEmpty);
-      for (AtomicMaxBuffer& buffer : shared) buffer.reset(plain.size(), kEmpty);
+      buffers.clear(plain);
     }
   }
   EXPECT_GT(raised, cellsChecked / 20);
