@@ -40,11 +40,11 @@ bool hugePagesWanted(const char* variable, bool byDefault) {
   return byDefault;
 }
 
-void reserveHugePageHeap(size_t bytes, bool byDefault) {
+bool reserveHugePageHeap(size_t bytes, bool byDefault) {
 #if defined(__GLIBC__) && defined(__linux__) && defined(MADV_HUGEPAGE) && !defined(__SANITIZE_ADDRESS__)
-  if (!heapKept) return;
+  if (!heapKept) return false;
   // The output is the same either way; only the time differs (Memory.h).
-  if (!hugePagesWanted(std::getenv("VS_HUGE_PAGES"), byDefault)) return;
+  if (!hugePagesWanted(std::getenv("VS_HUGE_PAGES"), byDefault)) return false;
   // Blocks below the mmap threshold come from the top of the heap, one after the other; freed, they
   // return to it and stay (below the trim threshold). Only their headers are written.
   constexpr size_t kChunk = size_t(192) << 20, kHugePage = size_t(2) << 20;
@@ -59,9 +59,11 @@ void reserveHugePageHeap(size_t bytes, bool byDefault) {
     if (end > begin) madvise(reinterpret_cast<void*>(begin), end - begin, MADV_HUGEPAGE);  // advice only
   }
   for (void* chunk : chunks) std::free(chunk);
+  return true;
 #else
   (void)bytes;
   (void)byDefault;
+  return false;
 #endif
 }
 

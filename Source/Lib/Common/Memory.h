@@ -30,8 +30,9 @@ bool hugePagesWanted(const char* variable, bool byDefault);
 // 30-frame 1080p sequence about a tenth more user CPU (the TLB): so huge pages for sequences, 4 KiB
 // pages for a single frame. Does nothing unless keepFreedMemoryForReuse() set the heap up (the
 // reservation would otherwise be unmapped when freed), or outside glibc on Linux; where transparent
-// huge pages are off, the advice has no effect.
-void reserveHugePageHeap(size_t bytes, bool byDefault);
+// huge pages are off, the advice has no effect. Returns whether it asked for huge pages (the heap's
+// pages are then those the run's buffers get; false where it did nothing).
+bool reserveHugePageHeap(size_t bytes, bool byDefault);
 
 // Buffers written only here and there (Synth/ScratchPool.h: UntouchedBuffer, the occlusion rule's
 // surroundings and the hole filling's estimates) of at least this many bytes are mapped apart on 4

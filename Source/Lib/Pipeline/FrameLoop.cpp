@@ -2,7 +2,6 @@
 
 #include <chrono>
 #include <cstdint>
-#include <cstdlib>
 
 #include "Common/Error.h"
 #include "Common/InputCheck.h"
@@ -24,7 +23,7 @@ void checkBeforeOpening(const Scene& scene, FrameRenderer& renderer, RunReport& 
   const size_t samples = size_t(s.virtualFormat().width) * size_t(s.virtualFormat().height);
   // Huge pages for a sequence, 4 KiB pages for a single frame, whose first run after some idle time
   // would pay the host's faults on fresh huge pages (Common/Memory.h; VS_HUGE_PAGES decides instead).
-  reserveHugePageHeap(samples * (144 + 96 * s.references.size()), s.frameCount > 1);
+  const bool hugePages = reserveHugePageHeap(samples * (144 + 96 * s.references.size()), s.frameCount > 1);
   // Sparse buffers on 4 KiB pages from 1 MiB for pictures of a megapixel or more (1920x1080: 23 MiB
   // less resident than from 4 MiB), from 4 MiB below (Art, 688x554: 5 ms more CPU of 60 in page faults
   // with its 1.5 to 3 MB estimates on 4 KiB pages); doc/speed.md. Where the heap is not on huge
@@ -32,7 +31,6 @@ void checkBeforeOpening(const Scene& scene, FrameRenderer& renderer, RunReport& 
   // already fault in only where written, and a mapping of their own is fresh pages, where the heap
   // has the memory the earlier steps freed (the occlusion rule's surroundings of a 1920x1080 frame:
   // about 3 600 page faults).
-  const bool hugePages = hugePagesWanted(std::getenv("VS_HUGE_PAGES"), s.frameCount > 1);
   setSmallPageBuffersFrom(!hugePages ? SIZE_MAX : samples >= 1000000 ? size_t(1) << 20 : size_t(4) << 20);
   report.recordDecisions(renderer.decisions());
   report.begin(scene, renderer.plan(), log);
