@@ -49,6 +49,11 @@ public:
   void render(const std::vector<ReferenceFrame>& references, Frame& output, StageTimes& times) override {
     synthesizer_.synthesize(references, output, times);
   }
+  // The context's thread loads Mesa and LLVM: the pool's workers are started first (Parallel.h).
+  void firstInputsRead() override {
+    startWorkerThreads();
+    synthesizer_.startRenderer();
+  }
   std::vector<std::string> prepare(const std::vector<ReferenceFrame>& firstFrame) override {
     std::vector<std::string> lines = synthesizer_.decideMissingDepth(firstFrame);
     // The first frame's meshes are built here (and used for it) so that their size is in the plan.
@@ -105,7 +110,12 @@ MeshSynthesizer::MeshSynthesizer(const Scene& scene, const Plan& plan, const Mes
   if (hasChroma_ && !rgb_) {
     VS_CHECK(outputFormat_.chroma == ChromaFormat::Yuv420 || outputFormat_.chroma == ChromaFormat::Yuv444);
   }
-  const SubPixelSampler sampler(plan.precision, plan.filter);
+  buildViews();
+}
+
+void MeshSynthesizer::startRenderer() const {
+  if (pendingRenderer_.valid() || renderer_ || rendererError_) return;
+  const SubPixelSampler sampler(plan_.precision, plan_.filter);
   pendingRenderer_ = std::async(std::launch::async, [sampler] {
     std::unique_ptr<GlMeshRenderer> renderer;
     try {
@@ -118,11 +128,11 @@ MeshSynthesizer::MeshSynthesizer(const Scene& scene, const Plan& plan, const Mes
     EglContext::releaseCurrentContext();  // so that the rendering thread can make it current
     return renderer;
   });
-  buildViews();
 }
 
 GlMeshRenderer& MeshSynthesizer::renderer() const {
   if (!renderer_) {
+    startRenderer();
     if (rendererError_) std::rethrow_exception(rendererError_);  // the error again, for every later call
     try {
       renderer_ = pendingRenderer_.get();

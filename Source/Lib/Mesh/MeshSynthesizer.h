@@ -46,10 +46,10 @@ MeshSettings readMeshSettings(const Config& config);
 
 class MeshSynthesizer {
 public:
-  // Starts creating the OpenGL context and renderer on a thread of its own (about 45 ms with llvmpipe,
-  // overlapping the input checks, the first frame's reading and its mesh build) and makes everything
-  // that depends on the scene only: mesh grids, camera matrices. The first call that needs the renderer
-  // (synthesize, rendererDescription) waits for it and throws InputError when there is no context.
+  // Makes everything that depends on the scene only: mesh grids, camera matrices. The OpenGL context
+  // and renderer are created on a thread of their own, started by startRenderer() or else by the first
+  // call that needs them (synthesize, rendererDescription), which waits for them and throws InputError
+  // when there is no context.
   // `plan`: makePlan(scene, Tool::MeshRender), whose blend and hole-fill options are used as they are.
   MeshSynthesizer(const Scene& scene, const Plan& plan, const MeshSettings& settings);
 
@@ -91,6 +91,9 @@ public:
   const Plan& decisions() const { return plan_; }
   // Waits for the context; throws InputError when none could be created.
   const std::string& rendererDescription() const { return renderer().description(); }
+  // Starts creating the context and renderer on a thread of their own (about 45 ms with llvmpipe), to
+  // overlap the first frame's mesh build; once.
+  void startRenderer() const;
   const BlendOptions& blendOptions() const { return plan_.blending; }
   const HoleFillOptions& holeFillOptions() const { return plan_.lumaFill; }
 

@@ -96,7 +96,10 @@ struct FrameSteps {
   void renderFrame(int64_t f) {
     StageTimes times;
     const SequenceInputs::FrameInputs frame = inputs.next(times.read);
-    if (f == 0) decideOnFirstFrame(renderer, frame.references, report, log);
+    if (f == 0) {
+      renderer.firstInputsRead();
+      decideOnFirstFrame(renderer, frame.references, report, log);
+    }
     // A pose trace moves the virtual camera frame by frame (Common/RvsConfig.h).
     if (!virtualCameraPerFrame.empty() && !renderer.moveVirtualCamera(virtualCameraPerFrame[size_t(f)]))
       throw InputError(toolName + " cannot move its virtual camera: VirtualPoseTraceName is not supported by it");

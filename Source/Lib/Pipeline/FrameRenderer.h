@@ -20,6 +20,11 @@ public:
   virtual ~FrameRenderer() = default;
   // Renders the virtual view of one frame; adds its stage times to `times`.
   virtual void render(const std::vector<ReferenceFrame>& references, Frame& output, StageTimes& times) = 0;
+  // Called once, as soon as the first frame's inputs are read (the loop's own reading threads exist by
+  // then), before prepare(). A renderer that loads a library on a thread of its own (MeshRender's
+  // OpenGL context: Mesa and LLVM) starts it here: glibc holds a lock for the whole of a dlopen that
+  // every thread creation takes, so a thread created meanwhile would wait for the load to end.
+  virtual void firstInputsRead() {}
   // Called with the first frame's inputs before it is rendered, for decisions that need the pictures
   // (MissingDepthLevel auto); returns the lines that say what was decided (none: nothing to decide).
   virtual std::vector<std::string> prepare(const std::vector<ReferenceFrame>& /*firstFrame*/) { return {}; }

@@ -24,6 +24,10 @@ public:
     threads_.store(std::max(1, threads), std::memory_order_relaxed);
   }
   int threads() const { return threads_.load(std::memory_order_relaxed); }
+  void start() {
+    std::lock_guard<std::mutex> busy(busy_);  // not while a loop runs
+    startWorkers(threads_.load(std::memory_order_relaxed) - 1);
+  }
 
   void run(int count, int stripes, const std::function<void(int, int)>& body) {
     std::unique_lock<std::mutex> busy(busy_, std::try_to_lock);
@@ -152,6 +156,8 @@ int availableCores() {
 void setWorkerThreads(int threads) { pool().setThreads(threads > 0 ? threads : availableCores()); }
 
 int workerThreads() { return pool().threads(); }
+
+void startWorkerThreads() { pool().start(); }
 
 void parallelStripes(int count, int stripes, const std::function<void(int, int)>& body) {
   if (count <= 0) return;

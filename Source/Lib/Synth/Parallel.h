@@ -24,6 +24,11 @@ namespace vs {
 // before the first frame. The output does not depend on it.
 void setWorkerThreads(int threads);
 
+// Starts the pool's workers now rather than at the first loop that can use them: for a caller about
+// to load a library on another thread (a dlopen holds a lock of glibc's that creating a thread takes,
+// so a worker started during the load would wait for its end, and the loop with it).
+void startWorkerThreads();
+
 // The threads a parallel loop uses now, the caller's included (at least 1).
 int workerThreads();
 
