@@ -428,6 +428,40 @@ TEST(MeshRenderGl, UnusedVerticesAndSlotsLeaveTheRenderAsItWas) {
   }
 }
 
+// warmUp() draws a mesh of its own, as render() draws, into a small framebuffer: a renderer that warmed
+// up renders a scene (whose framebuffer is larger) as one that did not, to the bit, and so it does with
+// a read-back that took over a larger array of NaNs (reuseForReadBack).
+TEST(MeshRenderGl, WarmUpAndAReusedReadBackLeaveTheRenderAsItWas) {
+  REQUIRE_GL();
+  const PlaneScene s = makePlaneScene(1);
+  vs::DepthMesh mesh;
+  vs::WarpedLayer expected;
+  vs::RenderExtras extras;
+  renderView(*renderer, s, 0, s.scene.virtualCamera, mesh, expected, extras);
+  size_t drawn = 0;
+  for (size_t i = 0; i < expected.inverseDepth.size(); ++i) drawn += expected.valid(i) ? 1 : 0;
+  EXPECT_GT(drawn, size_t(kWidth * kHeight / 2));
+
+  vs::GlMeshRenderer warm;
+  warm.warmUp();
+  const vs::ReferenceView& view = s.scene.settings.references[0];
+  vs::InverseDepthRange range;
+  ASSERT_TRUE(vs::sceneInverseDepthRange(view.camera, view.depthRange, s.scene.settings.depthType, kWidth, kHeight,
+                                         s.scene.virtualCamera, range));
+  const vs::RenderGrid grid = vs::lumaGrid(s.scene.virtualCamera, kWidth, kHeight);
+  const vs::Mat4 clip = vs::meshClipMatrix(view.camera, s.scene.virtualCamera, grid, vs::clipPlanes(range));
+  warm.uploadMesh(mesh);
+  warm.uploadTexture({&s.textures[0].planes[0]});
+  vs::WarpedLayer layer;
+  warm.render(clip, grid, vs::TexelMap{}, layer);
+  EXPECT_TRUE(sameLayers(layer, expected)) << "after warmUp";
+
+  warm.reuseForReadBack(std::vector<float>(size_t(kWidth + 2) * (kHeight + 2) * 4, std::nanf("")));
+  warm.render(clip, grid, vs::TexelMap{}, layer);
+  EXPECT_TRUE(sameLayers(layer, expected)) << "with the reused read-back";
+  renderer->uploadMesh(mesh);  // the shared renderer current again on this thread, for the next tests
+}
+
 double planePsnr(const vs::Plane& a, const vs::Plane& b) { return vs::psnrFromMse(vs::planeMse(a, b), 8); }
 
 // A reference view's mesh rendered into its own camera gives the view back: PSNR-Y >= 60 dB (it is

@@ -117,6 +117,15 @@ void main() {
 // touch about 7 MB less fresh heap than 4, the same CPU time; doc/meshrender.md).
 constexpr int kDrawParts = 8;
 
+// The set bits of a word, inline: the baseline x86-64 build has no POPCNT instruction, and GCC's
+// __builtin_popcountll then calls libgcc's table loop (half of uploadMesh's time on Art).
+inline uint32_t countBits(uint64_t w) {
+  w -= (w >> 1) & 0x5555555555555555ull;
+  w = (w & 0x3333333333333333ull) + ((w >> 2) & 0x3333333333333333ull);
+  w = (w + (w >> 4)) & 0x0f0f0f0f0f0f0f0full;
+  return uint32_t((w * 0x0101010101010101ull) >> 56);
+}
+
 // Inverse of a 4x4 matrix by Gauss-Jordan elimination with partial pivoting, in double; false when
 // it is singular (a pivot below 1e-12 of the largest entry).
 bool inverse(const Mat4& a, Mat4& result) {
@@ -500,9 +509,13 @@ struct GlMeshRenderer::Impl {
   void beginRender(const RenderGrid& grid) {
     context.makeCurrent();
     VS_CHECK(!planes.empty() && grid.width > 0 && grid.height > 0);
-    ensureFramebuffer(grid.width, grid.height);
+    bindClearedFramebuffer(grid.width, grid.height);
+  }
+
+  void bindClearedFramebuffer(int width, int height) {
+    ensureFramebuffer(width, height);
     gl.BindFramebuffer(GL_FRAMEBUFFER, framebuffer);
-    gl.Viewport(0, 0, grid.width, grid.height);
+    gl.Viewport(0, 0, width, height);
     const float clearReference[4] = {0.0f, 0.0f, float(kNoDepth), 0.0f};
     const float clearDepth = 1.0f;
     gl.ClearBufferfv(GL_COLOR, 0, clearReference);
@@ -511,6 +524,56 @@ struct GlMeshRenderer::Impl {
     gl.DepthFunc(GL_LESS);  // smaller z_ndc is larger q: nearer
     gl.Disable(GL_CULL_FACE);
     gl.Disable(GL_BLEND);
+  }
+
+  // The draws of a render: the slot's triangles (in parts), then its points, then its locally farthest
+  // orphans, into the bound framebuffer of width x height.
+  void draw(const MeshSlot& drawn, const Mat4& clip, int width, int height) {
+    float matrix[16];
+    toGlMatrix(clip, matrix);
+    gl.BindVertexArray(drawn.vertexArray);
+    if (drawn.triangleIndexCount > 0) {
+      gl.UseProgram(triangleProgram);
+      gl.UniformMatrix4fv(triangleClipLocation, 1, GL_FALSE, matrix);
+      // In parts, each flushed: a software rasteriser (llvmpipe) bins a part's triangles on this thread
+      // and rasterises a flushed part on its own threads, so binning the next part overlaps rasterising
+      // this one instead of leaving the other cores idle. Same triangles in the same order: same pixels.
+      const GLsizei triangles = drawn.triangleIndexCount / 3;
+      for (int part = 0; part < kDrawParts; ++part) {
+        const GLsizei first = GLsizei(int64_t(triangles) * part / kDrawParts), last = GLsizei(int64_t(triangles) * (part + 1) / kDrawParts);
+        if (last == first) continue;
+        gl.DrawElements(GL_TRIANGLES, 3 * (last - first), GL_UNSIGNED_INT,
+                        reinterpret_cast<const void*>(size_t(first) * 3 * sizeof(uint32_t)));
+        if (part + 1 < kDrawParts) gl.Flush();
+      }
+    }
+    gl.UseProgram(program);
+    gl.UniformMatrix4fv(clipLocation, 1, GL_FALSE, matrix);
+    // Points look along their fragments' own rays (the shader's drawingPoints); where the matrix cannot
+    // be inverted they keep the vertex's position.
+    Mat4 back;
+    const bool invertible = inverse(clip, back);
+    toGlMatrix(back, matrix);
+    gl.UniformMatrix4fv(referenceFromClipLocation, 1, GL_FALSE, matrix);
+    gl.Uniform2f(viewportLocation, float(width), float(height));
+    // One-pixel points (the default point size) after the triangles: the depth test keeps the nearer.
+    // Marked 3: drawn, and on an edge.
+    gl.Uniform1i(drawingPointsLocation, invertible ? 1 : 0);
+    gl.Uniform1f(drawnMarkLocation, 3.0f);
+    if (drawn.pointCount > 0)
+      gl.DrawElements(GL_POINTS, drawn.pointCount, GL_UNSIGNED_INT,
+                      reinterpret_cast<const void*>(size_t(drawn.triangleIndexCount) * sizeof(uint32_t)));
+    // Locally farthest orphans last, only where nothing is drawn: every fragment's window depth is 1, the
+    // cleared value, and passes GL_LEQUAL there only. Marked 2; kept below only in a lone hole.
+    if (drawn.orphanCount > 0) {
+      gl.Uniform1f(drawnMarkLocation, 2.0f);
+      gl.DepthRange(1.0, 1.0);
+      gl.DepthFunc(GL_LEQUAL);
+      gl.DrawElements(GL_POINTS, drawn.orphanCount, GL_UNSIGNED_INT,
+                      reinterpret_cast<const void*>(size_t(drawn.triangleIndexCount + drawn.pointCount) * sizeof(uint32_t)));
+      gl.DepthRange(0.0, 1.0);
+      gl.DepthFunc(GL_LESS);
+    }
   }
 
   // The edge flag of a sample: every point is on an edge (a border vertex, or an orphan); a triangle's
@@ -592,11 +655,11 @@ void GlMeshRenderer::uploadMesh(const DepthMesh& mesh, size_t slot) {
   uint32_t used = 0;
   for (size_t w = 0; w < words; ++w) {
     s.usedBefore[w] = used;
-    used += uint32_t(__builtin_popcountll(s.usedVertices[w]));
+    used += countBits(s.usedVertices[w]);
   }
   auto rank = [&](uint32_t v) {
     const uint64_t below = s.usedVertices[v >> 6] & ((uint64_t(1) << (v & 63)) - 1);
-    return s.usedBefore[v >> 6] + uint32_t(__builtin_popcountll(below));
+    return s.usedBefore[v >> 6] + countBits(below);
   };
   // Written straight into the driver's buffers (mapped), with no copy on this side.
   auto mapped = [&](GLenum target, GLuint buffer, GLsizeiptr bytes, GLsizeiptr& capacity) -> void* {
@@ -648,60 +711,47 @@ void GlMeshRenderer::uploadTexture(const std::vector<const Plane*>& planes) {
   s.planes = planes;
 }
 
+void GlMeshRenderer::warmUp() {
+  Impl& s = *impl_;
+  const GlFunctions& gl = s.gl;
+  s.context.makeCurrent();
+  // A triangle, a point and a locally farthest orphan on three vertices (u, v, 1, w) in slot 0's
+  // buffers, which its first uploadMesh replaces; drawn as render() draws, into a 16 x 16 framebuffer
+  // (the real one is sized by the first render), and read back.
+  constexpr int kSize = 16;
+  const float vertices[12] = {2, 2, 1, 1, 12, 3, 1, 1, 4, 13, 1, 1};
+  const uint32_t indices[5] = {0, 1, 2, 0, 1};
+  MeshSlot& slot = s.slots[0];
+  gl.BindVertexArray(slot.vertexArray);
+  s.upload(GL_ARRAY_BUFFER, slot.vertexBuffer, sizeof vertices, vertices, slot.vertexBytes);
+  s.upload(GL_ELEMENT_ARRAY_BUFFER, slot.indexBuffer, sizeof indices, indices, slot.indexBytes);
+  MeshSlot drawn = slot;
+  drawn.triangleIndexCount = 3;
+  drawn.pointCount = 1;
+  drawn.orphanCount = 1;
+  // Reference pixels to clip coordinates: x and y onto [-1, 1] of the small framebuffer, z = 0.5 w.
+  Mat4 clip{};
+  clip.m[0][0] = 2.0 / kSize;
+  clip.m[0][3] = -1.0;
+  clip.m[1][1] = 2.0 / kSize;
+  clip.m[1][3] = -1.0;
+  clip.m[2][3] = 0.5;
+  clip.m[3][3] = 1.0;
+  s.bindClearedFramebuffer(kSize, kSize);
+  s.draw(drawn, clip, kSize, kSize);
+  std::vector<float> readBack(size_t(kSize) * kSize * 4);
+  gl.ReadPixels(0, 0, kSize, kSize, GL_RGBA, GL_FLOAT, readBack.data());
+  s.checkErrors("drawing the first mesh");
+  EglContext::releaseCurrentContext();
+}
+
 void GlMeshRenderer::render(const Mat4& clip, const RenderGrid& grid, const TexelMap& texelMap, WarpedLayer& layer,
                             RenderExtras* extras) {
   Impl& s = *impl_;
-  const GlFunctions& gl = s.gl;
   s.beginRender(grid);
-
-  float matrix[16];
-  toGlMatrix(clip, matrix);
   const MeshSlot& drawn = s.slots[s.slot];
   VS_CHECK(drawn.mesh != nullptr && drawn.mesh == s.mesh);
-  gl.BindVertexArray(drawn.vertexArray);
-  if (drawn.triangleIndexCount > 0) {
-    gl.UseProgram(s.triangleProgram);
-    gl.UniformMatrix4fv(s.triangleClipLocation, 1, GL_FALSE, matrix);
-    // In parts, each flushed: a software rasteriser (llvmpipe) bins a part's triangles on this thread
-    // and rasterises a flushed part on its own threads, so binning the next part overlaps rasterising
-    // this one instead of leaving the other cores idle. Same triangles in the same order: same pixels.
-    const GLsizei triangles = drawn.triangleIndexCount / 3;
-    for (int part = 0; part < kDrawParts; ++part) {
-      const GLsizei first = GLsizei(int64_t(triangles) * part / kDrawParts), last = GLsizei(int64_t(triangles) * (part + 1) / kDrawParts);
-      if (last == first) continue;
-      gl.DrawElements(GL_TRIANGLES, 3 * (last - first), GL_UNSIGNED_INT,
-                      reinterpret_cast<const void*>(size_t(first) * 3 * sizeof(uint32_t)));
-      if (part + 1 < kDrawParts) gl.Flush();
-    }
-  }
-  gl.UseProgram(s.program);
-  gl.UniformMatrix4fv(s.clipLocation, 1, GL_FALSE, matrix);
-  // Points look along their fragments' own rays (the shader's drawingPoints); where the matrix cannot
-  // be inverted they keep the vertex's position.
-  Mat4 back;
-  const bool invertible = inverse(clip, back);
-  toGlMatrix(back, matrix);
-  gl.UniformMatrix4fv(s.referenceFromClipLocation, 1, GL_FALSE, matrix);
-  gl.Uniform2f(s.viewportLocation, float(grid.width), float(grid.height));
-  // One-pixel points (the default point size) after the triangles: the depth test keeps the nearer.
-  // Marked 3: drawn, and on an edge.
-  gl.Uniform1i(s.drawingPointsLocation, invertible ? 1 : 0);
-  gl.Uniform1f(s.drawnMarkLocation, 3.0f);
-  if (drawn.pointCount > 0)
-    gl.DrawElements(GL_POINTS, drawn.pointCount, GL_UNSIGNED_INT,
-                    reinterpret_cast<const void*>(size_t(drawn.triangleIndexCount) * sizeof(uint32_t)));
-  // Locally farthest orphans last, only where nothing is drawn: every fragment's window depth is 1, the
-  // cleared value, and passes GL_LEQUAL there only. Marked 2; kept below only in a lone hole.
-  if (drawn.orphanCount > 0) {
-    gl.Uniform1f(s.drawnMarkLocation, 2.0f);
-    gl.DepthRange(1.0, 1.0);
-    gl.DepthFunc(GL_LEQUAL);
-    gl.DrawElements(GL_POINTS, drawn.orphanCount, GL_UNSIGNED_INT,
-                    reinterpret_cast<const void*>(size_t(drawn.triangleIndexCount + drawn.pointCount) * sizeof(uint32_t)));
-    gl.DepthRange(0.0, 1.0);
-    gl.DepthFunc(GL_LESS);
-  }
-
+  s.draw(drawn, clip, grid.width, grid.height);
   finishRender(grid, texelMap, layer, extras);
 }
 
@@ -780,6 +830,12 @@ void GlMeshRenderer::finishRender(const RenderGrid& grid, const TexelMap& texelM
 }
 
 void GlMeshRenderer::setReferenceSphere(const SphereEdges& edges) { impl_->sphere = edges; }
+
+void GlMeshRenderer::reuseForReadBack(std::vector<float>&& storage) {
+  Impl& s = *impl_;
+  if (storage.capacity() > s.readBack.capacity()) s.readBack.swap(storage);
+  std::vector<float>().swap(storage);
+}
 
 void GlMeshRenderer::releaseRenderBuffers() {
   Impl& s = *impl_;

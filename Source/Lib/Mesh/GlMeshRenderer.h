@@ -57,6 +57,13 @@ public:
   // and their arrays freed) and makes it the one the next renders draw. The renders read the mesh's
   // edge flags (DepthMesh::edgeAt): it must outlive them; its vertices and lists are not read again.
   void uploadMesh(const DepthMesh& mesh, size_t slot = 0);
+  // Draws a small mesh the way render() draws, into a small framebuffer, and reads it back; leaves the
+  // renders as they were (slot 0 holds nothing drawable until uploadMesh). A software rasteriser
+  // (llvmpipe) compiles its shader variants for a state at the first draw in it: a caller that creates
+  // the renderer on a thread of its own calls this there, so that the compiling overlaps other work
+  // instead of lengthening the first render (about 13 ms of llvmpipe's LLVM on Art). Releases the
+  // context from the calling thread.
+  void warmUp();
   // Makes the mesh uploaded into `slot` the one the next renders draw.
   void useMesh(size_t slot);
   // Keeps pointers to 1 to 3 planes of one size: the texture the next renders are coloured with
@@ -95,6 +102,10 @@ public:
   // the texture's planes and the uploaded mesh, for a run that renders nothing more: its later steps reuse the
   // memory instead of touching fresh pages. The next render needs uploadMesh and uploadTexture again.
   void releaseRenderBuffers();
+  // Gives the read-back `storage`'s memory when it holds more than the read-back has (its values do not
+  // matter: every render overwrites what it reads back), and frees `storage` either way. A run of one
+  // frame hands over an uploaded mesh's vertex array, whose pages are touched already.
+  void reuseForReadBack(std::vector<float>&& storage);
 
 private:
   // Reads the drawn framebuffer back and colours it into `layer` (both passes).

@@ -120,12 +120,13 @@ void MeshSynthesizer::startRenderer() const {
     std::unique_ptr<GlMeshRenderer> renderer;
     try {
       renderer = std::make_unique<GlMeshRenderer>();  // the context, current on this thread, and its programs
+      renderer->setSampling(&sampler);
+      renderer->warmUp();  // llvmpipe's shader variants compiled here, beside the mesh builds; releases the context
     } catch (...) {
+      renderer.reset();
       EglContext::releaseCurrentContext();
       throw;
     }
-    renderer->setSampling(&sampler);
-    EglContext::releaseCurrentContext();  // so that the rendering thread can make it current
     return renderer;
   });
 }
@@ -255,8 +256,9 @@ void MeshSynthesizer::synthesize(const std::vector<ReferenceFrame>& references, 
     times.depthWarp += secondsSince(start);
   }
   // Every pinhole view's mesh is uploaded first, each into a slot of its own, so that a run of one frame
-  // frees all their vertices and lists before the first render: the read-back and the first view's
-  // layers then reuse that memory instead of fresh pages.
+  // frees all their vertices and lists before the first render: the first view's layers then reuse that
+  // memory instead of fresh pages, and the read-back takes over the first view's vertex array (as
+  // large: a vertex per sample and a border), whose pages the mesh build has touched.
   std::vector<InverseDepthRange> planes(views_.size());
   {
     const auto start = std::chrono::steady_clock::now();
@@ -269,6 +271,7 @@ void MeshSynthesizer::synthesize(const std::vector<ReferenceFrame>& references, 
       renderer.uploadMesh(view.mesh, k);
       // In the driver's buffers now; the colour steps read the mesh's edge flags only.
       if (releaseSpent_ && settings_.plyPath.empty()) {
+        renderer.reuseForReadBack(std::move(view.mesh.vertices));
         release(view.mesh.vertices);
         release(view.mesh.triangles);
         release(view.mesh.points);

@@ -91,8 +91,8 @@ public:
   const Plan& decisions() const { return plan_; }
   // Waits for the context; throws InputError when none could be created.
   const std::string& rendererDescription() const { return renderer().description(); }
-  // Starts creating the context and renderer on a thread of their own (about 45 ms with llvmpipe), to
-  // overlap the first frame's mesh build; once.
+  // Starts creating the context and renderer on a thread of their own (about 45 ms with llvmpipe,
+  // its first draw included: GlMeshRenderer::warmUp), to overlap the first frame's mesh build; once.
   void startRenderer() const;
   const BlendOptions& blendOptions() const { return plan_.blending; }
   const HoleFillOptions& holeFillOptions() const { return plan_.lumaFill; }
