@@ -563,17 +563,20 @@ struct GlMeshRenderer::Impl {
     if (drawn.pointCount > 0)
       gl.DrawElements(GL_POINTS, drawn.pointCount, GL_UNSIGNED_INT,
                       reinterpret_cast<const void*>(size_t(drawn.triangleIndexCount) * sizeof(uint32_t)));
-    // Locally farthest orphans last, only where nothing is drawn: every fragment's window depth is 1, the
-    // cleared value, and passes GL_LEQUAL there only. Marked 2; kept below only in a lone hole.
-    if (drawn.orphanCount > 0) {
-      gl.Uniform1f(drawnMarkLocation, 2.0f);
-      gl.DepthRange(1.0, 1.0);
-      gl.DepthFunc(GL_LEQUAL);
-      gl.DrawElements(GL_POINTS, drawn.orphanCount, GL_UNSIGNED_INT,
-                      reinterpret_cast<const void*>(size_t(drawn.triangleIndexCount + drawn.pointCount) * sizeof(uint32_t)));
-      gl.DepthRange(0.0, 1.0);
-      gl.DepthFunc(GL_LESS);
-    }
+    drawOrphans(drawnMarkLocation, drawn.orphanCount, size_t(drawn.triangleIndexCount + drawn.pointCount));
+  }
+
+  // Locally farthest orphans last, only where nothing is drawn: every fragment's window depth is 1, the
+  // cleared value, and passes GL_LEQUAL there only. Marked 2; kept below only in a lone hole. `count`
+  // indices from `firstIndex` of the bound index buffer, with the bound program's mark at `markLocation`.
+  void drawOrphans(GLint markLocation, GLsizei count, size_t firstIndex) {
+    if (count <= 0) return;
+    gl.Uniform1f(markLocation, 2.0f);
+    gl.DepthRange(1.0, 1.0);
+    gl.DepthFunc(GL_LEQUAL);
+    gl.DrawElements(GL_POINTS, count, GL_UNSIGNED_INT, reinterpret_cast<const void*>(firstIndex * sizeof(uint32_t)));
+    gl.DepthRange(0.0, 1.0);
+    gl.DepthFunc(GL_LESS);
   }
 
   // The edge flag of a sample: every point is on an edge (a border vertex, or an orphan); a triangle's
@@ -907,15 +910,7 @@ void GlMeshRenderer::renderProjected(const RenderGrid& grid, const TexelMap& tex
   if (p.pointCount > 0)
     gl.DrawElements(GL_POINTS, p.pointCount, GL_UNSIGNED_INT,
                     reinterpret_cast<const void*>(size_t(p.triangleIndexCount) * sizeof(uint32_t)));
-  if (p.orphanCount > 0) {
-    gl.Uniform1f(p.drawnMarkLocation, 2.0f);
-    gl.DepthRange(1.0, 1.0);
-    gl.DepthFunc(GL_LEQUAL);
-    gl.DrawElements(GL_POINTS, p.orphanCount, GL_UNSIGNED_INT,
-                    reinterpret_cast<const void*>(size_t(p.triangleIndexCount + p.pointCount) * sizeof(uint32_t)));
-    gl.DepthRange(0.0, 1.0);
-    gl.DepthFunc(GL_LESS);
-  }
+  s.drawOrphans(p.drawnMarkLocation, p.orphanCount, size_t(p.triangleIndexCount + p.pointCount));
   finishRender(grid, texelMap, layer, extras);
 }
 
