@@ -4,11 +4,11 @@
 // the synthesizer writes only its own rows, or combines by max (AtomicMaxBuffer), so the output is
 // bit-identical whatever the number of threads.
 //
-// The pool is plain std::thread: its workers start on the first loop that can use them (a few tens of
-// microseconds each, nothing searched or loaded), wait on a condition variable between loops, and are
-// left to the process's exit. A loop started inside another loop's body, or while another thread's
-// loop holds the pool, runs on its caller's thread alone (as OpenCV's pool, which this replaces, ran
-// nested loops).
+// The pool is plain std::thread: its workers start on the first loop that can use them, or earlier on
+// startWorkerThreads() (a few tens of microseconds each, nothing searched or loaded), wait on a
+// condition variable between loops, and are left to the process's exit. A loop started inside another
+// loop's body, or while another thread's loop holds the pool, runs on its caller's thread alone (as
+// OpenCV's pool, which this replaces, ran nested loops).
 #include <algorithm>
 #include <atomic>
 #include <cstdint>
