@@ -294,6 +294,14 @@ TEST(Raster, FourQuadsInVectorLanesEqualEightPlainTriangles) { checkQuadsEqualPl
 #endif
 #endif
 
+// The quad-row kernels the binary has for each level this CPU runs (Synth/Kernels/QuadRow.h).
+std::vector<const QuadRowKernels*> quadRowKernelsThisCpuRuns() {
+  std::vector<const QuadRowKernels*> kernels;
+  for (int level = 0; level <= cpuX86Level(); ++level)
+    if (quadRowKernelsFor(level)) kernels.push_back(quadRowKernelsFor(level));
+  return kernels;
+}
+
 // Every level's quad-row kernels drawing the same row pairs, each into a z-buffer of its own for one
 // writer (lone) and one for threads (atomic), to be compared with the plain triangles' cells.
 class KernelBuffers {
@@ -353,11 +361,8 @@ TEST(Raster, QuadRowEqualsPlainTrianglesOfEachQuad) {
     const int outWidth = width + 3, outHeight = 6;
     std::vector<double> plain(size_t(outWidth) * outHeight, kEmpty), ours = plain;
     const PlainRaise raise{&ours};
-    // The kernels the binary has for each level this CPU runs (Synth/Kernels/QuadRow.h), into
-    // z-buffers of their own: one thread's and the threads' (atomic) buffer.
-    std::vector<const QuadRowKernels*> kernels;
-    for (int level = 0; level <= cpuX86Level(); ++level)
-      if (quadRowKernelsFor(level)) kernels.push_back(quadRowKernelsFor(level));
+    // Every level's kernels, into z-buffers of their own: one thread's and the threads' (atomic) buffer.
+    const std::vector<const QuadRowKernels*> kernels = quadRowKernelsThisCpuRuns();
     ASSERT_FALSE(kernels.empty());
     KernelBuffers buffers(kernels, plain.size());
     for (int t = 0; t < 3000; ++t) {
@@ -401,9 +406,7 @@ TEST(Raster, QuadRowEqualsPlainTrianglesOfEachQuad) {
 TEST(Raster, RectifiedRowsEqualPlainTriangles) {
   std::mt19937 rng(29);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
-  std::vector<const QuadRowKernels*> kernels;
-  for (int level = 0; level <= cpuX86Level(); ++level)
-    if (quadRowKernelsFor(level)) kernels.push_back(quadRowKernelsFor(level));
+  const std::vector<const QuadRowKernels*> kernels = quadRowKernelsThisCpuRuns();
   ASSERT_FALSE(kernels.empty());
   const double offsets[] = {0.0,        0x1p-30,   -0x1p-30,        1e-9,    -1e-9,         2e-9,
                             -2e-9,      0x1p-21,   -0x1p-21,        0x1p-20, -0x1p-20,      0x1.8p-20,
@@ -469,9 +472,7 @@ TEST(Raster, RectifiedRowsEqualPlainTriangles) {
 TEST(Raster, RectifiedRowsOfPixelWideQuadsEqualPlainTriangles) {
   std::mt19937 rng(31);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
-  std::vector<const QuadRowKernels*> kernels;
-  for (int level = 0; level <= cpuX86Level(); ++level)
-    if (quadRowKernelsFor(level)) kernels.push_back(quadRowKernelsFor(level));
+  const std::vector<const QuadRowKernels*> kernels = quadRowKernelsThisCpuRuns();
   ASSERT_FALSE(kernels.empty());
   const double offsets[] = {0.0,     0x1p-30,  -0x1p-30,   1e-9,        -1e-9,   2e-9,    -2e-9, 0x1p-21, -0x1p-21,
                             0x1p-20, -0x1p-20, 0x1.8p-20, -0x1.8p-20, 0x1p-19, -0x1p-19, 0.25,  0.5,     0.75};
@@ -529,9 +530,7 @@ TEST(Raster, PointsEqualThePlainNearestCentreRule) {
   std::mt19937 rng(41);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   const int outWidth = 9, outHeight = 5;
-  std::vector<const QuadRowKernels*> kernels;
-  for (int level = 0; level <= cpuX86Level(); ++level)
-    if (quadRowKernelsFor(level)) kernels.push_back(quadRowKernelsFor(level));
+  const std::vector<const QuadRowKernels*> kernels = quadRowKernelsThisCpuRuns();
   ASSERT_FALSE(kernels.empty());
   for (int width = 1; width <= 19; ++width) {
     std::vector<double> plain(size_t(outWidth) * outHeight, kEmpty);
